@@ -1,0 +1,44 @@
+#include "cwe/app/cli.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <exception>
+
+#include "cwe/core/assert.hpp"
+#include "cwe/core/error.hpp"
+#include "tool_command.hpp"
+
+namespace cwe::app {
+
+int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+  CLI::App app{"cwe: cutter-workpiece engagement for 3-, 3+2- and 5-axis milling", "cwe"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "cwe 0.1.0");
+  ToolCommandOptions tool_options;
+  add_tool_command(app, tool_options);
+
+  std::vector<std::string> reversed(args.rbegin(), args.rend());
+  if (!reversed.empty()) reversed.pop_back();  // the program name
+  try {
+    app.parse(reversed);
+  } catch (const CLI::ParseError& e) {
+    // Help and version requests are "errors" to CLI11 with exit code 0.
+    const int code = app.exit(e, out, err);
+    return code == 0 ? 0 : 2;
+  }
+  try {
+    if (app.got_subcommand("tool")) return run_tool_command(tool_options, out);
+  } catch (const InputError& e) {
+    err << e.what() << '\n';
+    return 2;
+  } catch (const InternalError& e) {
+    err << e.what() << "\n(this is a bug in cwe)\n";
+    return 1;
+  } catch (const std::exception& e) {
+    err << "cwe: internal error: " << e.what() << "\n(this is a bug in cwe)\n";
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace cwe::app

@@ -1,0 +1,106 @@
+#include "cwe/tool/tool_spec.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "tool_testing.hpp"
+
+namespace cwe {
+namespace {
+
+std::string source_dir() {
+  const char* dir = std::getenv("CWE_SOURCE_DIR");
+  return dir != nullptr ? dir : ".";
+}
+
+TEST(ToolSpec, ParsesEveryType) {
+  EXPECT_EQ(to_string(*cutter_from_spec("flat:10").apt()), "CUTTER/10,0,5,0,0,0,30");
+  EXPECT_EQ(to_string(*cutter_from_spec("flat:10,25").apt()), "CUTTER/10,0,5,0,0,0,25");
+  EXPECT_EQ(to_string(*cutter_from_spec("ball:6").apt()), "CUTTER/6,3,0,3,0,0,18");
+  EXPECT_EQ(to_string(*cutter_from_spec("bull: 10 , 2 ,40").apt()), "CUTTER/10,2,3,2,0,0,40");
+  EXPECT_EQ(to_string(*cutter_from_spec("taper-flat:6,5,20").apt()), "CUTTER/6,0,3,0,0,5,20");
+  EXPECT_EQ(cutter_from_spec("taper-ball:4,3,30").apt()->beta_deg, 3.0);
+  EXPECT_EQ(to_string(*cutter_from_spec("chamfer:12,90,15").apt()), "CUTTER/12,0,6,6,45,0,15");
+  EXPECT_EQ(to_string(*cutter_from_spec("apt:10,2,3,2,0,0,30").apt()), "CUTTER/10,2,3,2,0,0,30");
+  EXPECT_EQ(cutter_from_spec("flat:10").name(), "flat:10");
+}
+
+TEST(ToolSpec, ErrorsNameTheColumn) {
+  EXPECT_INPUT_ERROR(cutter_from_spec("flatt:10"),
+                     "tool spec:1:1: error: unknown tool type 'flatt' (expected flat, ball,");
+  EXPECT_INPUT_ERROR(cutter_from_spec("bull:10,x"),
+                     "tool spec:1:9: error: expected a number, found 'x'");
+  EXPECT_INPUT_ERROR(cutter_from_spec("flat:"), "tool spec:1:6: error: expected a number");
+  EXPECT_INPUT_ERROR(cutter_from_spec("flat:10,,3"), "tool spec:1:9: error: expected a number");
+  EXPECT_INPUT_ERROR(cutter_from_spec("ball:10,5,3"), "'ball' takes D[,h] (3 values given)");
+  EXPECT_INPUT_ERROR(cutter_from_spec("bull:10"), "'bull' takes D,r[,h] (1 value given)");
+  EXPECT_INPUT_ERROR(cutter_from_spec("flat:-10"), "tool spec:1:6: error: D = -10");
+  EXPECT_INPUT_ERROR(cutter_from_spec("flat:1e999"), "expected a number, found '1e999'");
+  EXPECT_INPUT_ERROR(cutter_from_spec("ten mm"), "is not a tool specification");
+  EXPECT_INPUT_ERROR(cutter_from_spec("apt:10,2,3,2.5,0,0,30"), "f = 2.5 does not fit");
+}
+
+TEST(ToolSpec, LocationInsideALargerInput) {
+  // A specification found at line 3, column 8 of a file reports positions in that file.
+  EXPECT_INPUT_ERROR(cutter_from_spec("bull:10,x", {"job.json", 3, 8}),
+                     "job.json:3:16: error: expected a number");
+}
+
+TEST(ToolFile, ShapeFromSpecAptOrProfile) {
+  const Cutter a = cutter_from_json(
+      R"({"name": "T1", "spec": "bull:16,2,40", "flutes": 2, "helix_deg": 40,
+          "shank": {"diameter": 16, "length": 50}})",
+      "t1.json");
+  EXPECT_EQ(a.name(), "T1");
+  EXPECT_EQ(a.flutes(), 2);
+  EXPECT_NEAR(a.helix_angle(), degrees_to_radians(40.0), 1e-15);
+  EXPECT_DOUBLE_EQ(a.shank().length, 50.0);
+  EXPECT_DOUBLE_EQ(a.diameter(), 16.0);
+
+  const Cutter b = cutter_from_json(R"({"apt": [10, 5, 0, 5, 0, 0, 20]})", "b.json");
+  EXPECT_EQ(b.patches().front().kind, PatchKind::kSphere);
+  EXPECT_EQ(b.name(), "b.json");
+
+  const Cutter c = cutter_from_json(
+      R"({"profile": [{"line": [2, 0]}, {"arc": [4, 2], "center": [2, 2]}, {"line": [4, 10]}]})",
+      "c.json");
+  EXPECT_EQ(c.patches()[1].kind, PatchKind::kTorus);
+  EXPECT_DOUBLE_EQ(c.profile().height(), 10.0);
+}
+
+TEST(ToolFile, ErrorsSayWhatWasExpected) {
+  EXPECT_INPUT_ERROR(cutter_from_json("{\"spec\": \"flat:10\",\n  \"flutes\": }", "t.json"),
+                     "t.json:2:13: error: not valid JSON");
+  EXPECT_INPUT_ERROR(cutter_from_json(R"({"spec": "flat:10", "flute": 3})", "t.json"),
+                     "unknown key \"flute\"");
+  EXPECT_INPUT_ERROR(cutter_from_json(R"({"spec": "flat:10", "apt": [10]})", "t.json"),
+                     "exactly one of \"spec\", \"apt\" and \"profile\"");
+  EXPECT_INPUT_ERROR(cutter_from_json(R"({"spec": "flat:10", "flutes": 2.5})", "t.json"),
+                     "\"flutes\": expected a whole number");
+  EXPECT_INPUT_ERROR(cutter_from_json(R"({"spec": "flat:10,q"})", "t.json"),
+                     "t.json (\"spec\"):1:9: error: expected a number, found 'q'");
+  EXPECT_INPUT_ERROR(
+      cutter_from_json(R"({"profile": [{"line": [2, 0]}, {"arc": [4, 2]}]})", "t.json"),
+      "an arc needs \"center\"");
+  EXPECT_INPUT_ERROR(cutter_from_json(R"({"profile": [{"line": [2]}]})", "t.json"),
+                     "expected a point [radius, z]");
+  EXPECT_INPUT_ERROR(cutter_from_json("[1, 2]", "t.json"), "must hold a JSON object");
+  EXPECT_INPUT_ERROR(cutter_from_file("/nonexistent/tool.json"), "cannot open the tool file");
+}
+
+TEST(ToolFile, BundledExamplesLoad) {
+  const std::filesystem::path dir = std::filesystem::path(source_dir()) / "examples" / "tools";
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    SCOPED_TRACE(entry.path().string());
+    EXPECT_NO_THROW(cutter_from_spec(entry.path().string()));
+    ++count;
+  }
+  EXPECT_GE(count, 2);
+}
+
+}  // namespace
+}  // namespace cwe
