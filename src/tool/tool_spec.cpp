@@ -3,14 +3,13 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <vector>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "cwe/core/error.hpp"
+#include "cwe/core/text_file.hpp"
 
 namespace cwe {
 namespace {
@@ -209,11 +208,7 @@ Cutter cutter_from_spec(std::string_view spec, const SourceLocation& where) {
 }
 
 Cutter cutter_from_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(SourceLocation{path}, "cannot open the tool file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return cutter_from_json(text.str(), path);
+  return cutter_from_json(read_text_file(path, "tool file"), path);
 }
 
 Cutter cutter_from_json(std::string_view text, const std::string& source) {

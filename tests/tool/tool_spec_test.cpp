@@ -1,4 +1,5 @@
 #include "cwe/tool/tool_spec.hpp"
+#include "source_dir.hpp"
 
 #include <gtest/gtest.h>
 
@@ -11,10 +12,7 @@
 namespace cwe {
 namespace {
 
-std::string source_dir() {
-  const char* dir = std::getenv("CWE_SOURCE_DIR");
-  return dir != nullptr ? dir : ".";
-}
+std::string source_dir() { return test::source_dir().string(); }
 
 TEST(ToolSpec, ParsesEveryType) {
   EXPECT_EQ(to_string(*cutter_from_spec("flat:10").apt()), "CUTTER/10,0,5,0,0,0,30");

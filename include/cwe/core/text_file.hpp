@@ -1,0 +1,20 @@
+#pragma once
+// Reading the user's input files whole, with errors that name the file.
+
+#include <string>
+
+namespace cwe {
+
+// Millimetres per inch, for programs and tools written in inches.
+inline constexpr double kMillimetresPerInch = 25.4;
+
+// Largest magnitude accepted for any number in an input file. No machining quantity comes near
+// it (1e9 mm is 1000 km; feeds and spindle speeds are far smaller), and refusing larger ones keeps
+// every sum, square and product a reader forms finite.
+inline constexpr double kLargestInputValue = 1e9;
+
+// The bytes of the file at `path`. Throws InputError naming the path and `what` ("G-code file",
+// "tool file", …) when it cannot be opened or read.
+std::string read_text_file(const std::string& path, const std::string& what);
+
+}  // namespace cwe

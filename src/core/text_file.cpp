@@ -1,0 +1,18 @@
+#include "cwe/core/text_file.hpp"
+
+#include <fstream>
+#include <iterator>
+
+#include "cwe/core/error.hpp"
+
+namespace cwe {
+
+std::string read_text_file(const std::string& path, const std::string& what) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(SourceLocation{path}, "cannot open the " + what);
+  std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  if (in.bad()) throw InputError(SourceLocation{path}, "cannot read the " + what);
+  return text;
+}
+
+}  // namespace cwe
