@@ -6,6 +6,7 @@
 
 #include "cwe/core/assert.hpp"
 #include "cwe/core/error.hpp"
+#include "path_command.hpp"
 #include "tool_command.hpp"
 
 namespace cwe::app {
@@ -16,6 +17,8 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   app.set_version_flag("--version", "cwe 0.1.0");
   ToolCommandOptions tool_options;
   add_tool_command(app, tool_options);
+  PathCommandOptions path_options;
+  add_path_command(app, path_options);
 
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   if (!reversed.empty()) reversed.pop_back();  // the program name
@@ -28,6 +31,7 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   }
   try {
     if (app.got_subcommand("tool")) return run_tool_command(tool_options, out);
+    if (app.got_subcommand("path")) return run_path_command(path_options, out);
   } catch (const InputError& e) {
     err << e.what() << '\n';
     return 2;

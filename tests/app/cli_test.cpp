@@ -1,7 +1,9 @@
 #include "cwe/app/cli.hpp"
+#include "source_dir.hpp"
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -95,6 +97,95 @@ TEST(CliTool, WritesDrawings) {
   for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir / "all")) ++files;
   EXPECT_EQ(files, 2);
   std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace cwe::app
+
+namespace cwe::app {
+namespace {
+
+std::filesystem::path write_program(const std::string& name, const std::string& text) {
+  const auto dir = std::filesystem::temp_directory_path() / "cwe-cli-test-path";
+  std::filesystem::create_directories(dir);
+  const auto path = dir / name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+std::vector<nlohmann::json> json_lines(const std::string& text) {
+  std::istringstream lines(text);
+  std::string line;
+  std::vector<nlohmann::json> out;
+  while (std::getline(lines, line)) out.push_back(nlohmann::json::parse(line));
+  return out;
+}
+
+TEST(CliPath, DumpsMovesInMillimetres) {
+  const auto file = write_program("dump.ngc",
+                                  "G20 G90 G17\n"
+                                  "G0 X1 Y0 Z0.5\n"
+                                  "G1 Z0 F10\n"
+                                  "G2 X0 Y1 I-1 J0\n"  // quarter circle about the origin, clockwise
+                                  "M2\n");
+  const Result r = run_cwe({"path", file.string(), "--dump"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto moves = json_lines(r.out);
+  ASSERT_EQ(moves.size(), 3u);
+  EXPECT_EQ(moves[0]["type"], "rapid");
+  EXPECT_EQ(moves[0]["line"], 2);
+  EXPECT_DOUBLE_EQ(moves[0]["end"][0].get<double>(), 25.4);
+  EXPECT_DOUBLE_EQ(moves[0]["end"][2].get<double>(), 12.7);
+  EXPECT_EQ(moves[1]["type"], "feed");
+  EXPECT_EQ(moves[2]["type"], "arc");
+  EXPECT_EQ(moves[2]["normal"], nlohmann::json({0.0, 0.0, -1.0}));  // G2 in G17: -Z
+  EXPECT_EQ(moves[2]["turns"], 0);
+  EXPECT_NEAR(moves[2]["center"][0].get<double>(), 0.0, 1e-12);
+  EXPECT_NEAR(moves[2]["end"][1].get<double>(), 25.4, 1e-12);
+  EXPECT_EQ(moves[2]["axis"], nlohmann::json({0.0, 0.0, 1.0}));
+}
+
+TEST(CliPath, SummarisesBothFormats) {
+  const std::string root = test::source_dir().string();
+  const Result g = run_cwe({"path", root + "/examples/programs/pocket.ngc"});
+  ASSERT_EQ(g.status, 0) << g.err;
+  EXPECT_NE(g.out.find("(G-code, written in millimetres)"), std::string::npos) << g.out;
+  EXPECT_NE(g.out.find("2 arc (1 helical, 2 of a full turn or more)"), std::string::npos) << g.out;
+  EXPECT_NE(g.out.find(
+                "tip bounds      X -10.000 .. 110.000, Y -2.500 .. 62.500, Z -12.000 .. 50.000 mm"),
+            std::string::npos)
+      << g.out;
+  const Result c = run_cwe({"path", root + "/examples/programs/five_axis.cls"});
+  ASSERT_EQ(c.status, 0) << c.err;
+  EXPECT_NE(c.out.find("5-axis moves    4"), std::string::npos) << c.out;
+  EXPECT_NE(c.out.find("tool T2         9 moves  CUTTER/6,3,0,3,0,0,25"), std::string::npos)
+      << c.out;
+}
+
+TEST(CliPath, CutterLocationPoints) {
+  // 10 mm along X at 600 mm/min, sampled every 2 mm: 5 CL points, 10 mm/s.
+  const auto file = write_program("cl.ngc", "G0 X0 Y0 Z0\nG1 X10 F600\nM2\n");
+  const Result r = run_cwe({"path", file.string(), "--cl-dump", "--cl-step", "2"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto points = json_lines(r.out);
+  ASSERT_EQ(points.size(), 5u);
+  EXPECT_DOUBLE_EQ(points[3]["position"][0].get<double>(), 6.0);
+  EXPECT_DOUBLE_EQ(points[3]["velocity_mm_s"][0].get<double>(), 10.0);
+  EXPECT_EQ(points[3]["line"], 2);
+  const Result summary = run_cwe({"path", file.string(), "--cl-step", "2"});
+  EXPECT_NE(summary.out.find("CL points       5 (every 2 mm"), std::string::npos) << summary.out;
+  EXPECT_EQ(run_cwe({"path", file.string(), "--cl-step", "0"}).status, 2);
+}
+
+TEST(CliPath, ErrorsNameFileLineAndColumn) {
+  const auto file = write_program("bad.ngc", "G0 X0\nG1 X1 Y#2 F100\n");
+  const Result r = run_cwe({"path", file.string()});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.err.rfind(file.string() + ":2:", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("error:"), std::string::npos);
+  const Result missing = run_cwe({"path", "/nonexistent/x.ngc"});
+  EXPECT_EQ(missing.status, 2);
+  EXPECT_NE(missing.err.find("cannot open the toolpath file"), std::string::npos);
 }
 
 }  // namespace

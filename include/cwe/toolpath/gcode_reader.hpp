@@ -1,0 +1,28 @@
+#pragma once
+// G-code (RS274NGC as LinuxCNC interprets it) to moves.
+//
+// The subset CAM post-processors emit, with LinuxCNC's semantics; anything outside it is refused
+// with an InputError naming file, line and column ("not supported"), never ignored or misread.
+// See docs/gcode.md for the exact list. The program is in tool-tip coordinates; the tool axis is
+// +Z throughout. Lengths are converted to millimetres (G20 programs are scaled by 25.4).
+
+#include <string>
+#include <string_view>
+
+#include "cwe/toolpath/toolpath.hpp"
+
+namespace cwe {
+
+struct GcodeOptions {
+  Vec3 initial_position = Vec3::Zero();  // where the tip is before the first move, mm
+  ProgramUnits initial_units = ProgramUnits::kMillimetres;  // until G20/G21
+};
+
+// Parses program text; `source` names it in errors and in Toolpath::sources.
+Toolpath read_gcode(std::string_view text, const std::string& source,
+                    const GcodeOptions& options = {});
+
+// Reads and parses a file.
+Toolpath read_gcode_file(const std::string& path, const GcodeOptions& options = {});
+
+}  // namespace cwe

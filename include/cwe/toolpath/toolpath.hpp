@@ -1,0 +1,35 @@
+#pragma once
+// A whole program as a list of moves, with what a reader learned on the way: the source files,
+// the tools it selected or defined, and warnings (never silently dropped input).
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cwe/core/error.hpp"
+#include "cwe/tool/apt.hpp"
+#include "cwe/toolpath/move.hpp"
+
+namespace cwe {
+
+enum class ProgramUnits { kMillimetres, kInches };
+
+// A remark about the input that did not stop reading it (an unknown CLDATA record, a rapid
+// through material, …), with its location.
+struct Diagnostic {
+  SourceLocation location;
+  std::string message;
+};
+
+struct Toolpath {
+  std::vector<std::string> sources;  // file names; Move::source indexes this
+  std::vector<Move> moves;
+  // Tools defined in the program (CLDATA CUTTER/ records), by tool number (LOADTL; 0 when the
+  // program never numbers its tools).
+  std::map<int, AptCutter> tool_definitions;
+  std::vector<Diagnostic> warnings;
+  ProgramUnits units = ProgramUnits::kMillimetres;  // the units the program was written in
+};
+
+}  // namespace cwe

@@ -1,0 +1,175 @@
+#include "path_command.hpp"
+
+#include <algorithm>
+#include <map>
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+#include <nlohmann/json.hpp>
+
+#include "cwe/core/error.hpp"
+#include "cwe/geometry/tolerance.hpp"
+#include "cwe/toolpath/cl_sampling.hpp"
+#include "cwe/toolpath/toolpath_reader.hpp"
+
+namespace cwe::app {
+namespace {
+
+nlohmann::json vec_json(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+// One JSON object per move, millimetres whatever the program units.
+void dump_moves(const Toolpath& path, std::ostream& out) {
+  for (const Move& m : path.moves) {
+    nlohmann::json j;
+    j["line"] = m.line;
+    j["type"] = m.is_arc() ? "arc" : (m.is_rapid() ? "rapid" : "feed");
+    j["end"] = vec_json(m.end);
+    if (m.is_arc()) {
+      j["center"] = vec_json(m.center);
+      j["normal"] = vec_json(m.normal);
+      j["turns"] = m.extra_turns();
+    }
+    j["axis"] = vec_json(m.end_axis);
+    out << j.dump() << '\n';
+  }
+}
+
+// One JSON object per CL point.
+void dump_cl_points(const std::vector<ClPoint>& points, std::ostream& out) {
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const ClPoint& p = points[k];
+    nlohmann::json j;
+    j["cl"] = k;
+    j["move"] = p.move;
+    j["line"] = p.line;
+    j["u"] = p.u;
+    j["position"] = vec_json(p.position);
+    j["axis"] = vec_json(p.axis);
+    j["feed_direction"] = vec_json(p.feed_direction);
+    j["velocity_mm_s"] = vec_json(p.velocity);
+    j["angular_velocity_rad_s"] = vec_json(p.angular_velocity);
+    j["path_length_mm"] = p.path_length;
+    out << j.dump() << '\n';
+  }
+}
+
+void print_summary(const std::string& file, const ReadToolpath& read,
+                   const PathCommandOptions& options, std::size_t cl_points, std::ostream& out) {
+  const Toolpath& path = read.toolpath;
+  int rapids = 0, lines = 0, arcs = 0, helices = 0, full_circles = 0, five_axis = 0, empty = 0;
+  double feed_length = 0.0, rapid_length = 0.0;
+  double feed_min = 0.0, feed_max = 0.0;
+  bool any_feed = false;
+  Aabb bounds;
+  std::map<int, int> moves_per_tool;
+  std::map<std::pair<int, int>, int> spindles;  // (rpm, direction) → moves
+  for (std::size_t i = 0; i < path.moves.size(); ++i) {
+    const Move& m = path.moves[i];
+    const double length = m.length();
+    // The first move starts at an assumed position (the origin), not a programmed one.
+    if (i == 0 && !m.is_arc()) {
+      bounds.extend(m.end);
+    } else {
+      bounds.extend(m.bounds());
+    }
+    ++moves_per_tool[m.tool];
+    if (length <= tol::kLength && m.axis_angle() <= tol::kAngle) ++empty;
+    if (m.axis_angle() > tol::kAngle) ++five_axis;
+    if (m.is_rapid()) {
+      ++rapids;
+      rapid_length += length;
+      continue;
+    }
+    ++spindles[{static_cast<int>(std::lround(m.spindle_speed)), static_cast<int>(m.spindle)}];
+    feed_length += length;
+    if (m.is_arc()) {
+      ++arcs;
+      if (std::abs(m.axial) > tol::kLength) ++helices;
+      if (m.sweep >= kTwoPi - tol::kAngle) ++full_circles;
+    } else {
+      ++lines;
+    }
+    feed_min = any_feed ? std::min(feed_min, m.feed_rate) : m.feed_rate;
+    feed_max = any_feed ? std::max(feed_max, m.feed_rate) : m.feed_rate;
+    any_feed = true;
+  }
+  fmt::print(out, "Toolpath {} ({}, written in {})\n", file, to_string(read.format),
+             path.units == ProgramUnits::kMillimetres ? "millimetres" : "inches");
+  fmt::print(out,
+             "  moves           {}: {} rapid, {} linear feed, {} arc ({} helical, {} of a full "
+             "turn or more)\n",
+             path.moves.size(), rapids, lines, arcs, helices, full_circles);
+  if (five_axis > 0) fmt::print(out, "  5-axis moves    {} (tool axis turning)\n", five_axis);
+  if (empty > 0) fmt::print(out, "  zero-length     {} (no motion; not sampled)\n", empty);
+  fmt::print(out, "  feed length     {:.3f} mm\n", feed_length);
+  fmt::print(out, "  rapid length    {:.3f} mm\n", rapid_length);
+  if (!bounds.is_empty()) {
+    fmt::print(out,
+               "  tip bounds      X {:.3f} .. {:.3f}, Y {:.3f} .. {:.3f}, Z {:.3f} .. {:.3f} mm\n",
+               bounds.min.x(), bounds.max.x(), bounds.min.y(), bounds.max.y(), bounds.min.z(),
+               bounds.max.z());
+  }
+  if (any_feed) fmt::print(out, "  feed rates      {:.6g} .. {:.6g} mm/min\n", feed_min, feed_max);
+  for (const auto& [key, count] : spindles) {
+    const char* dir = key.second == static_cast<int>(SpindleDirection::kClockwise) ? "CW"
+                      : key.second == static_cast<int>(SpindleDirection::kCounterClockwise)
+                          ? "CCW"
+                          : "stopped";
+    fmt::print(out, "  spindle         {} rpm {} ({} feed moves)\n", key.first, dir, count);
+  }
+  for (const auto& [tool, count] : moves_per_tool) {
+    const auto def = path.tool_definitions.find(tool);
+    fmt::print(out, "  tool {:<10} {} moves{}\n", tool == 0 ? "(none)" : fmt::format("T{}", tool),
+               count, def != path.tool_definitions.end() ? "  " + to_string(def->second) : "");
+  }
+  fmt::print(out, "  CL points       {} (every {:g} mm of tip path and {:g} deg of axis turn)\n",
+             cl_points, options.cl_step, options.cl_angle_deg);
+  fmt::print(out, "  warnings        {}\n", path.warnings.size());
+  const std::size_t shown = std::min<std::size_t>(path.warnings.size(), 10);
+  for (std::size_t i = 0; i < shown; ++i) {
+    const Diagnostic& d = path.warnings[i];
+    fmt::print(out, "    {}:{}: warning: {}\n", d.location.source, d.location.line, d.message);
+  }
+  if (shown < path.warnings.size()) {
+    fmt::print(out, "    … {} more\n", path.warnings.size() - shown);
+  }
+}
+
+}  // namespace
+
+void add_path_command(CLI::App& app, PathCommandOptions& options) {
+  CLI::App* path = app.add_subcommand(
+      "path", "Read a toolpath (G-code or APT CLDATA) and summarise it, or dump its moves.");
+  path->add_option("file", options.file,
+                   "The toolpath file (.ngc/.nc/.tap/.gcode or .cl/.cls/.apt)")
+      ->required();
+  path->add_flag("--dump", options.dump,
+                 "Write one JSON object per move (mm) instead of the summary");
+  path->add_flag("--cl-dump", options.cl_dump,
+                 "Write one JSON object per cutter-location point instead of the summary");
+  path->add_option("--cl-step", options.cl_step, "CL spacing along the tip path, mm")
+      ->capture_default_str();
+  path->add_option("--cl-angle", options.cl_angle_deg, "CL spacing in tool-axis turn, degrees")
+      ->capture_default_str();
+}
+
+int run_path_command(const PathCommandOptions& options, std::ostream& out) {
+  if (options.dump && options.cl_dump) throw InputError("--dump and --cl-dump: choose one");
+  const ReadToolpath read = read_toolpath_file(options.file);
+  SamplingOptions sampling;
+  sampling.step = options.cl_step;
+  sampling.angular_step = degrees_to_radians(options.cl_angle_deg);
+  if (options.dump) {
+    dump_moves(read.toolpath, out);
+    return 0;
+  }
+  const std::vector<ClPoint> points = sample_cl_points(read.toolpath, sampling);
+  if (options.cl_dump) {
+    dump_cl_points(points, out);
+  } else {
+    print_summary(options.file, read, options, points.size(), out);
+  }
+  return 0;
+}
+
+}  // namespace cwe::app

@@ -1,0 +1,22 @@
+#pragma once
+// `cwe path`: read a toolpath (G-code or CLDATA), summarise it, or dump its moves as JSON lines.
+
+#include <CLI/CLI.hpp>
+
+#include <ostream>
+#include <string>
+
+namespace cwe::app {
+
+struct PathCommandOptions {
+  std::string file;
+  bool dump = false;
+  bool cl_dump = false;
+  double cl_step = 0.5;       // mm
+  double cl_angle_deg = 1.0;  // degrees of tool-axis turn
+};
+
+void add_path_command(CLI::App& app, PathCommandOptions& options);
+int run_path_command(const PathCommandOptions& options, std::ostream& out);
+
+}  // namespace cwe::app

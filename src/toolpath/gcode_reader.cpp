@@ -1,0 +1,1128 @@
+#include "cwe/toolpath/gcode_reader.hpp"
+
+// RS274NGC as LinuxCNC 2.9 interprets it (src/emc/rs274ngc: interp_read.cc reads a line into a
+// block, interp_check.cc checks which words go together, interp_convert.cc, interp_arc.cc and
+// interp_cycles.cc execute it). The structure below follows LinuxCNC's so that each behaviour can
+// be compared with its counterpart there; docs/gcode.md lists them and how each was confirmed
+// with LinuxCNC's own interpreter (`rs274`).
+//
+// Like LinuxCNC, the interpreter keeps positions in program units (inch under G20, mm under G21)
+// and converts the current position when the units change; moves are scaled to millimetres only
+// when they are emitted. Tolerances are in program units for the same reason.
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <iterator>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "cwe/core/text_file.hpp"
+#include "cwe/geometry/tolerance.hpp"
+
+namespace cwe {
+namespace {
+
+// How far above the previous depth a G73/G83 peck stops its rapid (LinuxCNC G83_RAPID_DELTA),
+// inch; 0.254 mm under G21.
+constexpr double kPeckClearanceInch = 0.010;
+
+// A canned cycle that expands to more moves than this is refused: it is a typo (Q far smaller
+// than the hole, a huge L) that would otherwise exhaust memory.
+constexpr double kMaxCycleMoves = 1e6;
+
+// G codes as LinuxCNC stores them: ten times the number, G59.1 is 591.
+constexpr int kG0 = 0, kG1 = 10, kG2 = 20, kG3 = 30, kG4 = 40, kG17 = 170, kG18 = 180, kG19 = 190,
+              kG20 = 200, kG43 = 430, kG64 = 640, kG73 = 730, kG80 = 800, kG81 = 810, kG82 = 820,
+              kG83 = 830, kG90_1 = 901, kG91 = 910, kG99 = 990;
+
+// LinuxCNC's modal groups (interp_internal.hh GM_*), indices into Block::g.
+enum GroupIndex : int {
+  kGroupNonModal = 0,
+  kGroupMotion = 1,
+  kGroupPlane = 2,
+  kGroupDistance = 3,
+  kGroupArcDistance = 4,
+  kGroupFeedMode = 5,
+  kGroupUnits = 6,
+  kGroupCutterComp = 7,
+  kGroupToolLength = 8,
+  kGroupRetract = 10,
+  kGroupCoordSystem = 12,
+  kGroupPathControl = 13,
+  kGroupSpindleMode = 14,
+  kGroupLathe = 15,
+  kGroupCount = 16
+};
+
+// M-code groups (LinuxCNC's m_modes indices).
+enum MGroupIndex : int {
+  kMGroupStop = 4,
+  kMGroupToolChange = 6,
+  kMGroupSpindle = 7,
+  kMGroupCoolant = 8,
+  kMGroupCount = 11
+};
+
+struct CodeInfo {
+  int code;  // ×10 for G codes
+  int group;
+  const char* unsupported;  // nullptr: supported; otherwise why not ("... is not supported")
+};
+
+// Every G code LinuxCNC 2.9 knows (its _gees table), with the subset cwe reads.
+constexpr CodeInfo kGCodes[] = {
+    {0, kGroupMotion, nullptr},
+    {10, kGroupMotion, nullptr},
+    {20, kGroupMotion, nullptr},
+    {30, kGroupMotion, nullptr},
+    {40, kGroupNonModal, nullptr},
+    {50, kGroupMotion, "splines (G5, G5.1, G5.2, G5.3) are"},
+    {51, kGroupMotion, "splines (G5, G5.1, G5.2, G5.3) are"},
+    {52, kGroupMotion, "splines (G5, G5.1, G5.2, G5.3) are"},
+    {53, kGroupMotion, "splines (G5, G5.1, G5.2, G5.3) are"},
+    {70, kGroupLathe, "lathe diameter and radius modes (G7, G8) are"},
+    {80, kGroupLathe, "lathe diameter and radius modes (G7, G8) are"},
+    {100, kGroupNonModal, "G10 (setting offsets and tool data) is"},
+    {170, kGroupPlane, nullptr},
+    {171, kGroupPlane, "UVW planes (G17.1, G18.1, G19.1) are"},
+    {180, kGroupPlane, nullptr},
+    {181, kGroupPlane, "UVW planes (G17.1, G18.1, G19.1) are"},
+    {190, kGroupPlane, nullptr},
+    {191, kGroupPlane, "UVW planes (G17.1, G18.1, G19.1) are"},
+    {200, kGroupUnits, nullptr},
+    {210, kGroupUnits, nullptr},
+    {280, kGroupNonModal, "returns to a stored position (G28, G30) are"},
+    {281, kGroupNonModal, "storing a position (G28.1, G30.1) is"},
+    {300, kGroupNonModal, "returns to a stored position (G28, G30) are"},
+    {301, kGroupNonModal, "storing a position (G28.1, G30.1) is"},
+    {330, kGroupMotion, "spindle-synchronised motion (G33, G33.1) is"},
+    {331, kGroupMotion, "spindle-synchronised motion (G33, G33.1) is"},
+    {382, kGroupMotion, "probing (G38.2 to G38.5) is"},
+    {383, kGroupMotion, "probing (G38.2 to G38.5) is"},
+    {384, kGroupMotion, "probing (G38.2 to G38.5) is"},
+    {385, kGroupMotion, "probing (G38.2 to G38.5) is"},
+    {400, kGroupCutterComp, nullptr},
+    {410, kGroupCutterComp, "cutter radius compensation (G41, G42) is"},
+    {411, kGroupCutterComp, "cutter radius compensation (G41.1, G42.1) is"},
+    {420, kGroupCutterComp, "cutter radius compensation (G41, G42) is"},
+    {421, kGroupCutterComp, "cutter radius compensation (G41.1, G42.1) is"},
+    {430, kGroupToolLength, nullptr},
+    {431, kGroupToolLength, "dynamic tool length offsets (G43.1, G43.2) are"},
+    {432, kGroupToolLength, "dynamic tool length offsets (G43.1, G43.2) are"},
+    {490, kGroupToolLength, nullptr},
+    {520, kGroupNonModal, "local coordinate offsets (G52) are"},
+    {530, kGroupNonModal, "motion in machine coordinates (G53) is"},
+    {540, kGroupCoordSystem, nullptr},
+    {550, kGroupCoordSystem, "work offsets other than G54 (G55 to G59.3) are"},
+    {560, kGroupCoordSystem, "work offsets other than G54 (G55 to G59.3) are"},
+    {570, kGroupCoordSystem, "work offsets other than G54 (G55 to G59.3) are"},
+    {580, kGroupCoordSystem, "work offsets other than G54 (G55 to G59.3) are"},
+    {590, kGroupCoordSystem, "work offsets other than G54 (G55 to G59.3) are"},
+    {591, kGroupCoordSystem, "work offsets other than G54 (G55 to G59.3) are"},
+    {592, kGroupCoordSystem, "work offsets other than G54 (G55 to G59.3) are"},
+    {593, kGroupCoordSystem, "work offsets other than G54 (G55 to G59.3) are"},
+    {610, kGroupPathControl, nullptr},
+    {611, kGroupPathControl, nullptr},
+    {640, kGroupPathControl, nullptr},
+    {700, kGroupMotion, "lathe finishing and roughing cycles (G70, G71, G72) are"},
+    {710, kGroupMotion, "lathe finishing and roughing cycles (G70, G71, G72) are"},
+    {711, kGroupMotion, "lathe finishing and roughing cycles (G70, G71, G72) are"},
+    {720, kGroupMotion, "lathe finishing and roughing cycles (G70, G71, G72) are"},
+    {721, kGroupMotion, "lathe finishing and roughing cycles (G70, G71, G72) are"},
+    {730, kGroupMotion, nullptr},
+    {740, kGroupMotion, "canned cycles other than G73, G81, G82 and G83 are"},
+    {760, kGroupMotion, "threading (G76) is"},
+    {800, kGroupMotion, nullptr},
+    {810, kGroupMotion, nullptr},
+    {820, kGroupMotion, nullptr},
+    {830, kGroupMotion, nullptr},
+    {840, kGroupMotion, "canned cycles other than G73, G81, G82 and G83 are"},
+    {850, kGroupMotion, "canned cycles other than G73, G81, G82 and G83 are"},
+    {860, kGroupMotion, "canned cycles other than G73, G81, G82 and G83 are"},
+    {870, kGroupMotion, "canned cycles other than G73, G81, G82 and G83 are"},
+    {880, kGroupMotion, "canned cycles other than G73, G81, G82 and G83 are"},
+    {890, kGroupMotion, "canned cycles other than G73, G81, G82 and G83 are"},
+    {900, kGroupDistance, nullptr},
+    {901, kGroupArcDistance, nullptr},
+    {910, kGroupDistance, nullptr},
+    {911, kGroupArcDistance, nullptr},
+    {920, kGroupNonModal, "coordinate system offsets (G92, G92.1, G92.2, G92.3) are"},
+    {921, kGroupNonModal, "coordinate system offsets (G92, G92.1, G92.2, G92.3) are"},
+    {922, kGroupNonModal, "coordinate system offsets (G92, G92.1, G92.2, G92.3) are"},
+    {923, kGroupNonModal, "coordinate system offsets (G92, G92.1, G92.2, G92.3) are"},
+    {930, kGroupFeedMode, "inverse time feed (G93) is"},
+    {940, kGroupFeedMode, nullptr},
+    {950, kGroupFeedMode, "feed per revolution (G95) is"},
+    {960, kGroupSpindleMode, "constant surface speed (G96) is"},
+    {970, kGroupSpindleMode, nullptr},
+    {980, kGroupRetract, nullptr},
+    {990, kGroupRetract, nullptr},
+};
+
+// The M codes LinuxCNC 2.9 knows below M100 (its _ems table).
+constexpr CodeInfo kMCodes[] = {
+    {0, kMGroupStop, nullptr},
+    {1, kMGroupStop, nullptr},
+    {2, kMGroupStop, nullptr},
+    {3, kMGroupSpindle, nullptr},
+    {4, kMGroupSpindle, nullptr},
+    {5, kMGroupSpindle, nullptr},
+    {6, kMGroupToolChange, nullptr},
+    {7, kMGroupCoolant, nullptr},
+    {8, kMGroupCoolant, nullptr},
+    {9, kMGroupCoolant, nullptr},
+    {19, kMGroupSpindle, "spindle orientation (M19) is"},
+    {30, kMGroupStop, nullptr},
+    {48, 9, "override switches (M48 to M53) are"},
+    {49, 9, "override switches (M48 to M53) are"},
+    {50, 9, "override switches (M48 to M53) are"},
+    {51, 9, "override switches (M48 to M53) are"},
+    {52, 9, "override switches (M48 to M53) are"},
+    {53, 9, "override switches (M48 to M53) are"},
+    {60, kMGroupStop, "pallet changes (M60) are"},
+    {61, kMGroupToolChange, "setting the loaded tool without a change (M61) is"},
+    {62, 5, "digital and analog I/O (M62 to M68) is"},
+    {63, 5, "digital and analog I/O (M62 to M68) is"},
+    {64, 5, "digital and analog I/O (M62 to M68) is"},
+    {65, 5, "digital and analog I/O (M62 to M68) is"},
+    {66, 5, "digital and analog I/O (M62 to M68) is"},
+    {67, 5, "digital and analog I/O (M62 to M68) is"},
+    {68, 5, "digital and analog I/O (M62 to M68) is"},
+    {70, 10, "saving and restoring modal state (M70 to M73) is"},
+    {71, 10, "saving and restoring modal state (M70 to M73) is"},
+    {72, 10, "saving and restoring modal state (M70 to M73) is"},
+    {73, 10, "saving and restoring modal state (M70 to M73) is"},
+    {98, 10, "subprogram calls (M98, M99) are"},
+    {99, 10, "subprogram calls (M98, M99) are"},
+};
+
+template <std::size_t N>
+const CodeInfo* find_code(const CodeInfo (&table)[N], int code) {
+  for (const CodeInfo& info : table) {
+    if (info.code == code) return &info;
+  }
+  return nullptr;
+}
+
+std::string g_name(int code) {
+  return code % 10 == 0 ? fmt::format("G{}", code / 10)
+                        : fmt::format("G{}.{}", code / 10, code % 10);
+}
+
+bool is_cycle(int motion) {
+  return motion == kG73 || motion == kG81 || motion == kG82 || motion == kG83;
+}
+
+// A character for a message: itself if printable ASCII, its code otherwise.
+std::string describe_char(unsigned char c) {
+  if (c >= 0x21 && c < 0x7f) return fmt::format("'{}'", static_cast<char>(c));
+  return fmt::format("0x{:02X}", static_cast<unsigned>(c));
+}
+
+// One word of a block: the value and the column of its letter.
+struct Word {
+  bool present = false;
+  double value = 0.0;
+  int column = 0;
+};
+
+// One line read into words, as LinuxCNC's block_struct.
+struct Block {
+  std::array<Word, 26> words{};  // by letter, 'a' to 'z'
+  std::array<int, kGroupCount> g{};
+  std::array<int, kGroupCount> g_column{};
+  std::array<int, kMGroupCount> m{};
+  std::array<int, kMGroupCount> m_column{};
+
+  Block() {
+    g.fill(-1);
+    m.fill(-1);
+  }
+  Word& operator[](char letter) { return words[static_cast<std::size_t>(letter - 'a')]; }
+  const Word& operator[](char letter) const {
+    return words[static_cast<std::size_t>(letter - 'a')];
+  }
+  bool has(char letter) const { return (*this)[letter].present; }
+  bool has_axis() const { return has('x') || has('y') || has('z'); }
+  // Column of the first axis word, for errors about a modal motion.
+  int first_axis_column() const {
+    int column = 0;
+    for (char a : {'x', 'y', 'z'}) {
+      const Word& w = (*this)[a];
+      if (w.present && (column == 0 || w.column < column)) column = w.column;
+    }
+    return column;
+  }
+};
+
+// A line with comments and blanks removed and letters lowered (LinuxCNC's close_and_downcase),
+// each remaining character with its column (1-based byte offset) in the original line.
+struct CompactLine {
+  std::string code;
+  std::vector<int> columns;
+  bool comment_first = false;  // a comment precedes the first word (so N cannot be first)
+};
+
+enum class Plane { kXY, kXZ, kYZ };
+
+// Axis indices of a plane in LinuxCNC's canonical order: first and second in-plane axes and the
+// axis normal to the plane. (first, second, normal) is right-handed, so a positive rotation
+// (G3) is counter-clockwise about +normal: XY → (X, Y, Z), XZ → (Z, X, Y), YZ → (Y, Z, X).
+struct PlaneAxes {
+  int first, second, normal;
+  char first_letter, second_letter;  // axis letters, for messages
+  char first_offset, second_offset;  // the centre words: I, J or K
+  char forbidden_offset;             // the centre word for the normal axis
+};
+
+PlaneAxes plane_axes(Plane plane) {
+  switch (plane) {
+    case Plane::kXY:
+      return {0, 1, 2, 'X', 'Y', 'i', 'j', 'k'};
+    case Plane::kXZ:
+      return {2, 0, 1, 'Z', 'X', 'k', 'i', 'j'};
+    case Plane::kYZ:
+      break;
+  }
+  return {1, 2, 0, 'Y', 'Z', 'j', 'k', 'i'};
+}
+
+const char* plane_name(Plane plane) {
+  switch (plane) {
+    case Plane::kXY:
+      return "XY";
+    case Plane::kXZ:
+      return "XZ";
+    case Plane::kYZ:
+      break;
+  }
+  return "YZ";
+}
+
+class Interpreter {
+ public:
+  Interpreter(std::string_view text, const std::string& source, const GcodeOptions& options)
+      : text_(text), source_(source) {
+    inches_ = options.initial_units == ProgramUnits::kInches;
+    position_ = options.initial_position / scale();
+    result_.sources = {source};
+    result_.units = options.initial_units;
+  }
+
+  Toolpath run();
+
+ private:
+  [[noreturn]] void fail(int column, const std::string& message) const {
+    throw InputError(SourceLocation{source_, line_, column}, message);
+  }
+  void warn(int line, int column, const std::string& message) {
+    result_.warnings.push_back({SourceLocation{source_, line, column}, message});
+  }
+  double scale() const { return inches_ ? kMillimetresPerInch : 1.0; }
+
+  // Reading.
+  CompactLine compact(std::string_view raw) const;
+  Block read_block(const CompactLine& line) const;
+  double read_number(const CompactLine& line, std::size_t& i, int word_column, char letter) const;
+  int read_integer(const CompactLine& line, std::size_t& i, int word_column, char letter) const;
+  void read_g(const CompactLine& line, std::size_t& i, int column, Block& block) const;
+  void read_m(const CompactLine& line, std::size_t& i, int column, Block& block) const;
+
+  // Executing.
+  bool execute(const Block& block);  // false once the program has ended
+  int motion_to_be(const Block& block, int& column) const;
+  void check_words(const Block& block, int motion) const;
+  Vec3 find_end(const Block& block) const;
+  void straight(const Block& block, int motion, int column);
+  void arc(const Block& block, int motion, int column);
+  void cycle(const Block& block, int motion, int column);
+
+  // Emitting moves (positions in program units).
+  Move new_move(MotionMode mode) const;
+  void emit_line(MotionMode mode, const Vec3& to);
+  void cycle_traverse(double x, double y, double z) { emit_line(MotionMode::kRapid, {x, y, z}); }
+  void cycle_feed(double x, double y, double z) { emit_line(MotionMode::kFeed, {x, y, z}); }
+
+  std::string_view text_;
+  std::string source_;
+  Toolpath result_;
+  int line_ = 0;
+
+  // Modal state, as LinuxCNC's setup_struct.
+  Vec3 position_ = Vec3::Zero();  // program units
+  bool inches_ = false;
+  bool units_seen_ = false;
+  Plane plane_ = Plane::kXY;
+  bool incremental_ = false;      // G91
+  bool arc_absolute_ = false;     // G90.1 (LinuxCNC starts in G91.1)
+  bool retract_to_r_ = true;      // G99 (LinuxCNC's initial retract mode), false: G98
+  int motion_mode_ = kG80;        // LinuxCNC starts with no motion mode (G80)
+  double feed_mm_per_min_ = 0.0;  // physical: LinuxCNC's canon converts F when it is set
+  double spindle_speed_ = 0.0;
+  SpindleDirection spindle_ = SpindleDirection::kStopped;
+  int selected_tool_ = 0;
+  int loaded_tool_ = 0;
+  // Canned-cycle memory (LinuxCNC cycle_r, cycle_cc, cycle_p, cycle_q, cycle_il).
+  double cycle_r_ = 0.0, cycle_cc_ = 0.0, cycle_p_ = 0.0, cycle_q_ = 0.0;
+  bool cycle_initial_level_set_ = false;
+  double cycle_initial_level_ = 0.0;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Reading
+
+CompactLine Interpreter::compact(std::string_view raw) const {
+  CompactLine out;
+  for (std::size_t i = 0; i < raw.size(); ++i) {
+    const char c = raw[i];
+    if (c == ' ' || c == '\t') continue;
+    if (c == ';') break;  // the rest of the line is a comment
+    if (c == '(') {
+      std::size_t j = i + 1;
+      while (j < raw.size() && raw[j] != ')') {
+        if (raw[j] == '(') fail(static_cast<int>(j + 1), "nested comment found");
+        ++j;
+      }
+      if (j == raw.size()) fail(static_cast<int>(i + 1), "unclosed comment found");
+      if (out.code.empty()) out.comment_first = true;
+      i = j;
+      continue;
+    }
+    out.code.push_back(c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c);
+    out.columns.push_back(static_cast<int>(i + 1));
+  }
+  return out;
+}
+
+// A real number as LinuxCNC writes it: optional sign, digits with at most one decimal point, at
+// least one digit; no exponent (E is a word letter). Spaces inside were removed by compact().
+double Interpreter::read_number(const CompactLine& line, std::size_t& i, int word_column,
+                                char letter) const {
+  const std::string& s = line.code;
+  const char upper = static_cast<char>(letter - 'a' + 'A');
+  std::size_t j = i;
+  bool negative = false;
+  if (j < s.size() && (s[j] == '+' || s[j] == '-')) negative = s[j++] == '-';
+  if (j < s.size() && s[j] == '[') {
+    fail(line.columns[j], "expressions ([...]) are not supported");
+  }
+  if (j < s.size() && s[j] == '#') fail(line.columns[j], "parameters (#) are not supported");
+  const std::size_t begin = j;
+  int digits = 0, points = 0;
+  for (; j < s.size() && ((s[j] >= '0' && s[j] <= '9') || s[j] == '.'); ++j) {
+    if (s[j] == '.') {
+      ++points;
+    } else {
+      ++digits;
+    }
+  }
+  if (digits == 0) {
+    fail(word_column, fmt::format("bad number format: {} needs a number", upper));
+  }
+  if (points > 1) {
+    fail(word_column, fmt::format("bad number format: {} has more than one decimal point", upper));
+  }
+  double value = 0.0;
+  const auto [end, error] =
+      std::from_chars(s.data() + begin, s.data() + j, value, std::chars_format::fixed);
+  if (error == std::errc::result_out_of_range || !std::isfinite(value) ||
+      value > kLargestInputValue) {
+    fail(word_column,
+         fmt::format("{} value out of range (larger than {:g})", upper, kLargestInputValue));
+  }
+  if (error != std::errc() || end != s.data() + j) {
+    fail(word_column, fmt::format("bad number format after {}", upper));
+  }
+  i = j;
+  return negative ? -value : value;
+}
+
+// LinuxCNC's read_integer_value: a real within kGcodeIntegerWord of an integer.
+int Interpreter::read_integer(const CompactLine& line, std::size_t& i, int word_column,
+                              char letter) const {
+  const double value = read_number(line, i, word_column, letter);
+  const double nearest = std::round(value);
+  if (std::abs(value - nearest) > tol::kGcodeIntegerWord) {
+    fail(word_column,
+         fmt::format("non-integer value for {}: {}", static_cast<char>(letter - 'a' + 'A'), value));
+  }
+  return static_cast<int>(nearest);
+}
+
+void Interpreter::read_g(const CompactLine& line, std::size_t& i, int column, Block& block) const {
+  const double value = read_number(line, i, column, 'g');
+  // LinuxCNC's read_g: ten times the number, within a thousandth of an integer.
+  const double tenths = 10.0 * value;
+  double code = std::floor(tenths);
+  if (tenths - code > 1.0 - tol::kGcodeGNumberTenths) {
+    code += 1.0;
+  } else if (tenths - code > tol::kGcodeGNumberTenths) {
+    fail(column, fmt::format("G code out of range: G{}", value));
+  }
+  if (code > 999.0) fail(column, fmt::format("G code out of range: G{}", value));
+  if (code < 0.0) fail(column, "negative G code used");
+  const int number = static_cast<int>(code);
+  const CodeInfo* info = find_code(kGCodes, number);
+  if (info == nullptr) fail(column, fmt::format("unknown G code: {}", g_name(number)));
+  if (info->unsupported != nullptr) {
+    fail(column, fmt::format("{}: {} not supported", g_name(number), info->unsupported));
+  }
+  int& slot = block.g[static_cast<std::size_t>(info->group)];
+  // G80 with another motion code on the line is ignored, as in LinuxCNC.
+  if (number == kG80 && slot != -1) return;
+  if (slot != -1 && slot != kG80) {
+    fail(column, fmt::format("two G codes used from the same modal group: {} and {}", g_name(slot),
+                             g_name(number)));
+  }
+  slot = number;
+  block.g_column[static_cast<std::size_t>(info->group)] = column;
+}
+
+void Interpreter::read_m(const CompactLine& line, std::size_t& i, int column, Block& block) const {
+  const int number = read_integer(line, i, column, 'm');
+  if (number < 0) fail(column, "negative M code used");
+  if (number > 199) fail(column, fmt::format("M code greater than 199: M{}", number));
+  if (number >= 100) {
+    fail(column, fmt::format("M{}: user-defined M codes (M100 to M199) are not supported", number));
+  }
+  const CodeInfo* info = find_code(kMCodes, number);
+  if (info == nullptr) fail(column, fmt::format("unknown M code: M{}", number));
+  if (info->unsupported != nullptr) {
+    fail(column, fmt::format("M{}: {} not supported", number, info->unsupported));
+  }
+  int& slot = block.m[static_cast<std::size_t>(info->group)];
+  if (slot != -1) {
+    fail(column,
+         fmt::format("two M codes used from the same modal group: M{} and M{}", slot, number));
+  }
+  slot = number;
+  block.m_column[static_cast<std::size_t>(info->group)] = column;
+}
+
+Block Interpreter::read_block(const CompactLine& line) const {
+  Block block;
+  const std::string& s = line.code;
+  std::size_t i = 0;
+  // A leading '/' is block delete; LinuxCNC executes the line when the block-delete switch is
+  // off, its default.
+  if (i < s.size() && s[i] == '/') ++i;
+  if (i < s.size() && s[i] == 'n' && !line.comment_first) {
+    const int column = line.columns[i];
+    std::size_t j = i + 1;
+    while (j < s.size() && ((s[j] >= '0' && s[j] <= '9') || s[j] == '.')) ++j;
+    if (j == i + 1) fail(column, "bad line number: N needs digits");
+    i = j;
+  }
+  while (i < s.size()) {
+    const char c = s[i];
+    const int column = line.columns[i];
+    ++i;
+    switch (c) {
+      case 'g':
+        read_g(line, i, column, block);
+        continue;
+      case 'm':
+        read_m(line, i, column, block);
+        continue;
+      case 'x':
+      case 'y':
+      case 'z':
+      case 'i':
+      case 'j':
+      case 'k':
+      case 'r':
+      case 'p':
+      case 'q':
+      case 'f':
+      case 's':
+      case 't':
+      case 'h':
+      case 'l': {
+        Word& word = block[c];
+        const char upper = static_cast<char>(c - 'a' + 'A');
+        if (word.present) fail(column, fmt::format("multiple {} words on one line", upper));
+        const bool integer = c == 't' || c == 'h' || c == 'l';
+        word.value = integer ? read_integer(line, i, column, c) : read_number(line, i, column, c);
+        word.present = true;
+        word.column = column;
+        if (word.value < 0.0) {
+          switch (c) {
+            case 'f':
+              fail(column, "negative F word used");
+            case 's':
+              fail(column, "negative spindle speed used");
+            case 't':
+              fail(column, "negative tool number used");
+            case 'h':
+              fail(column, "negative H word used");
+            case 'l':
+              fail(column, "negative L word used");
+            default:
+              break;
+          }
+        }
+        continue;
+      }
+      case 'a':
+      case 'b':
+      case 'c':
+        fail(column, fmt::format("rotary axis words (A, B, C) are not supported: {}",
+                                 static_cast<char>(c - 'a' + 'A')));
+      case 'u':
+      case 'v':
+      case 'w':
+        fail(column, fmt::format("U, V and W axis words are not supported: {}",
+                                 static_cast<char>(c - 'a' + 'A')));
+      case 'd':
+        fail(column, "D word (cutter radius compensation) is not supported");
+      case 'e':
+        fail(column, "E word is not supported");
+      case 'o':
+        fail(column, "O-words (subroutines and control flow) are not supported");
+      case '#':
+        fail(column, "parameters (#) are not supported");
+      case '[':
+        fail(column, "expressions ([...]) are not supported");
+      case '@':
+      case '^':
+        fail(column, "polar coordinates (@, ^) are not supported");
+      case '$':
+        fail(column, "spindle selection ($) is not supported");
+      case 'n':
+        fail(column, "bad character 'N': a line number must be the first word of the line");
+      default:
+        fail(column,
+             fmt::format("bad character {} used", describe_char(static_cast<unsigned char>(c))));
+    }
+  }
+  return block;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Executing (LinuxCNC's check_items and execute_block, in its order)
+
+// The motion the block will make (LinuxCNC's motion_to_be), -1 for none; `column` is the column
+// to blame for it (its G word, or its first axis word when the motion is modal).
+int Interpreter::motion_to_be(const Block& block, int& column) const {
+  const int motion = block.g[kGroupMotion];
+  if (motion != -1) {
+    column = block.g_column[kGroupMotion];
+    if (motion == kG80) {
+      if (block.has_axis()) fail(block.first_axis_column(), "cannot use axis values with G80");
+    } else if (!block.has_axis() && is_cycle(motion)) {
+      fail(column, fmt::format("all axes missing with motion code {}", g_name(motion)));
+    }
+    return motion;
+  }
+  if (!block.has_axis()) return -1;
+  column = block.first_axis_column();
+  if (motion_mode_ == kG80) {
+    fail(column, "cannot use axis values without a G code that uses them (no motion mode)");
+  }
+  return motion_mode_;
+}
+
+// LinuxCNC's check_other_codes, for the words cwe reads.
+void Interpreter::check_words(const Block& block, int motion) const {
+  const bool arc = motion == kG2 || motion == kG3;
+  for (char c : {'i', 'j', 'k'}) {
+    if (block.has(c) && !arc) {
+      fail(block[c].column,
+           fmt::format("{} word with no G2 or G3 to use it", static_cast<char>(c - 'a' + 'A')));
+    }
+  }
+  if (block.has('r') && !arc && !is_cycle(motion)) {
+    fail(block['r'].column, "R word with no G2, G3 or canned cycle to use it");
+  }
+  if (block.has('p') && !arc && motion != kG82 && block.g[kGroupNonModal] != kG4 &&
+      block.g[kGroupPathControl] != kG64) {
+    fail(block['p'].column, "P word with no G2, G3, G4, G64 or G82 to use it");
+  }
+  if (block.has('q') && motion != kG73 && motion != kG83 && block.g[kGroupPathControl] != kG64) {
+    fail(block['q'].column, "Q word with no G64, G73 or G83 to use it");
+  }
+  if (block.has('l') && !is_cycle(motion)) {
+    fail(block['l'].column, "L word with no canned cycle to use it");
+  }
+  if (block.has('h') && block.g[kGroupToolLength] != kG43) {
+    fail(block['h'].column, "H word with no G43 to use it");
+  }
+  if (block.g[kGroupNonModal] == kG4 && !block.has('p')) {
+    fail(block.g_column[kGroupNonModal], "dwell time missing with G4 (P word)");
+  }
+  if (block.g[kGroupNonModal] == kG4 && block['p'].value < 0.0) {
+    fail(block['p'].column, "negative dwell time (P word) with G4");
+  }
+  if (arc && block.has('p')) {
+    const double p = block['p'].value;
+    if (std::abs(p - std::round(p)) > tol::kGcodeArcTurns) {
+      fail(block['p'].column, fmt::format("P value not an integer with G2 or G3: {}", p));
+    }
+    if (std::round(p) < 1.0) {
+      fail(block['p'].column, "P value should be 1 or greater with G2 or G3");
+    }
+  }
+}
+
+bool Interpreter::execute(const Block& block) {
+  int motion_column = 0;
+  const int motion = motion_to_be(block, motion_column);
+  check_words(block, motion);
+
+  // LinuxCNC's order of execution within a line: F, S, T, M6, M3/M4/M5, M7/M8/M9, G4, plane,
+  // units, G40, G43/G49, G54, G61/G64, G90/G91, G90.1/G91.1, G98/G99, motion, M0/M1/M2/M30.
+  if (block.has('f')) feed_mm_per_min_ = block['f'].value * scale();  // canon's SET_FEED_RATE
+  if (block.has('s')) spindle_speed_ = block['s'].value;
+  if (block.has('t')) selected_tool_ = static_cast<int>(block['t'].value);
+  if (block.m[kMGroupToolChange] == 6) {
+    // M6 loads the selected tool and stops the spindle (LinuxCNC's convert_tool_change).
+    loaded_tool_ = selected_tool_;
+    spindle_ = SpindleDirection::kStopped;
+  }
+  switch (block.m[kMGroupSpindle]) {
+    case 3:
+      spindle_ = SpindleDirection::kClockwise;
+      break;
+    case 4:
+      spindle_ = SpindleDirection::kCounterClockwise;
+      break;
+    case 5:
+      spindle_ = SpindleDirection::kStopped;
+      break;
+    default:
+      break;
+  }
+  // M7, M8, M9 (coolant), G4 (dwell), G40, G43/G49, G54, G61/G61.1/G64, G94, G97: accepted,
+  // no effect on the tip path.
+  switch (block.g[kGroupPlane]) {
+    case kG17:
+      plane_ = Plane::kXY;
+      break;
+    case kG18:
+      plane_ = Plane::kXZ;
+      break;
+    case kG19:
+      plane_ = Plane::kYZ;
+      break;
+    default:
+      break;
+  }
+  if (block.g[kGroupUnits] != -1) {
+    const bool inches = block.g[kGroupUnits] == kG20;
+    if (!units_seen_) {
+      units_seen_ = true;
+      result_.units = inches ? ProgramUnits::kInches : ProgramUnits::kMillimetres;
+    }
+    if (inches != inches_) {
+      // LinuxCNC's convert_length_units: the current position is converted; the feed rate
+      // stays the same physical rate (kept here in mm/min).
+      position_ =
+          inches ? Vec3(position_ / kMillimetresPerInch) : Vec3(position_ * kMillimetresPerInch);
+      inches_ = inches;
+    }
+  }
+  if (block.g[kGroupDistance] != -1) incremental_ = block.g[kGroupDistance] == kG91;
+  if (block.g[kGroupArcDistance] != -1) arc_absolute_ = block.g[kGroupArcDistance] == kG90_1;
+  if (block.g[kGroupRetract] != -1) retract_to_r_ = block.g[kGroupRetract] == kG99;
+
+  if (motion != -1) {
+    // Any motion other than a canned cycle ends a run of cycles (the G98 initial level).
+    if (!is_cycle(motion)) cycle_initial_level_set_ = false;
+    if (motion == kG0 || motion == kG1) {
+      straight(block, motion, motion_column);
+    } else if (motion == kG2 || motion == kG3) {
+      arc(block, motion, motion_column);
+    } else if (motion == kG80) {
+      motion_mode_ = kG80;
+    } else {
+      cycle(block, motion, motion_column);
+    }
+  }
+  const int stop = block.m[kMGroupStop];
+  return stop != 2 && stop != 30;  // M0, M1 (pauses) do not change the path
+}
+
+Vec3 Interpreter::find_end(const Block& block) const {
+  Vec3 end = position_;
+  for (int axis = 0; axis < 3; ++axis) {
+    const Word& w = block[static_cast<char>('x' + axis)];
+    if (!w.present) continue;
+    end[axis] = incremental_ ? position_[axis] + w.value : w.value;
+  }
+  return end;
+}
+
+Move Interpreter::new_move(MotionMode mode) const {
+  Move move;
+  move.mode = mode;
+  move.start = position_ * scale();
+  move.feed_rate = mode == MotionMode::kFeed ? feed_mm_per_min_ : 0.0;
+  move.spindle_speed = spindle_speed_;
+  move.spindle = spindle_;
+  move.tool = loaded_tool_;
+  move.line = line_;
+  move.source = 0;
+  return move;
+}
+
+// Zero-length moves are emitted as LinuxCNC emits them (a G1 without axis words, the repeated
+// traverses of canned cycles); samplers skip them.
+void Interpreter::emit_line(MotionMode mode, const Vec3& to) {
+  Move move = new_move(mode);
+  move.shape = MoveShape::kLine;
+  move.end = to * scale();
+  result_.moves.push_back(move);
+  position_ = to;
+}
+
+void Interpreter::straight(const Block& block, int motion, int column) {
+  if (motion == kG1 && feed_mm_per_min_ == 0.0) {
+    fail(column, "cannot do G1 with zero feed rate");
+  }
+  emit_line(motion == kG0 ? MotionMode::kRapid : MotionMode::kFeed, find_end(block));
+  motion_mode_ = motion;
+}
+
+// LinuxCNC's convert_arc, convert_arc2, arc_data_ijk and arc_data_r (interp_arc.cc), without
+// cutter compensation.
+void Interpreter::arc(const Block& block, int motion, int column) {
+  const bool ijk = block.has('i') || block.has('j') || block.has('k');
+  const bool r_format = block.has('r');
+  if (!r_format && !ijk) fail(column, "R, I, J and K words all missing for arc");
+  if (r_format && ijk) fail(column, "mixed radius and IJK format for arc");
+  if (feed_mm_per_min_ == 0.0) fail(column, "cannot make arc with zero feed rate");
+
+  const PlaneAxes axes = plane_axes(plane_);
+  const auto upper = [](char c) { return static_cast<char>(c - 'a' + 'A'); };
+  double offset1 = 0.0, offset2 = 0.0;
+  if (ijk) {
+    if (block.has(axes.forbidden_offset)) {
+      fail(block[axes.forbidden_offset].column,
+           fmt::format("{} word given for arc in {} plane", upper(axes.forbidden_offset),
+                       plane_name(plane_)));
+    }
+    for (char c : {axes.first_offset, axes.second_offset}) {
+      if (!block.has(c) && arc_absolute_) {
+        fail(column, fmt::format("{} word missing in absolute center arc (G90.1)", upper(c)));
+      }
+    }
+    offset1 = block[axes.first_offset].value;
+    offset2 = block[axes.second_offset].value;
+  } else {
+    const auto in_plane = [&](int axis) { return block.has(static_cast<char>('x' + axis)); };
+    if (!in_plane(axes.first) && !in_plane(axes.second)) {
+      // LinuxCNC names the axes in alphabetical order here.
+      const char low = std::min(axes.first_letter, axes.second_letter);
+      const char high = std::max(axes.first_letter, axes.second_letter);
+      fail(column, fmt::format("{} and {} words missing for arc in {} plane", low, high,
+                               plane_name(plane_)));
+    }
+  }
+  const int turns =
+      block.has('p') ? static_cast<int>(std::round(block['p'].value)) : 1;  // checked ≥ 1
+
+  const Vec3 end = find_end(block);
+  const double s1 = position_[axes.first], s2 = position_[axes.second];
+  const double e1 = end[axes.first], e2 = end[axes.second];
+  const double radius_tolerance = inches_ ? tol::kGcodeArcRadiusInch : tol::kGcodeArcRadiusMm;
+  const double spiral_tolerance = inches_ ? tol::kGcodeArcSpiralInch : tol::kGcodeArcSpiralMm;
+  const char a = axes.first_letter, b = axes.second_letter;
+  double c1 = 0.0, c2 = 0.0;
+  if (r_format) {
+    // arc_data_r: the centre on the perpendicular bisector of the chord, on the side given by
+    // the sign of R (negative: more than half a circle).
+    const double radius = block['r'].value;
+    if (e1 == s1 && e2 == s2) fail(column, "current point same as end point of arc (R format)");
+    const double abs_radius = std::abs(radius);
+    const double mid1 = (e1 + s1) / 2.0, mid2 = (e2 + s2) / 2.0;
+    double half_length = std::hypot(mid1 - e1, mid2 - e2);
+    if (half_length - abs_radius > radius_tolerance || abs_radius < radius_tolerance) {
+      fail(block['r'].column, fmt::format("arc radius too small to reach end point: R{} for a "
+                                          "chord of {:.4f}",
+                                          radius, 2.0 * half_length));
+    }
+    if (half_length / abs_radius > 1.0 - tol::kGcodeSemicircleRelative) {
+      half_length = abs_radius;  // a semicircle, within rounding
+    }
+    const double chord_angle = std::atan2(e2 - s2, e1 - s1);
+    const bool right = (motion == kG2 && radius > 0.0) || (motion == kG3 && radius < 0.0);
+    const double theta = right ? chord_angle - kPi / 2.0 : chord_angle + kPi / 2.0;
+    const double offset = abs_radius * std::cos(std::asin(half_length / abs_radius));
+    c1 = mid1 + offset * std::cos(theta);
+    c2 = mid2 + offset * std::sin(theta);
+  } else {
+    // arc_data_ijk.
+    c1 = arc_absolute_ ? offset1 : s1 + offset1;
+    c2 = arc_absolute_ ? offset2 : s2 + offset2;
+    const double r1 = std::hypot(c1 - s1, c2 - s2);
+    const double r2 = std::hypot(c1 - e1, c2 - e2);
+    const std::string where = fmt::format(
+        "start=({}{:.4f},{}{:.4f}) center=({}{:.4f},{}{:.4f}) end=({}{:.4f},{}{:.4f}) "
+        "r1={:.4f} r2={:.4f}",
+        a, s1, b, s2, a, c1, b, c2, a, e1, b, e2, r1, r2);
+    if (r1 < radius_tolerance || r2 < radius_tolerance) fail(column, "zero-radius arc: " + where);
+    const double abs_err = std::abs(r1 - r2);
+    const double rel_err = abs_err / std::max(r1, r2);
+    if (abs_err > 100.0 * spiral_tolerance ||
+        (rel_err > tol::kGcodeArcSpiralRelative && abs_err > spiral_tolerance)) {
+      fail(column, fmt::format("radius to end of arc differs from radius to start: {} "
+                               "abs_err={:.4g} rel_err={:.4f}%",
+                               where, abs_err, rel_err * 100.0));
+    }
+  }
+
+  // The move. An IJK arc whose end is at its start (within tol::kLength) is a full circle.
+  // Otherwise the arc must end exactly at the programmed end, though the radii r1 to the start
+  // and r2 to the end of an IJK arc may differ (LinuxCNC's planner cuts a spiral between them):
+  //  - the centre moves onto the perpendicular bisector of the chord (the circle through start
+  //    and end nearest the programmed centre) when that moves it by no more than the spiral
+  //    tolerance (LinuxCNC's own bound for "the same radius") or than |r1 - r2|, so that the
+  //    path stays as close to LinuxCNC's spiral as the data allow; for CAM data rounded to a few
+  //    decimals it moves by about |r1 - r2| * radius / chord;
+  //  - otherwise (a short chord, typically a nearly full circle with rounded data, where every
+  //    circle through start and end is far from the programmed one) the arc keeps its centre and
+  //    start radius and ends in the direction of the programmed end, and a straight feed move of
+  //    length |r1 - r2| joins it to the programmed end, with a warning.
+  const double chord = std::hypot(e1 - s1, e2 - s2);
+  const bool full_circle = ijk && chord * scale() <= tol::kLength;
+  bool connector = false;
+  if (!full_circle) {
+    const double d1 = (e1 - s1) / chord, d2 = (e2 - s2) / chord;
+    const double along = (c1 - (s1 + e1) / 2.0) * d1 + (c2 - (s2 + e2) / 2.0) * d2;
+    const double mismatch = std::abs(std::hypot(c1 - s1, c2 - s2) - std::hypot(c1 - e1, c2 - e2));
+    if (std::abs(along) <= std::max(spiral_tolerance, mismatch)) {
+      c1 -= along * d1;
+      c2 -= along * d2;
+    } else {
+      connector = true;
+    }
+  }
+  const double sign = motion == kG3 ? 1.0 : -1.0;  // rotation about +normal axis
+  const double u1 = s1 - c1, u2 = s2 - c2, v1 = e1 - c1, v2 = e2 - c2;
+  double angle = std::atan2(sign * (u1 * v2 - u2 * v1), u1 * v1 + u2 * v2);
+  if (full_circle) {
+    angle = kTwoPi;
+  } else if (angle <= 0.0) {
+    angle += kTwoPi;  // the travel direction goes the long way round
+  }
+  Vec3 arc_end = end;
+  if (connector) {
+    const double r1 = std::hypot(u1, u2), r2 = std::hypot(v1, v2);  // both > 0, checked above
+    arc_end[axes.first] = c1 + v1 * (r1 / r2);
+    arc_end[axes.second] = c2 + v2 * (r1 / r2);
+    warn(line_, column,
+         fmt::format("the radii to start and end of the arc differ by {:.4g} mm and its chord is "
+                     "too short for a circle through both ends near the programmed centre: the arc "
+                     "keeps its centre and start radius, and a straight feed move of {:.4g} mm "
+                     "joins it to the programmed end",
+                     std::abs(r1 - r2) * scale(), std::abs(r1 - r2) * scale()));
+  }
+
+  Move move = new_move(MotionMode::kFeed);
+  move.shape = MoveShape::kArc;
+  move.end = arc_end * scale();
+  Vec3 center = position_;
+  center[axes.first] = c1;
+  center[axes.second] = c2;
+  move.center = center * scale();
+  move.normal = Vec3::Zero();
+  move.normal[axes.normal] = sign;
+  move.sweep = angle + kTwoPi * (turns - 1);
+  move.axial = sign * (end[axes.normal] - position_[axes.normal]) * scale();
+  result_.moves.push_back(move);
+  position_ = arc_end;
+  if (connector) emit_line(MotionMode::kFeed, end);
+  motion_mode_ = motion;
+}
+
+// LinuxCNC's convert_cycle and convert_cycle_xy with CYCLE_MACRO, for G73, G81, G82 and G83 in
+// the XY plane.
+void Interpreter::cycle(const Block& block, int motion, int column) {
+  if (feed_mm_per_min_ == 0.0) fail(column, "cannot feed with zero feed rate (canned cycle)");
+  if (plane_ != Plane::kXY) {
+    fail(column, fmt::format("{}: canned cycles in the {} plane are not supported (only G17)",
+                             g_name(motion), plane_name(plane_)));
+  }
+  const bool same_cycle = motion_mode_ == motion;
+  double r_number = block['r'].value;
+  if (!block.has('r')) {
+    if (!same_cycle) fail(column, "R clearance plane unspecified in canned cycle");
+    r_number = cycle_r_;
+  }
+  int repeats = 1;
+  if (block.has('l')) {
+    repeats = static_cast<int>(block['l'].value);
+    if (repeats == 0) fail(block['l'].column, "cannot do zero repeats of cycle (L0)");
+  }
+  if (!same_cycle && !block.has('z')) {
+    fail(column, "Z value unspecified in XY plane canned cycle");
+  }
+  const double z_number = block.has('z') ? block['z'].value : cycle_cc_;
+
+  double current_cc = position_.z();
+  double old_cc = current_cc;
+  if (cycle_initial_level_set_) {
+    old_cc = cycle_initial_level_;
+  } else {
+    cycle_initial_level_ = current_cc;
+    cycle_initial_level_set_ = true;
+  }
+  double aa = position_.x(), bb = position_.y(), aa_increment = 0.0, bb_increment = 0.0;
+  double r = r_number, cc = z_number;
+  if (incremental_) {
+    // X, Y and R are increments from the current point (R from the initial level), Z from R.
+    aa_increment = block['x'].value;
+    bb_increment = block['y'].value;
+    r = r_number + old_cc;
+    cc = r + z_number;
+  } else {
+    if (block.has('x')) aa = block['x'].value;
+    if (block.has('y')) bb = block['y'].value;
+  }
+  if (r < cc) {
+    fail(block.has('r') ? block['r'].column : column,
+         "R less than Z in canned cycle (the clearance plane is below the bottom)");
+  }
+
+  double dwell = 0.0, delta = 0.0;
+  if (motion == kG82) {
+    if (!same_cycle && !block.has('p')) fail(column, "dwell time P word missing with G82");
+    dwell = block.has('p') ? block['p'].value : cycle_p_;
+    if (dwell < 0.0) fail(block['p'].column, "negative dwell time (P word) with G82");
+  } else if (motion == kG73 || motion == kG83) {
+    if (!same_cycle && !block.has('q')) {
+      fail(column, fmt::format("Q word missing with {}", g_name(motion)));
+    }
+    delta = block.has('q') ? block['q'].value : cycle_q_;
+    if (delta <= 0.0) {
+      fail(block.has('q') ? block['q'].column : column, "negative or zero Q value used");
+    }
+  }
+  const double pecks = delta > 0.0 ? std::ceil((r - cc) / delta) : 0.0;
+  if (repeats * (pecks + 1.0) * 3.0 > kMaxCycleMoves) {
+    fail(column, fmt::format("{} would expand to more than {:g} moves (L{}, {:g} pecks)",
+                             g_name(motion), kMaxCycleMoves, repeats, pecks));
+  }
+  const double rapid_delta =
+      inches_ ? kPeckClearanceInch : kPeckClearanceInch * kMillimetresPerInch;
+
+  // First motion, maybe: from below the R plane, rapid straight up to it.
+  if (old_cc < r) {
+    cycle_traverse(position_.x(), position_.y(), r);
+    old_cc = r;
+    current_cc = old_cc;
+  }
+  const double clear_cc = retract_to_r_ ? r : old_cc;
+
+  for (int repeat = repeats; repeat > 0; --repeat) {
+    aa += aa_increment;
+    bb += bb_increment;
+    // The first positioning move happens at the current height (raised to R above), later
+    // ones at the clearance height.
+    if (repeat == repeats && current_cc > r) {
+      cycle_traverse(aa, bb, current_cc);
+      cycle_traverse(aa, bb, r);
+    } else {
+      cycle_traverse(aa, bb, clear_cc);
+      if (clear_cc > r) cycle_traverse(aa, bb, r);
+    }
+    switch (motion) {
+      case kG73:  // chip breaking: feed a peck, rapid back up a little
+        for (double depth = r - delta; depth > cc; depth -= delta) {
+          cycle_feed(aa, bb, depth);
+          cycle_traverse(aa, bb, depth + rapid_delta);
+        }
+        break;
+      case kG83:  // peck: feed a peck, rapid out to R, rapid back to just above the depth
+        for (double depth = r - delta; depth > cc; depth -= delta) {
+          cycle_feed(aa, bb, depth);
+          cycle_traverse(aa, bb, r);
+          cycle_traverse(aa, bb, depth + rapid_delta);
+        }
+        break;
+      default:  // G81, G82 (the dwell does not move)
+        break;
+    }
+    cycle_feed(aa, bb, cc);
+    cycle_traverse(aa, bb, clear_cc);
+  }
+  cycle_cc_ = z_number;
+  cycle_r_ = r_number;
+  if (motion == kG82) cycle_p_ = dwell;
+  if (motion == kG73 || motion == kG83) cycle_q_ = delta;
+  motion_mode_ = motion;
+}
+
+Toolpath Interpreter::run() {
+  bool seen_content = false;  // a line with something other than blanks
+  int last_content_line = 0;
+  bool percent_opened = false;
+  bool ended = false;
+  int ignored_lines = 0, first_ignored = 0;
+  std::size_t begin = 0;
+  for (int number = 1; begin <= text_.size(); ++number) {
+    std::size_t end = text_.find('\n', begin);
+    if (end == std::string_view::npos) end = text_.size();
+    std::string_view raw = text_.substr(begin, end - begin);
+    const bool last = end == text_.size();
+    begin = end + 1;
+    if (!raw.empty() && raw.back() == '\r') raw.remove_suffix(1);
+    line_ = number;
+
+    std::string bare;  // the line without blanks, to recognise '%'
+    for (char c : raw) {
+      if (c != ' ' && c != '\t') bare.push_back(c);
+    }
+    if (!bare.empty() && !ended) last_content_line = number;
+    if (ended) {
+      if (!bare.empty() && bare != "%" && ignored_lines++ == 0) first_ignored = number;
+    } else if (bare == "%" && !seen_content) {
+      percent_opened = true;  // the optional '%' opening the program
+      seen_content = true;
+    } else if (bare == "%" && percent_opened) {
+      ended = true;  // the closing '%': the rest of the file is ignored
+    } else {
+      if (!bare.empty()) seen_content = true;
+      const CompactLine line = compact(raw);
+      if (!line.code.empty()) {
+        const Block block = read_block(line);
+        if (!execute(block)) ended = true;
+      }
+    }
+    if (last) break;
+  }
+  if (!seen_content) {
+    throw InputError(SourceLocation{source_, 0, 0}, "empty program: no G-code in the file");
+  }
+  if (!ended) {
+    // LinuxCNC refuses such a file at its end; the path is complete, so cwe only warns.
+    warn(last_content_line, 0,
+         percent_opened ? "file ended with no closing percent sign (the program is read to the "
+                          "end)"
+                        : "file ended with no program end (M2, M30) or percent sign (the "
+                          "program is read to the end)");
+  }
+  if (ignored_lines > 0) {
+    warn(first_ignored, 0,
+         fmt::format("{} line{} after the program end ignored, as LinuxCNC does", ignored_lines,
+                     ignored_lines == 1 ? "" : "s"));
+  }
+  return std::move(result_);
+}
+
+}  // namespace
+
+Toolpath read_gcode(std::string_view text, const std::string& source, const GcodeOptions& options) {
+  return Interpreter(text, source, options).run();
+}
+
+Toolpath read_gcode_file(const std::string& path, const GcodeOptions& options) {
+  return read_gcode(read_text_file(path, "G-code file"), path, options);
+}
+
+}  // namespace cwe

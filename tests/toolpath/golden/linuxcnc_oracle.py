@@ -1,0 +1,98 @@
+#!/usr/bin/python3
+"""Writes the golden move list of a G-code program as LinuxCNC's interpreter produces it.
+
+Usage (needs LinuxCNC, e.g. Debian's linuxcnc-uspace, and its Python 3 module `gcode`):
+
+    /usr/bin/python3 linuxcnc_oracle.py program.ngc > program.golden
+
+The program is run through LinuxCNC's RS274NGC interpreter (gcode.parse, the interpreter AXIS
+uses for its preview) with no tool table and zero offsets. Every canonical motion call becomes one
+line, lengths in mm with 17 significant digits:
+
+    rapid <line> <x> <y> <z>                                  STRAIGHT_TRAVERSE
+    feed  <line> <x> <y> <z>                                  STRAIGHT_FEED
+    arc   <line> <plane> <x> <y> <z> <c1> <c2> <rotation>     ARC_FEED
+
+x y z is the end point; c1 c2 the centre in the plane's canonical axis order (XY: X Y,
+XZ: Z X, YZ: Y Z); rotation LinuxCNC's turn count: +n counter-clockwise about the plane's normal
+axis (Z, Y, X), -n clockwise, |n| - 1 extra full turns. An interpreter error ends the list with
+`error <line> <message>`. cwe's tests (gcode_reader_test.cpp) read these files; they never run
+LinuxCNC.
+"""
+import os
+import sys
+import tempfile
+
+import gcode
+from rs274.interpret import Translated, ArcsToSegmentsMixin
+
+MM_PER_INCH = 25.4  # the module reports every length in inches, whatever the program's units
+PLANES = {1: "XY", 3: "XZ", 2: "YZ"}  # gcode module plane codes
+
+
+def fmt(v):
+    return "%.17g" % (v * MM_PER_INCH)
+
+
+class Canon(Translated, ArcsToSegmentsMixin):
+    def __init__(self):
+        self.lines = []
+        self.lineno = 0
+        self.plane = 1
+        self.parameter_file = ""
+        self.lo = (0.0,) * 9
+
+    # Queries the interpreter makes.
+    def get_external_angular_units(self): return 1.0
+    def get_external_length_units(self): return 1.0
+    def get_axis_mask(self): return 7  # X, Y, Z
+    def get_block_delete(self): return 0
+    def get_tool(self, pocket): return (-1,) + (0.0,) * 12 + (0,)
+
+    def next_line(self, state): self.lineno = state.sequence_number
+    def set_plane(self, plane): self.plane = plane
+
+    def straight_traverse(self, *a):
+        self.lo = tuple(a)
+        self.lines.append("rapid %d %s %s %s" % (self.lineno, fmt(a[0]), fmt(a[1]), fmt(a[2])))
+
+    def straight_feed(self, *a):
+        self.lo = tuple(a)
+        self.lines.append("feed %d %s %s %s" % (self.lineno, fmt(a[0]), fmt(a[1]), fmt(a[2])))
+
+    def arc_feed(self, first_end, second_end, first_center, second_center, rotation, axis_end,
+                 *rest):
+        if self.plane == 1:
+            x, y, z = first_end, second_end, axis_end
+        elif self.plane == 3:
+            x, y, z = second_end, axis_end, first_end
+        else:
+            x, y, z = axis_end, first_end, second_end
+        self.lo = (x, y, z) + tuple(rest[:3]) + (0.0, 0.0, 0.0)
+        self.lines.append("arc %d %s %s %s %s %s %s %d" % (
+            self.lineno, PLANES[self.plane], fmt(x), fmt(y), fmt(z), fmt(first_center),
+            fmt(second_center), rotation))
+
+    def __getattr__(self, name):  # every other canonical call: no motion
+        if name.startswith("__"):
+            raise AttributeError(name)
+        return lambda *a, **k: None
+
+
+def main():
+    program = os.path.abspath(sys.argv[1])
+    os.chdir(tempfile.mkdtemp())  # the interpreter leaves rs274ngc.var files behind
+    canon = Canon()
+    result, line = gcode.parse(program, canon, "", "")
+    print("# LinuxCNC interpreter (python3 gcode module) moves for %s; lengths in mm"
+          % os.path.basename(program))
+    for text in canon.lines:
+        print(text)
+    if result > gcode.MIN_ERROR:
+        print("error %d %s" % (line, gcode.strerror(result)))
+    sys.stdout.flush()
+    os._exit(0)  # the module can crash while Python tears it down; the output is complete
+
+
+if __name__ == "__main__":
+    main()
