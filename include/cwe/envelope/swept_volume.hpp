@@ -1,0 +1,49 @@
+#pragma once
+// Closed triangle meshes of the volume a cutter sweeps along a move.
+//
+// Every APT cutter is a convex solid (its radius is a concave function of height: bottom line,
+// convex corner arc, side line). A convex tool translated along a segment sweeps the convex hull
+// of its two end positions (Minkowski sum with the segment): the back half at the start, the
+// envelope (the grazing curve swept along the move, Aras 2008 ch. 3) and the front half at the
+// end. So a linear 3-axis or 3+2 move gives one closed mesh: the hull of the tessellated tool at
+// both ends.
+//
+// Arcs, helices and simultaneous 5-axis moves are cut into linear pieces, each swept by the tool
+// at the piece's mean axis (Aras 2008 §4.2.4), until the path's sagitta and the axis turn keep
+// every point of the true tool within the tolerance of a piece; the result is one closed mesh per
+// piece, whose union is the swept volume.
+//
+// Accuracy: the tool is tessellated with rings and profile samples whose chords deviate less than
+// tolerance/2 each, so each piece is an inscribed polytope of its exact sweep, deeper than it by
+// less than the tolerance; the union of the pieces lies within `deviation_bound` of the true swept
+// volume (Hausdorff distance). Non-convex profiles (general JSON profiles such as
+// corner-rounding tools) are refused: their sweep is not a hull.
+
+#include <vector>
+
+#include "cwe/geometry/triangle_mesh.hpp"
+#include "cwe/tool/cutter.hpp"
+#include "cwe/toolpath/move.hpp"
+
+namespace cwe {
+
+struct SweptVolumeOptions {
+  double tolerance = 0.01;  // mm: bound on the chord deviation of tessellation and subdivision
+};
+
+struct SweptVolume {
+  std::vector<TriangleMesh> pieces;  // closed meshes whose union is the swept volume
+  double deviation_bound = 0.0;      // mm, see above
+};
+
+// Points of the tool surface in the TCS whose convex hull is within `tolerance` of the tool.
+std::vector<Vec3> tool_surface_points(const Cutter& cutter, double tolerance);
+
+// Is the cutter's solid convex (radius a concave function of height)?
+bool is_convex(const Cutter& cutter);
+
+// Throws InputError for a non-convex cutter or a tolerance that is not positive.
+SweptVolume swept_volume(const Cutter& cutter, const Move& move,
+                         const SweptVolumeOptions& options = {});
+
+}  // namespace cwe

@@ -1,0 +1,48 @@
+#pragma once
+// Indexed triangle meshes: the exchange format for swept volumes and workpiece exports.
+//
+// Triangles are counter-clockwise seen from outside (outward normals by the right-hand rule).
+// A mesh is closed (watertight) when every edge is shared by exactly two triangles that use it in
+// opposite directions.
+
+#include <array>
+#include <vector>
+
+#include "cwe/geometry/aabb.hpp"
+#include "cwe/geometry/vec.hpp"
+
+namespace cwe {
+
+struct TriangleMesh {
+  std::vector<Vec3> vertices;
+  std::vector<std::array<int, 3>> triangles;
+
+  bool empty() const { return triangles.empty(); }
+  // Enclosed volume by the divergence theorem (mm³); meaningful for closed meshes, positive when
+  // the triangles face outwards.
+  double volume() const;
+  double area() const;  // mm²
+  Aabb bounds() const;
+  // Appends another mesh (its vertices renumbered).
+  void append(const TriangleMesh& other);
+};
+
+// Edge statistics that decide closedness.
+struct MeshClosure {
+  int edges = 0;
+  int boundary_edges = 0;      // used by one triangle
+  int non_manifold_edges = 0;  // used by three or more
+  int misoriented_edges = 0;   // used twice in the same direction
+  bool closed() const {
+    return edges > 0 && boundary_edges == 0 && non_manifold_edges == 0 && misoriented_edges == 0;
+  }
+};
+
+MeshClosure check_closure(const TriangleMesh& mesh);
+
+// The convex hull of the points as a closed, outward-facing triangle mesh (CGAL's
+// convex_hull_3 with exact predicates). Empty when the points span less than a volume
+// (fewer than four, or all coplanar).
+TriangleMesh convex_hull(const std::vector<Vec3>& points);
+
+}  // namespace cwe

@@ -1,0 +1,65 @@
+#include "cwe/geometry/triangle_mesh.hpp"
+
+#include <map>
+#include <utility>
+
+namespace cwe {
+
+double TriangleMesh::volume() const {
+  double six_v = 0.0;
+  for (const auto& t : triangles) {
+    const Vec3& a = vertices[static_cast<std::size_t>(t[0])];
+    const Vec3& b = vertices[static_cast<std::size_t>(t[1])];
+    const Vec3& c = vertices[static_cast<std::size_t>(t[2])];
+    six_v += a.dot(b.cross(c));
+  }
+  return six_v / 6.0;
+}
+
+double TriangleMesh::area() const {
+  double twice = 0.0;
+  for (const auto& t : triangles) {
+    const Vec3& a = vertices[static_cast<std::size_t>(t[0])];
+    twice += (vertices[static_cast<std::size_t>(t[1])] - a)
+                 .cross(vertices[static_cast<std::size_t>(t[2])] - a)
+                 .norm();
+  }
+  return twice / 2.0;
+}
+
+Aabb TriangleMesh::bounds() const {
+  Aabb box;
+  for (const Vec3& v : vertices) box.extend(v);
+  return box;
+}
+
+void TriangleMesh::append(const TriangleMesh& other) {
+  const int offset = static_cast<int>(vertices.size());
+  vertices.insert(vertices.end(), other.vertices.begin(), other.vertices.end());
+  for (const auto& t : other.triangles)
+    triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+}
+
+MeshClosure check_closure(const TriangleMesh& mesh) {
+  // Directed edge counts per undirected edge: (forward uses, backward uses).
+  std::map<std::pair<int, int>, std::pair<int, int>> uses;
+  for (const auto& t : mesh.triangles) {
+    for (int i = 0; i < 3; ++i) {
+      const int a = t[static_cast<std::size_t>(i)];
+      const int b = t[static_cast<std::size_t>((i + 1) % 3)];
+      auto& u = uses[{std::min(a, b), std::max(a, b)}];
+      (a < b ? u.first : u.second) += 1;
+    }
+  }
+  MeshClosure c;
+  c.edges = static_cast<int>(uses.size());
+  for (const auto& [edge, u] : uses) {
+    const int total = u.first + u.second;
+    if (total == 1) ++c.boundary_edges;
+    if (total > 2) ++c.non_manifold_edges;
+    if (total == 2 && u.first != 1) ++c.misoriented_edges;
+  }
+  return c;
+}
+
+}  // namespace cwe

@@ -1,0 +1,185 @@
+#include "cwe/envelope/swept_volume.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "cwe/tool/tool_spec.hpp"
+#include "random.hpp"
+
+namespace cwe {
+namespace {
+
+Move line(const Vec3& a, const Vec3& b, const Vec3& axis_a = Vec3::UnitZ(),
+          const Vec3& axis_b = Vec3::UnitZ()) {
+  Move m;
+  m.start = a;
+  m.end = b;
+  m.start_axis = axis_a.normalized();
+  m.end_axis = axis_b.normalized();
+  return m;
+}
+
+// Exact signed distance from a TCS point to the cutter's surface (negative inside): distance in
+// the meridian plane to the profile outline or the top disc.
+double signed_distance(const Cutter& cutter, const Vec3& local) {
+  const Vec2 q(std::hypot(local.x(), local.y()), local.z());
+  const Profile& profile = cutter.profile();
+  double d = profile.closest(q).distance;
+  const double h = profile.height();
+  const Vec2 top(std::clamp(q.x(), 0.0, profile.top_radius()), h);
+  d = std::min(d, (q - top).norm());
+  return profile.contains(q.x(), q.y()) ? -d : d;
+}
+
+// Distance sign of p against the union of the tool at `samples` positions of the move.
+double union_signed_distance(const Cutter& cutter, const Move& move, const Vec3& p, int samples) {
+  double best = std::numeric_limits<double>::infinity();
+  for (int k = 0; k <= samples; ++k) {
+    const double u = static_cast<double>(k) / samples;
+    const Frame f = Frame::from_z(move.position(u), move.axis(u), Vec3::UnitX());
+    best = std::min(best, signed_distance(cutter, f.to_local(p)));
+  }
+  return best;
+}
+
+// Inside a closed convex mesh: behind every face plane.
+bool convex_contains(const TriangleMesh& mesh, const Vec3& p) {
+  for (const auto& t : mesh.triangles) {
+    const Vec3& a = mesh.vertices[static_cast<std::size_t>(t[0])];
+    const Vec3 n = (mesh.vertices[static_cast<std::size_t>(t[1])] - a)
+                       .cross(mesh.vertices[static_cast<std::size_t>(t[2])] - a);
+    if (n.dot(p - a) > 0.0) return false;
+  }
+  return true;
+}
+
+bool pieces_contain(const SweptVolume& v, const Vec3& p) {
+  return std::any_of(v.pieces.begin(), v.pieces.end(),
+                     [&](const TriangleMesh& m) { return convex_contains(m, p); });
+}
+
+TEST(SweptVolume, FlatEndMillSideCutIsAStadiumPrism) {
+  const Cutter flat = cutter_from_spec("flat:10,20");
+  SweptVolumeOptions options;
+  options.tolerance = 0.01;
+  const SweptVolume v = swept_volume(flat, line({0, 0, 0}, {30, 0, 0}), options);
+  ASSERT_EQ(v.pieces.size(), 1u);
+  EXPECT_TRUE(check_closure(v.pieces[0]).closed());
+  // Stadium (two half discs and a 10 × 30 rectangle) times the height 20.
+  const double exact = (kPi * 25.0 + 10.0 * 30.0) * 20.0;
+  const double area = 2 * (kPi * 25.0 + 300.0) + (kPi * 10.0 + 60.0) * 20.0;
+  // An inscribed polytope: smaller, by less than its area times the tolerance.
+  EXPECT_LT(v.pieces[0].volume(), exact);
+  EXPECT_GT(v.pieces[0].volume(), exact - area * options.tolerance);
+}
+
+TEST(SweptVolume, BallEndMillMatchesToolPlusSilhouetteTimesLength) {
+  const Cutter ball = cutter_from_spec("ball:10,20");
+  SweptVolumeOptions options;
+  options.tolerance = 0.005;
+  const double r = 5.0, h = 20.0, length = 30.0;
+  const double tool = 2.0 / 3.0 * kPi * r * r * r + kPi * r * r * (h - r);
+  const double area_tool = 2 * kPi * r * r + 2 * kPi * r * (h - r) + kPi * r * r;
+  // Horizontal: the silhouette across the feed is a half disc under a 2r × (h - r) rectangle.
+  {
+    const SweptVolume v = swept_volume(ball, line({0, 0, 0}, {0, length, 0}), options);
+    const double exact = tool + length * (kPi * r * r / 2 + 2 * r * (h - r));
+    const double area = area_tool + length * (kPi * r + 2 * (h - r) + 2 * r);
+    EXPECT_TRUE(check_closure(v.pieces[0]).closed());
+    EXPECT_LT(v.pieces[0].volume(), exact);
+    EXPECT_GT(v.pieces[0].volume(), exact - area * options.tolerance);
+  }
+  // Along the axis (a plunge): the tool stretched by the length, a capsule-ended cylinder.
+  {
+    const SweptVolume v = swept_volume(ball, line({0, 0, 0}, {0, 0, -length}), options);
+    const double exact = tool + length * kPi * r * r;
+    const double area = area_tool + length * 2 * kPi * r;
+    EXPECT_LT(v.pieces[0].volume(), exact);
+    EXPECT_GT(v.pieces[0].volume(), exact - area * options.tolerance);
+  }
+}
+
+// Monte-Carlo membership against the brute-force union of densely sampled tool positions: the
+// mesh and the union agree for every point farther than a band from the union's boundary. The
+// band is the mesh's deviation bound plus the gap between sampled positions.
+void expect_membership_agrees(const Cutter& cutter, const Move& move, double tolerance,
+                              int positions, int points, test::Random& random) {
+  SweptVolumeOptions options;
+  options.tolerance = tolerance;
+  const SweptVolume v = swept_volume(cutter, move, options);
+  for (const TriangleMesh& piece : v.pieces) ASSERT_TRUE(check_closure(piece).closed());
+  Aabb box;
+  for (const TriangleMesh& piece : v.pieces) box.extend(piece.bounds());
+  box.inflate(1.0);
+  const double reach =
+      std::hypot(cutter.bounding_cylinder().radius, cutter.bounding_cylinder().z_max);
+  const double gap = (move.length() + reach * move.axis_angle()) / positions;
+  const double band = v.deviation_bound + gap;
+  int decided = 0;
+  for (int k = 0; k < points; ++k) {
+    const Vec3 p(random.uniform(box.min.x(), box.max.x()), random.uniform(box.min.y(), box.max.y()),
+                 random.uniform(box.min.z(), box.max.z()));
+    const double d = union_signed_distance(cutter, move, p, positions);
+    if (std::abs(d) <= band) continue;
+    ++decided;
+    ASSERT_EQ(pieces_contain(v, p), d < 0.0) << "point " << p.transpose() << " distance " << d;
+  }
+  EXPECT_GT(decided, points / 2);
+}
+
+TEST(SweptVolume, MembershipAgreesWithBruteForceForEveryToolAndMotion) {
+  test::Random random(41);
+  for (const char* spec :
+       {"bull:10,2,20", "taper-flat:6,5,20", "taper-ball:4,3,20", "chamfer:12,90,15",
+        "apt:7.8586,1,3,1.5444,10,5,20", "taper-flat:10,-3,20"}) {
+    SCOPED_TRACE(spec);
+    const Cutter cutter = cutter_from_spec(spec);
+    // Ramp down at 20°, a tilted 3+2 move.
+    expect_membership_agrees(cutter, line({0, 0, 0}, {20, 5, -7.3}), 0.02, 400, 1500, random);
+    expect_membership_agrees(cutter,
+                             line({0, 0, 0}, {15, -10, 2}, Vec3(0.3, 0.2, 1), Vec3(0.3, 0.2, 1)),
+                             0.02, 400, 1500, random);
+  }
+}
+
+TEST(SweptVolume, ArcsHelicesAndFiveAxisStayWithinTheirBound) {
+  test::Random random(42);
+  const Cutter ball = cutter_from_spec("ball:6,15");
+  Move helix;
+  helix.shape = MoveShape::kArc;
+  helix.center = Vec3(0, 0, 0);
+  helix.normal = Vec3::UnitZ();
+  helix.start = Vec3(8, 0, 0);
+  helix.sweep = 1.5 * kPi;
+  helix.axial = -3.0;
+  helix.end = helix.position(1.0);
+  expect_membership_agrees(ball, helix, 0.02, 1000, 600, random);
+  // A 14° axis turn over 25 mm: about 75 pieces at 0.05 mm.
+  const Move five_axis = line({0, 0, 0}, {25, 0, 0}, Vec3::UnitZ(), Vec3(0.25, 0, 1));
+  SweptVolumeOptions options;
+  options.tolerance = 0.05;
+  EXPECT_GT(swept_volume(ball, five_axis, options).pieces.size(), 10u);
+  expect_membership_agrees(ball, five_axis, 0.05, 1000, 600, random);
+}
+
+TEST(SweptVolume, RefusesWhatItCannotBuild) {
+  const Cutter corner = cutter_from_json(
+      R"({"profile": [{"line": [2, 0]}, {"arc": [5, 3], "center": [5, 0], "ccw": false}, {"line": [5, 8]}]})",
+      "corner.json");
+  EXPECT_FALSE(is_convex(corner));
+  EXPECT_THROW(swept_volume(corner, line({0, 0, 0}, {1, 0, 0})), InputError);
+  SweptVolumeOptions bad;
+  bad.tolerance = 0.0;
+  EXPECT_THROW(swept_volume(cutter_from_spec("flat:10"), line({0, 0, 0}, {1, 0, 0}), bad),
+               InputError);
+  for (const char* spec : {"flat:10", "ball:10", "bull:10,2", "taper-flat:6,5", "taper-flat:10,-3",
+                           "taper-ball:4,3", "chamfer:12,90", "apt:7.8586,1,3,1.5444,10,5,20"}) {
+    EXPECT_TRUE(is_convex(cutter_from_spec(spec))) << spec;
+  }
+}
+
+}  // namespace
+}  // namespace cwe
