@@ -6,6 +6,7 @@
 
 #include "cwe/core/assert.hpp"
 #include "cwe/core/error.hpp"
+#include "envelope_command.hpp"
 #include "path_command.hpp"
 #include "tool_command.hpp"
 
@@ -19,6 +20,8 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   add_tool_command(app, tool_options);
   PathCommandOptions path_options;
   add_path_command(app, path_options);
+  EnvelopeCommandOptions envelope_options;
+  add_envelope_command(app, envelope_options);
 
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   if (!reversed.empty()) reversed.pop_back();  // the program name
@@ -32,6 +35,7 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   try {
     if (app.got_subcommand("tool")) return run_tool_command(tool_options, out);
     if (app.got_subcommand("path")) return run_path_command(path_options, out);
+    if (app.got_subcommand("envelope")) return run_envelope_command(envelope_options, out);
   } catch (const InputError& e) {
     err << e.what() << '\n';
     return 2;

@@ -1,5 +1,7 @@
 #include "cwe/io/profile_svg.hpp"
 
+#include "patch_style.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -7,50 +9,8 @@
 #include <fmt/format.h>
 
 namespace cwe {
-namespace {
-
-const char* color_of(PatchKind kind) {
-  switch (kind) {
-    case PatchKind::kFlatBottom:
-      return "#d62728";
-    case PatchKind::kStep:
-      return "#9467bd";
-    case PatchKind::kCylinder:
-      return "#1f77b4";
-    case PatchKind::kCone:
-      return "#2ca02c";
-    case PatchKind::kSphere:
-      return "#ff7f0e";
-    case PatchKind::kTorus:
-      return "#e377c2";
-  }
-  return "#000000";
-}
-
-std::string escape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '&':
-        out += "&amp;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
-
-}  // namespace
+using io_detail::patch_color;
+using io_detail::xml_escape;
 
 std::string profile_svg(const Cutter& cutter) {
   const Profile& profile = cutter.profile();
@@ -71,7 +31,7 @@ std::string profile_svg(const Cutter& cutter) {
       "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n",
       width_px, height_px, width_px, height_px);
   svg += fmt::format("<text x=\"10\" y=\"20\" font-size=\"14\" font-weight=\"bold\">{}</text>\n",
-                     escape(cutter.name()));
+                     xml_escape(cutter.name()));
 
   // Shank (not cutting), dashed.
   const double shank_r = cutter.shank().diameter / 2.0;
@@ -107,7 +67,7 @@ std::string profile_svg(const Cutter& cutter) {
       }
       svg += fmt::format(
           "<polyline points=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"2.5\"/>\n", line,
-          color_of(patch.kind));
+          patch_color(patch.kind));
     }
   }
   // Top edge of the cutting part.
@@ -129,7 +89,7 @@ std::string profile_svg(const Cutter& cutter) {
   const double lx = X(radius) + 30.0;
   const auto label = [&](const std::string& text, const char* color = "black") {
     svg += fmt::format("<text x=\"{:.2f}\" y=\"{:.2f}\" fill=\"{}\">{}</text>\n", lx, y, color,
-                       escape(text));
+                       xml_escape(text));
     y += 18.0;
   };
   label(fmt::format("diameter {:g} mm", cutter.diameter()));
@@ -142,7 +102,7 @@ std::string profile_svg(const Cutter& cutter) {
   for (const CutterPatch& patch : cutter.patches()) {
     label(fmt::format("■ {} (z {:g}–{:g})", to_string(patch.kind), patch.bounds.z_min,
                       patch.bounds.z_max),
-          color_of(patch.kind));
+          patch_color(patch.kind));
   }
   svg += "</svg>\n";
   return svg;

@@ -12,6 +12,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cwe/geometry/vec.hpp"
+
 namespace cwe::app {
 namespace {
 
@@ -186,6 +188,55 @@ TEST(CliPath, ErrorsNameFileLineAndColumn) {
   const Result missing = run_cwe({"path", "/nonexistent/x.ngc"});
   EXPECT_EQ(missing.status, 2);
   EXPECT_NE(missing.err.find("cannot open the toolpath file"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace cwe::app
+
+namespace cwe::app {
+namespace {
+
+TEST(CliEnvelope, WritesClosedVolumesCurvesAndPictures) {
+  const auto dir = std::filesystem::temp_directory_path() / "cwe-cli-test-envelope";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const auto program = dir / "slot.ngc";
+  std::ofstream(program) << "G21 G90\nG0 X0 Y0 Z1\nG1 Z-2 F100\nG1 X30 F600\nG0 Z5\nM2\n";
+  const Result r = run_cwe({"envelope", "--tool", "flat:10,20", "--path", program.string(), "--out",
+                            (dir / "out").string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::ifstream in(dir / "out" / "envelope.json");
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  ASSERT_EQ(summary["moves"].size(), 2u);  // the two feed moves
+  const auto& slot = summary["moves"][1];
+  EXPECT_EQ(slot["move"], 3);
+  EXPECT_EQ(slot["line"], 4);
+  EXPECT_EQ(slot["states"][1]["motion"], "horizontal");
+  // Stadium prism 20 mm high: (π·25 + 300)·20, inscribed within area × tolerance (≈ 26 mm³).
+  const double exact = (cwe::kPi * 25.0 + 300.0) * 20.0;
+  EXPECT_LT(slot["volume_mm3"].get<double>(), exact);
+  EXPECT_GT(slot["volume_mm3"].get<double>(), exact - 30.0);
+  const auto stl = dir / "out" / "move-3.stl";
+  ASSERT_TRUE(std::filesystem::exists(stl));
+  EXPECT_EQ(std::filesystem::file_size(stl), 84u + 50u * slot["triangles"].get<std::size_t>());
+  for (const char* name : {"move-3.ply", "move-3-grazing.obj", "move-3-fcs.svg", "move-2.stl"}) {
+    EXPECT_TRUE(std::filesystem::exists(dir / "out" / name)) << name;
+  }
+
+  // Bad selections and tools are input errors, and write nothing.
+  const auto none = dir / "none";
+  EXPECT_EQ(run_cwe({"envelope", "--tool", "flat:10", "--path", program.string(), "--moves", "9-12",
+                     "--out", none.string()})
+                .status,
+            2);
+  const Result concave = run_cwe(
+      {"envelope", "--tool", (test::source_dir() / "examples/tools/corner-rounding.json").string(),
+       "--path", program.string(), "--out", none.string()});
+  EXPECT_EQ(concave.status, 2);
+  EXPECT_NE(concave.err.find("convex"), std::string::npos) << concave.err;
+  EXPECT_EQ(run_cwe({"envelope", "--path", program.string(), "--out", none.string()}).status, 2);
+  EXPECT_FALSE(std::filesystem::exists(none));
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

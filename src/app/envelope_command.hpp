@@ -1,0 +1,24 @@
+#pragma once
+// `cwe envelope`: swept volumes, grazing curves and feasible-contact pictures for the moves of a
+// toolpath.
+
+#include <CLI/CLI.hpp>
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace cwe::app {
+
+struct EnvelopeCommandOptions {
+  std::string tool;
+  std::string path;
+  std::string moves;  // "a-b" or "a", 1-based move numbers; empty: every feed move
+  std::string out;
+  double tolerance = 0.01;
+};
+
+void add_envelope_command(CLI::App& app, EnvelopeCommandOptions& options);
+int run_envelope_command(const EnvelopeCommandOptions& options, std::ostream& out);
+
+}  // namespace cwe::app
