@@ -98,6 +98,11 @@ void add_envelope_command(CLI::App& app, EnvelopeCommandOptions& options) {
   cmd->add_option("--out", options.out, "Output folder")->required();
   cmd->add_option("--tolerance", options.tolerance, "Swept-volume tolerance, mm")
       ->capture_default_str();
+  cmd->add_option("--fcs-at", options.fcs_at,
+                  "Cutter locations, as move fractions u in [0, 1], at which the feasible contact "
+                  "surface is drawn (move-N-fcs-u<U>.svg)")
+      ->delimiter(',')
+      ->capture_default_str();
 }
 
 int run_envelope_command(const EnvelopeCommandOptions& options, std::ostream& out) {
@@ -115,6 +120,12 @@ int run_envelope_command(const EnvelopeCommandOptions& options, std::ostream& ou
     throw InputError(SourceLocation{options.path},
                      fmt::format("{} feed moves: choose at most {} with --moves a-b",
                                  selected.size(), kMostMovesByDefault));
+  }
+  for (const double u : options.fcs_at) {
+    if (!(u >= 0.0 && u <= 1.0)) {
+      throw InputError(SourceLocation{"--fcs-at"},
+                       fmt::format("{}: expected move fractions between 0 and 1", u));
+    }
   }
   SweptVolumeOptions sweep_options;
   sweep_options.tolerance = options.tolerance;
@@ -148,13 +159,14 @@ int run_envelope_command(const EnvelopeCommandOptions& options, std::ostream& ou
       states.push_back({{"u", u},
                         {"motion", to_string(state.motion)},
                         {"feed_angle_deg", radians_to_degrees(state.feed_angle)}});
-      if (u == 0.5) {
-        files[stem + "-fcs.svg"] = fcs_svg(
-            cutter, feasible_contact_surface(cutter, state),
-            fmt::format(
-                "Feasible contact surface, move {} (line {}), middle: {}, feed angle {:.1f}°",
-                i + 1, move.line, to_string(state.motion), radians_to_degrees(state.feed_angle)));
-      }
+    }
+    for (const double u : options.fcs_at) {
+      const ToolState state = tool_state(move, u, previous_x);
+      files[fmt::format("{}-fcs-u{:g}.svg", stem, u)] = fcs_svg(
+          cutter, feasible_contact_surface(cutter, state),
+          fmt::format(
+              "Feasible contact surface, move {} (line {}) at u = {:g}: {}, feed angle {:.1f}°",
+              i + 1, move.line, u, to_string(state.motion), radians_to_degrees(state.feed_angle)));
     }
     files[stem + "-grazing.obj"] = obj_polylines(
         polylines, fmt::format("cwe grazing curves of move {} at u = 0, 0.5, 1", i + 1));
@@ -181,7 +193,8 @@ int run_envelope_command(const EnvelopeCommandOptions& options, std::ostream& ou
              "  move-N.stl / .ply     closed swept volume (one closed shell per linear piece)\n");
   fmt::print(out,
              "  move-N-grazing.obj    grazing curves at the start, middle and end (polylines)\n");
-  fmt::print(out, "  move-N-fcs.svg        feasible contact surface at the middle of the move\n");
+  fmt::print(out,
+             "  move-N-fcs-uU.svg     feasible contact surface at move fraction U (--fcs-at)\n");
   fmt::print(out,
              "  envelope.json         per move: pieces, triangles, volume, bound, motion class\n");
   return 0;

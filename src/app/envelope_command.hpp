@@ -16,6 +16,7 @@ struct EnvelopeCommandOptions {
   std::string moves;  // "a-b" or "a", 1-based move numbers; empty: every feed move
   std::string out;
   double tolerance = 0.01;
+  std::vector<double> fcs_at{0.5};  // move fractions u at which the FCS is drawn
 };
 
 void add_envelope_command(CLI::App& app, EnvelopeCommandOptions& options);

@@ -219,11 +219,24 @@ TEST(CliEnvelope, WritesClosedVolumesCurvesAndPictures) {
   const auto stl = dir / "out" / "move-3.stl";
   ASSERT_TRUE(std::filesystem::exists(stl));
   EXPECT_EQ(std::filesystem::file_size(stl), 84u + 50u * slot["triangles"].get<std::size_t>());
-  for (const char* name : {"move-3.ply", "move-3-grazing.obj", "move-3-fcs.svg", "move-2.stl"}) {
+  for (const char* name :
+       {"move-3.ply", "move-3-grazing.obj", "move-3-fcs-u0.5.svg", "move-2.stl"}) {
     EXPECT_TRUE(std::filesystem::exists(dir / "out" / name)) << name;
   }
 
+  // FCS pictures at chosen cutter locations along the moves.
+  ASSERT_EQ(run_cwe({"envelope", "--tool", "flat:10,20", "--path", program.string(), "--moves", "3",
+                     "--fcs-at", "0,1", "--out", (dir / "at").string()})
+                .status,
+            0);
+  EXPECT_TRUE(std::filesystem::exists(dir / "at" / "move-3-fcs-u0.svg"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "at" / "move-3-fcs-u1.svg"));
+
   // Bad selections and tools are input errors, and write nothing.
+  EXPECT_EQ(run_cwe({"envelope", "--tool", "flat:10", "--path", program.string(), "--fcs-at", "2",
+                     "--out", (dir / "none").string()})
+                .status,
+            2);
   const auto none = dir / "none";
   EXPECT_EQ(run_cwe({"envelope", "--tool", "flat:10", "--path", program.string(), "--moves", "9-12",
                      "--out", none.string()})
