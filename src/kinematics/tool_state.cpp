@@ -27,7 +27,7 @@ const char* to_string(MotionClass motion) {
 
 ToolState tool_state(const Vec3& tip, const Vec3& axis, const Vec3& tip_velocity,
                      const Vec3& angular_velocity, const Vec3& previous_x) {
-  CWE_ASSERT(std::abs(axis.norm() - 1.0) <= tol::kAngle * 1e3, "tool axis must be a unit vector");
+  CWE_ASSERT(std::abs(axis.squaredNorm() - 1.0) <= tol::kAngle, "tool axis must be a unit vector");
   ToolState s;
   s.tip_velocity = tip_velocity;
   s.angular_velocity = angular_velocity;
