@@ -1,0 +1,78 @@
+#pragma once
+// The tri-dexel in-process workpiece (Aras 2008 ch. 4): three orthogonal families of rays at
+// spacing s, each ray holding the material along it as sorted, disjoint intervals (DexelRay).
+//
+// Geometry of the grid: the domain is an axis-aligned box. The family along axis a (its rays
+// parallel to a) has one ray through the centre of every s × s cell of the domain's face across
+// a: with (b, c) the two other axes in cyclic order, ray (i, j) starts on the domain's lower face
+// at min + (i + ½)s·e_b + (j + ½)s·e_c and runs along +e_a; its coordinate t is the distance from
+// that face (mm). The domain is grown so that its sides are whole multiples of s.
+//
+// Material removal takes the solid to remove as a chord function: for a ray (origin, unit
+// direction), the interval of t inside the solid (one interval: every swept volume of a convex
+// APT cutter along a linear move is convex). Only rays whose line meets the solid's bounding box
+// are visited.
+
+#include <array>
+#include <cstddef>
+#include <functional>
+#include <vector>
+
+#include "cwe/geometry/aabb.hpp"
+#include "cwe/geometry/ray.hpp"
+#include "cwe/workpiece/dexel/dexel_ray.hpp"
+
+namespace cwe {
+
+class TriDexel {
+ public:
+  // A block of stock filling `box`, rays every `spacing` mm. Throws InputError for an empty box
+  // or a spacing that is not positive or would need more than kMaxRaysPerFamily rays.
+  static TriDexel from_box(const Aabb& box, double spacing);
+
+  static constexpr std::size_t kMaxRaysPerFamily = std::size_t{1} << 31;
+
+  double spacing() const { return spacing_; }
+  const Aabb& domain() const { return domain_; }
+  // Rays of family `axis` along its two cross axes (b, c) in cyclic order.
+  std::array<int, 2> grid(int axis) const { return grid_[static_cast<std::size_t>(axis)]; }
+  std::size_t ray_count() const;
+
+  Ray ray(int axis, int i, int j) const;
+  const DexelRay& at(int axis, int i, int j) const;
+
+  // Removes the solid given by `chord` from every ray whose line meets `bounds`. Returns the
+  // number of rays that changed.
+  using ChordFunction = std::function<Interval(const Ray&)>;
+  std::size_t remove(const Aabb& bounds, const ChordFunction& chord);
+
+  // Material volume as each family measures it (Σ lengths × s²), mm³.
+  struct Volume {
+    std::array<double, 3> by_family{};
+    double mean() const { return (by_family[0] + by_family[1] + by_family[2]) / 3.0; }
+    double spread() const;  // largest minus smallest family estimate
+  };
+  Volume volume() const;
+
+  // Material at p: the vote of the three rays nearest p (two of three).
+  bool contains(const Vec3& p) const;
+
+  struct Memory {
+    std::size_t ray_bytes = 0;   // 16 per ray
+    std::size_t heap_bytes = 0;  // 8 per interval beyond two on a ray
+    std::size_t total() const { return ray_bytes + heap_bytes; }
+  };
+  Memory memory() const;
+
+ private:
+  std::size_t index(int axis, int i, int j) const;
+  // Range of ray indices along one cross axis whose lines come within [lo, hi].
+  std::array<int, 2> index_range(int axis, int cross, double lo, double hi) const;
+
+  Aabb domain_;
+  double spacing_ = 1.0;
+  std::array<std::array<int, 2>, 3> grid_{};
+  std::array<std::vector<DexelRay>, 3> rays_;
+};
+
+}  // namespace cwe

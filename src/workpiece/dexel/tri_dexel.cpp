@@ -1,0 +1,144 @@
+#include "cwe/workpiece/dexel/tri_dexel.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "cwe/core/assert.hpp"
+#include "cwe/core/error.hpp"
+#include "cwe/geometry/tolerance.hpp"
+
+namespace cwe {
+namespace {
+
+int cross_b(int axis) { return (axis + 1) % 3; }
+int cross_c(int axis) { return (axis + 2) % 3; }
+
+}  // namespace
+
+TriDexel TriDexel::from_box(const Aabb& box, double spacing) {
+  if (box.is_empty() || !(box.size().minCoeff() > 0.0) || !box.size().allFinite()) {
+    throw InputError("stock box: expected min < max on every axis");
+  }
+  if (!(spacing > 0.0) || !std::isfinite(spacing)) {
+    throw InputError(fmt::format("dexel spacing {} mm: expected a positive length", spacing));
+  }
+  TriDexel d;
+  d.spacing_ = spacing;
+  // Whole cells: grow the box symmetrically to multiples of the spacing.
+  std::array<int, 3> cells{};
+  Vec3 size;
+  for (int a = 0; a < 3; ++a) {
+    const double n = std::ceil(box.size()[a] / spacing - tol::kRelative);
+    if (n > 1e7) {
+      throw InputError(
+          fmt::format("dexel spacing {} mm is too fine for a {} mm stock", spacing, box.size()[a]));
+    }
+    cells[static_cast<std::size_t>(a)] = static_cast<int>(n);
+    size[a] = n * spacing;
+  }
+  d.domain_ = {box.center() - size / 2.0, box.center() + size / 2.0};
+  for (int a = 0; a < 3; ++a) {
+    const int nb = cells[static_cast<std::size_t>(cross_b(a))];
+    const int nc = cells[static_cast<std::size_t>(cross_c(a))];
+    if (static_cast<double>(nb) * nc > static_cast<double>(kMaxRaysPerFamily)) {
+      throw InputError(fmt::format("dexel spacing {} mm would need {} rays in one family", spacing,
+                                   static_cast<double>(nb) * nc));
+    }
+    d.grid_[static_cast<std::size_t>(a)] = {nb, nc};
+    // Every ray of the block carries the stock between the box's faces along it.
+    const auto lo = static_cast<float>(box.min[a] - d.domain_.min[a]);
+    const auto hi = static_cast<float>(box.max[a] - d.domain_.min[a]);
+    d.rays_[static_cast<std::size_t>(a)].assign(static_cast<std::size_t>(nb) * nc,
+                                                DexelRay(lo, hi));
+  }
+  return d;
+}
+
+std::size_t TriDexel::ray_count() const {
+  return rays_[0].size() + rays_[1].size() + rays_[2].size();
+}
+
+std::size_t TriDexel::index(int axis, int i, int j) const {
+  const auto& g = grid_[static_cast<std::size_t>(axis)];
+  CWE_ASSERT(i >= 0 && i < g[0] && j >= 0 && j < g[1], "dexel ray index out of range");
+  return static_cast<std::size_t>(j) * static_cast<std::size_t>(g[0]) + static_cast<std::size_t>(i);
+}
+
+Ray TriDexel::ray(int axis, int i, int j) const {
+  Vec3 origin = domain_.min;
+  origin[cross_b(axis)] += (i + 0.5) * spacing_;
+  origin[cross_c(axis)] += (j + 0.5) * spacing_;
+  return {origin, Vec3::Unit(axis)};
+}
+
+const DexelRay& TriDexel::at(int axis, int i, int j) const {
+  return rays_[static_cast<std::size_t>(axis)][index(axis, i, j)];
+}
+
+std::array<int, 2> TriDexel::index_range(int axis, int cross, double lo, double hi) const {
+  const int n = grid_[static_cast<std::size_t>(axis)][cross == cross_b(axis) ? 0 : 1];
+  // Ray k sits at min + (k + ½)s: it lies within [lo, hi] for k in [lo'/s - ½, hi'/s - ½].
+  const double first = std::ceil((lo - domain_.min[cross]) / spacing_ - 0.5);
+  const double last = std::floor((hi - domain_.min[cross]) / spacing_ - 0.5);
+  return {static_cast<int>(std::clamp(first, 0.0, static_cast<double>(n))),
+          static_cast<int>(std::clamp(last, -1.0, static_cast<double>(n - 1)))};
+}
+
+std::size_t TriDexel::remove(const Aabb& bounds, const ChordFunction& chord) {
+  std::size_t changed = 0;
+  if (bounds.is_empty() || !bounds.intersects(domain_)) return 0;
+  for (int a = 0; a < 3; ++a) {
+    const int b = cross_b(a), c = cross_c(a);
+    const auto is = index_range(a, b, bounds.min[b], bounds.max[b]);
+    const auto js = index_range(a, c, bounds.min[c], bounds.max[c]);
+    for (int j = js[0]; j <= js[1]; ++j) {
+      for (int i = is[0]; i <= is[1]; ++i) {
+        const Interval cut = chord(ray(a, i, j));
+        if (cut.is_empty()) continue;
+        if (rays_[static_cast<std::size_t>(a)][index(a, i, j)].subtract(cut.lo, cut.hi)) ++changed;
+      }
+    }
+  }
+  return changed;
+}
+
+double TriDexel::Volume::spread() const {
+  return *std::max_element(by_family.begin(), by_family.end()) -
+         *std::min_element(by_family.begin(), by_family.end());
+}
+
+TriDexel::Volume TriDexel::volume() const {
+  Volume v;
+  for (std::size_t a = 0; a < 3; ++a) {
+    double length = 0.0;
+    for (const DexelRay& r : rays_[a]) length += r.length();
+    v.by_family[a] = length * spacing_ * spacing_;
+  }
+  return v;
+}
+
+bool TriDexel::contains(const Vec3& p) const {
+  int votes = 0;
+  for (int a = 0; a < 3; ++a) {
+    const auto& g = grid_[static_cast<std::size_t>(a)];
+    const int b = cross_b(a), c = cross_c(a);
+    const auto i = static_cast<int>(std::floor((p[b] - domain_.min[b]) / spacing_));
+    const auto j = static_cast<int>(std::floor((p[c] - domain_.min[c]) / spacing_));
+    if (i < 0 || j < 0 || i >= g[0] || j >= g[1]) continue;
+    if (at(a, i, j).contains(p[a] - domain_.min[a])) ++votes;
+  }
+  return votes >= 2;
+}
+
+TriDexel::Memory TriDexel::memory() const {
+  Memory m;
+  for (const auto& family : rays_) {
+    m.ray_bytes += family.size() * sizeof(DexelRay);
+    for (const DexelRay& r : family) m.heap_bytes += r.heap_bytes();
+  }
+  return m;
+}
+
+}  // namespace cwe

@@ -1,0 +1,99 @@
+#include "cwe/workpiece/dexel/tri_dexel.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "cwe/core/error.hpp"
+#include "cwe/tool/tool_spec.hpp"
+#include "random.hpp"
+
+namespace cwe {
+namespace {
+
+// The chord function of a cutter standing at `tip` with axis +Z (the tool solid itself).
+TriDexel::ChordFunction tool_at(const Cutter& cutter, const Vec3& tip) {
+  return [&cutter, tip](const Ray& ray) {
+    const auto chords = cutter.intersect(Ray{ray.origin - tip, ray.direction});
+    return chords.empty() ? Interval::empty() : hull(chords.front(), chords.back());
+  };
+}
+
+TEST(TriDexel, BoxStockVolumeAndGrid) {
+  const TriDexel d = TriDexel::from_box(Aabb{{0, 0, 0}, {10, 6, 4}}, 0.5);
+  EXPECT_EQ(d.grid(2), (std::array<int, 2>{20, 12}));  // Z rays over the x-y face
+  EXPECT_EQ(d.grid(0), (std::array<int, 2>{12, 8}));   // X rays over y-z
+  EXPECT_EQ(d.ray_count(), 20u * 12u + 12u * 8u + 8u * 20u);
+  for (const double v : d.volume().by_family) EXPECT_NEAR(v, 240.0, 1e-9);
+  EXPECT_EQ(d.memory().ray_bytes, 16u * d.ray_count());
+  EXPECT_EQ(d.memory().heap_bytes, 0u);
+  EXPECT_TRUE(d.contains(Vec3(5, 3, 2)));
+  EXPECT_FALSE(d.contains(Vec3(5, 3, 4.5)));
+  const Ray r = d.ray(2, 0, 0);
+  EXPECT_TRUE(r.origin.isApprox(Vec3(0.25, 0.25, 0)));
+  EXPECT_TRUE(r.direction.isApprox(Vec3::UnitZ()));
+}
+
+TEST(TriDexel, RejectsBadStock) {
+  EXPECT_THROW(TriDexel::from_box(Aabb{}, 1.0), InputError);
+  EXPECT_THROW(TriDexel::from_box(Aabb{{0, 0, 0}, {1, 0, 1}}, 1.0), InputError);
+  EXPECT_THROW(TriDexel::from_box(Aabb{{0, 0, 0}, {1, 1, 1}}, 0.0), InputError);
+  EXPECT_THROW(TriDexel::from_box(Aabb{{0, 0, 0}, {1e6, 1e6, 1e6}}, 1e-3), InputError);
+}
+
+// Removing a flat end mill standing 5 mm deep in the block: every ray equals the box chord minus
+// the exact cylinder chord (float rounding, 1e-5 mm), and the volumes approach π R² depth.
+TEST(TriDexel, RemovingAToolIsExactPerRay) {
+  TriDexel d = TriDexel::from_box(Aabb{{0, 0, 0}, {20, 20, 10}}, 0.1);
+  const Cutter flat = cutter_from_spec("flat:6,20");
+  const Vec3 tip(10.03, 9.97, 5.0);
+  const std::size_t changed =
+      d.remove(Aabb{tip - Vec3(3, 3, 0), tip + Vec3(3, 3, 20)}, tool_at(flat, tip));
+  EXPECT_GT(changed, 0u);
+  for (int j = 0; j < d.grid(0)[1]; ++j) {
+    for (int i = 0; i < d.grid(0)[0]; ++i) {
+      const Ray r = d.ray(0, i, j);  // along X at (y, z)
+      const double dy = r.origin.y() - tip.y();
+      const bool cut = r.origin.z() >= tip.z() && std::abs(dy) < 3.0;
+      const auto got = d.at(0, i, j).intervals();
+      if (!cut) {
+        ASSERT_EQ(got.size(), 1u);
+        continue;
+      }
+      const double half = std::sqrt(9.0 - dy * dy);
+      ASSERT_EQ(got.size(), 2u) << "y " << r.origin.y() << " z " << r.origin.z();
+      EXPECT_NEAR(got[0].hi, tip.x() - half, 1e-5);
+      EXPECT_NEAR(got[1].lo, tip.x() + half, 1e-5);
+    }
+  }
+  // Each family measures the removed cylinder (π·9·5 ≈ 141.4 mm³) to within the cells its
+  // boundary crosses: perimeter × depth × spacing bounds the misattributed volume.
+  const double removed_exact = kPi * 9.0 * 5.0;
+  const double bound = 2 * kPi * 3.0 * 5.0 * 0.1;
+  for (const double v : d.volume().by_family) EXPECT_NEAR(4000.0 - v, removed_exact, bound);
+  EXPECT_NEAR(4000.0 - d.volume().mean(), removed_exact, bound / 3);
+  EXPECT_FALSE(d.contains(tip + Vec3(0, 0, 1)));
+  EXPECT_TRUE(d.contains(tip + Vec3(0, 0, -1)));
+  EXPECT_TRUE(d.contains(tip + Vec3(3.5, 0, 1)));
+}
+
+// Property: removal never adds material and memory follows the interval counts.
+TEST(TriDexel, RemovalNeverAddsMaterial) {
+  test::Random random(52);
+  TriDexel d = TriDexel::from_box(Aabb{{0, 0, 0}, {12, 12, 6}}, 0.2);
+  const Cutter ball = cutter_from_spec("ball:3,10");
+  TriDexel::Volume previous = d.volume();
+  for (int k = 0; k < 40; ++k) {
+    const Vec3 tip(random.uniform(0, 12), random.uniform(0, 12), random.uniform(2, 6));
+    d.remove(Aabb{tip - Vec3(1.5, 1.5, 0), tip + Vec3(1.5, 1.5, 10)}, tool_at(ball, tip));
+    const TriDexel::Volume v = d.volume();
+    for (std::size_t a = 0; a < 3; ++a) EXPECT_LE(v.by_family[a], previous.by_family[a]);
+    previous = v;
+  }
+  const TriDexel::Memory m = d.memory();
+  EXPECT_EQ(m.ray_bytes, 16u * d.ray_count());
+  EXPECT_EQ(m.heap_bytes % 8, 0u);
+}
+
+}  // namespace
+}  // namespace cwe
