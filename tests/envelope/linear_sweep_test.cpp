@@ -1,0 +1,139 @@
+#include "cwe/envelope/linear_sweep.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "cwe/envelope/swept_volume.hpp"
+#include "cwe/tool/tool_spec.hpp"
+#include "random.hpp"
+#include "sweep_oracle.hpp"
+
+namespace cwe {
+namespace {
+
+Move linear(const Vec3& a, const Vec3& b, const Vec3& axis) {
+  Move m;
+  m.start = a;
+  m.end = b;
+  m.start_axis = m.end_axis = axis.normalized();
+  return m;
+}
+
+// Oracle: along the ray, points well inside the chord are in the union of densely sampled tool
+// positions, points well outside are not. "Well" is the band the sampling can resolve: the gap
+// between positions plus the sample step along the ray.
+void expect_chord_matches_union(const Cutter& cutter, const Move& move, const Ray& ray,
+                                test::Random& random) {
+  const LinearSweep sweep(cutter, move.start, move.end, move.start_axis);
+  const Interval chord = sweep.chord(ray);
+  constexpr int kPositions = 200;
+  const double gap = move.length() / kPositions;
+  const double step = 0.05;
+  const double band = gap + step;
+  for (int k = -300; k <= 300; ++k) {
+    const double t = k * step + random.uniform(-step / 2, step / 2);
+    const double d = test::union_signed_distance(cutter, move, ray.at(t), kPositions);
+    if (std::abs(d) <= band) continue;
+    const bool inside = !chord.is_empty() && chord.contains(t);
+    ASSERT_EQ(inside, d < 0.0) << "t = " << t << " distance " << d << " chord [" << chord.lo << ", "
+                               << chord.hi << "]";
+  }
+  // The chord's ends lie on the swept volume's boundary.
+  if (!chord.is_empty()) {
+    for (const double t : {chord.lo, chord.hi}) {
+      EXPECT_LT(std::abs(test::union_signed_distance(cutter, move, ray.at(t), kPositions)), band);
+    }
+  }
+}
+
+TEST(LinearSweep, ChordsAgreeWithTheUnionOfToolPositions) {
+  test::Random random(61);
+  for (const char* spec :
+       {"flat:10,20", "ball:10,20", "bull:10,2,20", "taper-flat:6,5,20", "taper-flat:10,-3,20",
+        "taper-ball:4,3,20", "chamfer:12,90,15", "apt:7.8586,1,3,1.5444,10,5,20"}) {
+    SCOPED_TRACE(spec);
+    const Cutter cutter = cutter_from_spec(spec);
+    const std::vector<Move> moves = {
+        linear({0, 0, 0}, {15, 0, 0}, Vec3::UnitZ()),        // horizontal slot
+        linear({0, 0, 0}, {12, 4, -4.4}, Vec3::UnitZ()),     // ramp down
+        linear({0, 0, 0}, {8, -3, 5}, Vec3::UnitZ()),        // ascending
+        linear({0, 0, 0}, {0, 0, -8}, Vec3::UnitZ()),        // plunge
+        linear({0, 0, 0}, {10, 6, -2}, Vec3(0.3, -0.2, 1)),  // tilted 3+2
+    };
+    for (const Move& move : moves) {
+      for (int k = 0; k < 6; ++k) {
+        // Rays through random points near the sweep: axis-aligned (as dexels are) and random.
+        const Vec3 through =
+            0.5 * (move.start + move.end) + random.point_in_box(8.0) + Vec3(0, 0, 6);
+        Vec3 direction = random.unit_vector();
+        if (k < 3) direction = Vec3::Unit(k);
+        expect_chord_matches_union(cutter, move, Ray{through, direction}, random);
+      }
+    }
+  }
+}
+
+// The chord agrees with the hull mesh of swept_volume(): both contain each other's points up to
+// the hull's tessellation tolerance.
+TEST(LinearSweep, AgreesWithTheSweptVolumeMesh) {
+  test::Random random(62);
+  const Cutter cutter = cutter_from_spec("bull:10,2,20");
+  const Move move = linear({1, 2, 3}, {20, -4, -1}, Vec3::UnitZ());
+  SweptVolumeOptions options;
+  options.tolerance = 0.005;
+  const TriangleMesh hull = swept_volume(cutter, move, options).pieces.front();
+  const LinearSweep sweep(cutter, move.start, move.end, move.start_axis);
+  int crossings = 0;
+  for (int k = 0; k < 400; ++k) {
+    const Ray ray{sweep.bounds().center() + random.point_in_box(6.0), random.unit_vector()};
+    const Interval chord = sweep.chord(ray);
+    // Mesh chord: the parameter range where the ray is behind every face plane.
+    double lo = -1e9, hi = 1e9;
+    for (const auto& t : hull.triangles) {
+      const Vec3& a = hull.vertices[static_cast<std::size_t>(t[0])];
+      const Vec3 n = (hull.vertices[static_cast<std::size_t>(t[1])] - a)
+                         .cross(hull.vertices[static_cast<std::size_t>(t[2])] - a)
+                         .normalized();
+      const double num = n.dot(a - ray.origin), den = n.dot(ray.direction);
+      if (den > 0) hi = std::min(hi, num / den);
+      if (den < 0) lo = std::max(lo, num / den);
+      if (den == 0 && num < 0) lo = 1e9;
+    }
+    if (lo > hi) {
+      // Missed the inscribed mesh: the exact chord is at most a sliver of the tolerance.
+      EXPECT_TRUE(chord.is_empty() || chord.length() < 2.0) << chord.length();
+      continue;
+    }
+    ++crossings;
+    ASSERT_FALSE(chord.is_empty());
+    // The mesh is inscribed: its chord lies inside the exact one (minus rounding), and falls
+    // short of it by no more than a grazing angle allows for a 0.005 mm deviation.
+    EXPECT_LE(chord.lo, lo + 1e-9);
+    EXPECT_GE(chord.hi, hi - 1e-9);
+  }
+  EXPECT_GT(crossings, 100);
+}
+
+TEST(LinearSweep, StraightSlotChordsInClosedForm) {
+  // Flat end mill D = 10 from (0, 0, 0) to (30, 0, 0): an X-ray at height 5, offset y = 3, meets
+  // the stadium from -4 to 34; a Z-ray at (12, 4) from the tip plane up to the top, 20.
+  const Cutter flat = cutter_from_spec("flat:10,20");
+  const LinearSweep sweep(flat, Vec3(0, 0, 0), Vec3(30, 0, 0), Vec3::UnitZ());
+  Interval c = sweep.chord(Ray{Vec3(-50, 3, 5), Vec3::UnitX()});
+  EXPECT_NEAR(c.lo, 50 - 4, 1e-12);
+  EXPECT_NEAR(c.hi, 50 + 34, 1e-12);
+  c = sweep.chord(Ray{Vec3(12, 4, -10), Vec3::UnitZ()});
+  EXPECT_NEAR(c.lo, 10, 1e-12);
+  EXPECT_NEAR(c.hi, 30, 1e-12);
+  EXPECT_TRUE(sweep.chord(Ray{Vec3(12, 5.5, -10), Vec3::UnitZ()}).is_empty());
+  // Along the feed: the two tool chords.
+  c = sweep.chord(Ray{Vec3(-20, 0, 1), Vec3::UnitX()});
+  EXPECT_NEAR(c.lo, 15, 1e-12);
+  EXPECT_NEAR(c.hi, 55, 1e-12);
+}
+
+}  // namespace
+}  // namespace cwe
