@@ -18,7 +18,8 @@ std::vector<cwe::Ray> random_rays(int count, double half_size, unsigned seed) {
   std::vector<cwe::Ray> rays;
   for (int i = 0; i < count; ++i) {
     cwe::Vec3 d(normal(engine), normal(engine), normal(engine));
-    rays.push_back({cwe::Vec3(position(engine), position(engine), position(engine)), d.normalized()});
+    rays.push_back(
+        {cwe::Vec3(position(engine), position(engine), position(engine)), d.normalized()});
   }
   return rays;
 }
