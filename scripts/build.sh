@@ -10,7 +10,9 @@ cd "$(dirname "$0")/.."
 variant="${1:-release}"
 case "$variant" in
   release) dir=build; flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo) ;;
-  asan) dir=build-asan; flags=(-DCMAKE_BUILD_TYPE=Debug -DCWE_SANITIZE=ON -DCWE_BUILD_BENCHMARKS=OFF) ;;
+  # -O1 keeps the sanitizers' reports exact while running the oracle tests ~10x faster than -O0.
+  asan) dir=build-asan; flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g"
+                               -DCWE_SANITIZE=ON -DCWE_BUILD_BENCHMARKS=OFF) ;;
   *) echo "usage: scripts/build.sh [release|asan]" >&2; exit 2 ;;
 esac
 
