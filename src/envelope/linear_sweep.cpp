@@ -6,17 +6,17 @@
 
 #include "cwe/core/error.hpp"
 #include "cwe/envelope/swept_volume.hpp"
+#include "cwe/geometry/intersect.hpp"
 #include "cwe/geometry/roots.hpp"
 #include "cwe/geometry/tolerance.hpp"
 
 namespace cwe {
 namespace {
 
-// Samples of an arc's angle range when looking for crossings of its swept grazing curve. The
-// crossing function has at most a few extrema over a quarter circle; 24 samples bracket every
-// transversal crossing, and a tangent touch that falls between samples only loses a degenerate
-// point of the chord, which the neighbouring surfaces then supply.
-constexpr int kArcSamples = 24;
+// The crossing function of an arc's swept grazing curve has at most a few extrema over a quarter
+// circle; kArcSamples = 24 samples bracket every transversal crossing, and a tangent touch that
+// falls between samples only loses a degenerate point of the chord, which the neighbouring
+// surfaces then supply.
 
 struct Hull {
   double lo = std::numeric_limits<double>::infinity();
@@ -30,6 +30,7 @@ struct Hull {
     add(i.lo);
     add(i.hi);
   }
+  Interval interval() const { return lo <= hi ? Interval{lo, hi} : Interval::empty(); }
 };
 
 // Solves o + t d = p + λ D for (t, λ) given that p lies in the plane spanned by d and D through
@@ -45,10 +46,58 @@ bool solve_in_plane(const Vec3& d, const Vec3& D, const Vec3& rhs, double& t, do
   return true;
 }
 
+// Ray parameters with z0 ≤ z ≤ z1 (TCS heights).
+Interval height_slab(const Vec3& o, const Vec3& d, double z0, double z1) {
+  if (d.z() == 0.0) return o.z() >= z0 && o.z() <= z1 ? Interval::full() : Interval::empty();
+  const double a = (z0 - o.z()) / d.z(), b = (z1 - o.z()) / d.z();
+  return {std::min(a, b), std::max(a, b)};
+}
+
+// Narrows `chord` to the parameters where s0 + t·ds lies in [lo, hi].
+void clip(Interval& chord, double s0, double ds, double lo, double hi) {
+  if (ds == 0.0) {
+    if (s0 < lo || s0 > hi) chord = Interval::empty();
+    return;
+  }
+  const double a = (lo - s0) / ds, b = (hi - s0) / ds;
+  chord = intersect(chord, Interval{std::min(a, b), std::max(a, b)});
+}
+
+// The 2-D line o + t d (d ≠ 0) through the disc |p - c| ≤ r.
+Interval disc_chord(const Vec2& o, const Vec2& d, const Vec2& c, double r) {
+  const Vec2 w = o - c;
+  const double a = d.squaredNorm();
+  const double cross = d.x() * w.y() - d.y() * w.x();
+  const double gap = r * r - cross * cross / a;  // r² minus the squared distance to c
+  if (gap < 0.0) return Interval::empty();
+  const double middle = -w.dot(d) / a;
+  const double half = std::sqrt(gap / a);
+  return {middle - half, middle + half};
+}
+
+// The 2-D line through the capsule of radius r about the segment c0–c1 (convex: the hull of the
+// chords through both end discs and the rectangle between them).
+Interval capsule_chord(const Vec2& o, const Vec2& d, const Vec2& c0, const Vec2& c1, double r) {
+  Hull hull;
+  hull.add(disc_chord(o, d, c0, r));
+  hull.add(disc_chord(o, d, c1, r));
+  const Vec2 along = c1 - c0;
+  const double length = along.norm();
+  if (length > 0.0) {
+    const Vec2 e = along / length;
+    const Vec2 n(-e.y(), e.x());
+    Interval band = Interval::full();
+    clip(band, (o - c0).dot(e), d.dot(e), 0.0, length);
+    clip(band, (o - c0).dot(n), d.dot(n), -r, r);
+    hull.add(band);
+  }
+  return hull.interval();
+}
+
 }  // namespace
 
 LinearSweep::LinearSweep(const Cutter& cutter, const Vec3& start, const Vec3& end, const Vec3& axis)
-    : cutter_(&cutter) {
+    : cutter_(&cutter), start_(start), end_(end) {
   if (!is_convex(cutter)) {
     throw InputError(SourceLocation{cutter.name()},
                      "material removal needs a convex cutter (every APT cutter is one)");
@@ -69,25 +118,275 @@ LinearSweep::LinearSweep(const Cutter& cutter, const Vec3& start, const Vec3& en
       bounds_.extend(c + extent);
     }
   }
+
+  // Per-move data of the general construction: profile vertices, the grazing generators of line
+  // pieces and the sampled grazing curves of arcs.
+  const auto& segments = cutter.profile().segments();
+  vertices_.push_back(segments.front().start);
+  for (const auto& s : segments) vertices_.push_back(s.end);
+  lateral_ = std::hypot(delta_.x(), delta_.y());
+  phase_ = std::atan2(delta_.y(), delta_.x());
+  if (lateral_ > tol::kLength) {
+    for (std::size_t i = 0; i < segments.size(); ++i) {
+      const ProfileSegment& segment = segments[i];
+      for (int branch = 0; branch < 2; ++branch) {
+        if (segment.kind == ProfileSegment::Kind::kLine) {
+          bool exists = false;
+          const Vec3 a = grazing_point(static_cast<int>(i), branch, 0.0, exists);
+          if (!exists) continue;
+          generators_.push_back({a, grazing_point(static_cast<int>(i), branch, 1.0, exists)});
+          continue;
+        }
+        GrazingSamples samples;
+        samples.segment = static_cast<int>(i);
+        samples.branch = branch;
+        for (int k = 0; k <= kArcSamples; ++k) {
+          bool exists = false;
+          samples.point[static_cast<std::size_t>(k)] =
+              grazing_point(samples.segment, branch, static_cast<double>(k) / kArcSamples, exists);
+          samples.exists[static_cast<std::size_t>(k)] = exists;
+        }
+        arcs_.push_back(samples);
+      }
+    }
+  }
+
+  // Closed forms for a tool standing along +Z.
+  const bool vertical = std::abs(axis.x()) <= tol::kRelative &&
+                        std::abs(axis.y()) <= tol::kRelative && axis.z() > 0.0;
+  if (vertical) {
+    if (start.z() == end.z()) {
+      mode_ = Mode::kLevel;
+    } else if (start.x() == end.x() && start.y() == end.y()) {
+      mode_ = Mode::kAxial;
+    }
+  }
+  if (mode_ != Mode::kGeneric) {
+    for (const auto& s : segments) {
+      Section section;
+      section.z0 = s.min_z();
+      section.z1 = s.max_z();
+      if (s.kind == ProfileSegment::Kind::kLine) {
+        section.r0 = s.start.x();
+        section.r1 = s.end.x();
+      } else {
+        section.arc = true;
+        section.center_r = s.center.x();
+        section.center_z = s.center.y();
+        section.radius = s.radius;
+      }
+      sections_.push_back(section);
+    }
+    // The height of the widest section (R is concave: any maximiser serves).
+    double widest = -1.0;
+    for (const Section& s : sections_) {
+      for (const double h : {s.z0, s.z1, std::clamp(s.center_z, s.z0, s.z1)}) {
+        const double r = section_radius(h);
+        if (r > widest) widest = r, widest_height_ = h;
+      }
+    }
+    if (mode_ == Mode::kLevel) {
+      path_start_ = start.head<2>();
+      const Vec2 along = end.head<2>() - path_start_;
+      path_length_ = along.norm();
+      path_along_ = path_length_ > 0.0 ? Vec2(along / path_length_) : Vec2(1.0, 0.0);
+    }
+  }
+}
+
+Vec3 LinearSweep::grazing_point(int segment_index, int branch, double u, bool& exists) const {
+  // N·D = n_ρ (D_x sin φ + D_y cos φ) + n_z D_z = 0 on branch 0 (asin) or 1 (π - asin). Where no
+  // grazing angle exists (|sin φ| would exceed 1) the curve is continued with sin φ clamped, so
+  // that crossings near its end are still bracketed; `exists` says which case holds.
+  const ProfileSegment& segment =
+      cutter_->profile().segments()[static_cast<std::size_t>(segment_index)];
+  const Vec2 normal = segment.normal_at(u);
+  const Vec2 p = segment.point_at(u);
+  exists = false;
+  double phi = 0.0;
+  if (std::abs(normal.x()) > tol::kAngle) {  // horizontal faces have no grazing curve
+    double s = -normal.y() * delta_.z() / (normal.x() * lateral_);
+    exists = s >= -1.0 && s <= 1.0;
+    s = std::clamp(s, -1.0, 1.0);
+    const double base = std::asin(s);
+    phi = (branch == 0 ? base : kPi - base) - phase_;
+  }
+  return {p.x() * std::sin(phi), p.x() * std::cos(phi), p.y()};
+}
+
+Interval LinearSweep::tool_chord(const Vec3& o, const Vec3& d) const {
+  // A convex tool is the union of its pieces' solids stacked along the axis, each convex, so
+  // the hull of their chords is the tool's chord.
+  const Ray ray{o, d};
+  Hull hull;
+  for (const ProfileSegment& s : cutter_->profile().segments()) {
+    if (s.kind == ProfileSegment::Kind::kLine) {
+      if (s.is_horizontal()) {
+        hull.add(intersect(ray, Disc{Vec3(0.0, 0.0, s.start.y()), Vec3::UnitZ(), s.max_radius()}));
+      } else {
+        hull.add(intersect(ray, Frustum{Vec3(0.0, 0.0, s.start.y()), Vec3::UnitZ(), s.start.x(),
+                                        s.end.x(), s.end.y() - s.start.y()}));
+      }
+      continue;
+    }
+    const Interval band = height_slab(o, d, s.min_z(), s.max_z());
+    if (band.is_empty()) continue;
+    if (s.center.x() <= 0.0) {
+      hull.add(intersect(intersect(ray, Sphere{Vec3(0.0, 0.0, s.center.y()), s.radius}), band));
+      continue;
+    }
+    // Convex corner: the tube together with the core cylinder ρ ≤ c_ρ, within the band.
+    for (const Interval& i :
+         intersect(ray, Torus{Vec3(0.0, 0.0, s.center.y()), Vec3::UnitZ(), s.center.x(), s.radius}))
+      hull.add(intersect(i, band));
+    hull.add(intersect(ray, Frustum{Vec3(0.0, 0.0, s.min_z()), Vec3::UnitZ(), s.center.x(),
+                                    s.center.x(), s.max_z() - s.min_z()}));
+  }
+  return hull.interval();
+}
+
+double LinearSweep::section_radius(double h) const {
+  // Arcs of a convex profile lie right of their centres.
+  double r = 0.0;
+  for (const Section& s : sections_) {
+    if (h < s.z0 || h > s.z1) continue;
+    if (s.arc) {
+      const double dz = h - s.center_z;
+      r = std::max(r, s.center_r + std::sqrt(std::max(0.0, s.radius * s.radius - dz * dz)));
+    } else if (s.z0 == s.z1) {
+      r = std::max({r, s.r0, s.r1});
+    } else {
+      r = std::max(r, s.r0 + (s.r1 - s.r0) * ((h - s.z0) / (s.z1 - s.z0)));
+    }
+  }
+  return r;
+}
+
+Interval LinearSweep::heights_reaching(double r) const {
+  Hull hull;
+  for (const Section& s : sections_) {
+    if (!s.arc) {
+      if (s.z0 == s.z1) {
+        if (std::max(s.r0, s.r1) >= r) hull.add(s.z0);
+      } else if (s.r0 >= r && s.r1 >= r) {
+        hull.add(s.z0), hull.add(s.z1);
+      } else if (s.r0 >= r || s.r1 >= r) {
+        const double zc = std::clamp(s.z0 + (r - s.r0) / (s.r1 - s.r0) * (s.z1 - s.z0), s.z0, s.z1);
+        hull.add(s.r0 >= r ? Interval{s.z0, zc} : Interval{zc, s.z1});
+      }
+      continue;
+    }
+    // Convex arc: ρ(z) = c + √(R² - (z - c_z)²) ≥ r.
+    if (r <= s.center_r) {
+      hull.add(Interval{s.z0, s.z1});
+      continue;
+    }
+    const double excess = r - s.center_r;
+    const double w2 = s.radius * s.radius - excess * excess;
+    if (w2 < 0.0) continue;
+    const double w = std::sqrt(w2);
+    hull.add(intersect(Interval{s.center_z - w, s.center_z + w}, Interval{s.z0, s.z1}));
+  }
+  return hull.interval();
+}
+
+Interval LinearSweep::capsule_span(const Vec3& o, int along, double r) const {
+  // Coordinates: s along the ray's axis, q across it; the ray is the line q = o_q.
+  const int across = 1 - along;
+  const Vec2 c0 = path_start_, c1 = path_start_ + path_length_ * path_along_;
+  Hull hull;
+  for (const Vec2& c : {c0, c1}) {
+    const double dq = o[across] - c[across];
+    const double gap = r * r - dq * dq;
+    if (gap < 0.0) continue;
+    const double half = std::sqrt(gap);
+    hull.add(c[along] - half), hull.add(c[along] + half);
+  }
+  if (path_length_ > 0.0) {
+    // The rectangle: 0 ≤ (p - c0)·e ≤ L and |(p - c0)·n| ≤ r, each linear in s.
+    const Vec2 e = path_along_, n(-e.y(), e.x());
+    const double dq = o[across] - c0[across];
+    Interval band = Interval::full();
+    clip(band, dq * e[across], e[along], 0.0, path_length_);
+    clip(band, dq * n[across], n[along], -r, r);
+    if (!band.is_empty()) hull.add(c0[along] + band.lo), hull.add(c0[along] + band.hi);
+  }
+  return hull.interval();
+}
+
+Interval LinearSweep::level_chord(const Ray& ray) const {
+  const Vec3& o = ray.origin;
+  const Vec3& d = ray.direction;
+  const Profile& profile = cutter_->profile();
+  if (d.z() == 0.0) {
+    const double h = o.z() - start_.z();
+    if (!(h >= 0.0 && h <= profile.height())) return Interval::empty();
+    const double r = section_radius(h);
+    const int along = d.y() == 0.0 ? 0 : 1;
+    if (d.squaredNorm() == 1.0 && d[1 - along] == 0.0) {
+      // Along world X or Y: the capsule's extent on the ray's line, then t = ±(x - o_x).
+      const Interval span = capsule_span(o, along, r);
+      if (span.is_empty()) return span;
+      const double sign = d[along];
+      const double a = sign * (span.lo - o[along]), b = sign * (span.hi - o[along]);
+      return {std::min(a, b), std::max(a, b)};
+    }
+    return capsule_chord(o.head<2>(), d.head<2>(), start_.head<2>(), end_.head<2>(), r);
+  }
+  // Vertical ray: its distance from the tip's path decides the heights it meets.
+  const Vec2 q = o.head<2>(), c0 = start_.head<2>(), c1 = end_.head<2>();
+  const Vec2 along = c1 - c0;
+  const double length2 = along.squaredNorm();
+  const double u = length2 > 0.0 ? std::clamp((q - c0).dot(along) / length2, 0.0, 1.0) : 0.0;
+  const Interval h = heights_reaching((q - c0 - u * along).norm());
+  if (h.is_empty()) return h;
+  const double a = (start_.z() + h.lo - o.z()) / d.z(), b = (start_.z() + h.hi - o.z()) / d.z();
+  return {std::min(a, b), std::max(a, b)};
+}
+
+Interval LinearSweep::axial_chord(const Ray& ray) const {
+  const Vec3& o = ray.origin;
+  const Vec3& d = ray.direction;
+  const Profile& profile = cutter_->profile();
+  const double z_low = std::min(start_.z(), end_.z()), z_high = std::max(start_.z(), end_.z());
+  if (d.z() == 0.0) {
+    // The heights above the tip that pass the ray's level during the move.
+    const double a = std::max(0.0, o.z() - z_high), b = std::min(profile.height(), o.z() - z_low);
+    if (!(a <= b)) return Interval::empty();
+    const double r = section_radius(std::clamp(widest_height_, a, b));
+    return disc_chord(o.head<2>(), d.head<2>(), start_.head<2>(), r);
+  }
+  const Interval h = heights_reaching((o.head<2>() - start_.head<2>()).norm());
+  if (h.is_empty()) return h;
+  const double a = (z_low + h.lo - o.z()) / d.z(), b = (z_high + h.hi - o.z()) / d.z();
+  return {std::min(a, b), std::max(a, b)};
 }
 
 Interval LinearSweep::chord(const Ray& ray) const {
-  const Cutter& cutter = *cutter_;
+  const Vec3& d = ray.direction;
+  const bool horizontal = d.z() == 0.0 && (d.x() != 0.0 || d.y() != 0.0);
+  const bool vertical = d.x() == 0.0 && d.y() == 0.0 && d.z() != 0.0;
+  if (mode_ == Mode::kLevel && (horizontal || vertical)) return level_chord(ray);
+  if (mode_ == Mode::kAxial && (horizontal || vertical)) return axial_chord(ray);
+  return generic_chord(ray);
+}
+
+Interval LinearSweep::generic_chord(const Ray& ray) const {
   const Vec3 o = tcs_.to_local(ray.origin);
   const Vec3 d = tcs_.direction_to_local(ray.direction);
   Hull hull;
   // The tool at the start and at the end.
-  for (const Interval& i : cutter.intersect(Ray{o, d})) hull.add(i);
-  for (const Interval& i : cutter.intersect(Ray{o - delta_, d})) hull.add(i);
+  hull.add(tool_chord(o, d));
+  hull.add(tool_chord(o - delta_, d));
 
   const Vec3 n = d.cross(delta_);
   if (n.norm() <= tol::kAngle * d.norm() * delta_.norm()) {
     // The ray runs along the feed (or the move is empty): the two tool chords bound the chord.
-    return hull.lo <= hull.hi ? Interval{hull.lo, hull.hi} : Interval::empty();
+    return hull.interval();
   }
   // A point p of the tool (at the start) swept along D: where the ray meets its path, if it does
   // (p must lie in the plane of the ray and D, within rounding of the model's size).
-  const double scale = o.norm() + delta_.norm() + cutter.bounding_cylinder().z_max;
+  const double scale = o.norm() + delta_.norm() + cutter_->bounding_cylinder().z_max;
   const auto add_point = [&](const Vec3& p) {
     double t = 0.0, lambda = 0.0;
     if (!solve_in_plane(d, delta_, p - o, t, lambda) || lambda < 0.0 || lambda > 1.0) return;
@@ -100,10 +399,7 @@ Interval LinearSweep::chord(const Ray& ray) const {
   const double offset = n.dot(o);
 
   // Swept vertex circles (profile vertices: tip, joints, top edge).
-  const auto& segments = cutter.profile().segments();
-  std::vector<Vec2> vertices{segments.front().start};
-  for (const auto& s : segments) vertices.push_back(s.end);
-  for (const Vec2& v : vertices) {
+  for (const Vec2& v : vertices_) {
     if (v.x() <= 0.0) {
       add_point(Vec3(0.0, 0.0, v.y()));  // a point on the axis: its swept segment
       continue;
@@ -113,81 +409,45 @@ Interval LinearSweep::chord(const Ray& ray) const {
     for (const double phi : roots)
       add_point(Vec3(v.x() * std::sin(phi), v.x() * std::cos(phi), v.y()));
   }
+  if (lateral_ <= tol::kLength) return hull.interval();  // axial motion: vertex circles suffice
 
-  // Swept grazing curves of the smooth patches: N·D = n_ρ (D_x sin φ + D_y cos φ) + n_z D_z = 0.
-  const double dx = delta_.x(), dy = delta_.y(), dz = delta_.z();
-  const double lateral = std::hypot(dx, dy);
-  if (lateral <= tol::kLength) return {hull.lo, hull.hi};  // axial motion: vertex circles suffice
-  const double phase = std::atan2(dy, dx);  // D_x sin φ + D_y cos φ = L sin(φ + phase)
-  // The grazing angles of profile point (ρ, z) with normal (n_ρ, n_z), or false.
-  // With `clamp`, sin φ is clamped into [-1, 1] (a continuous extension for root bracketing)
-  // and the result says whether clamping was needed.
-  const auto grazing = [&](const Vec2& normal, int branch, double& phi, bool clamp = false) {
-    if (std::abs(normal.x()) <= tol::kAngle) return false;  // horizontal faces have none
-    double s = -normal.y() * dz / (normal.x() * lateral);
-    const bool inside = s >= -1.0 && s <= 1.0;
-    if (!inside && !clamp) return false;
-    s = std::clamp(s, -1.0, 1.0);
-    const double base = std::asin(s);
-    phi = (branch == 0 ? base : kPi - base) - phase;
-    return inside;
-  };
-  for (const auto& segment : segments) {
-    if (segment.kind == ProfileSegment::Kind::kLine) {
-      // A straight generator at a constant φ: its swept plane meets the ray where
-      // g(u) = n·(G(u) - o) changes sign, and g is linear in u.
-      const Vec2 normal = segment.normal_at(0.0);
-      for (int branch = 0; branch < 2; ++branch) {
-        double phi = 0.0;
-        if (!grazing(normal, branch, phi)) continue;
-        const auto at = [&](double u) {
-          const Vec2 p = segment.point_at(u);
-          return Vec3(p.x() * std::sin(phi), p.x() * std::cos(phi), p.y());
-        };
-        const double g0 = n.dot(at(0.0)) - offset, g1 = n.dot(at(1.0)) - offset;
-        if ((g0 > 0.0) == (g1 > 0.0) && g0 != 0.0 && g1 != 0.0) continue;
-        const double u = g0 == g1 ? 0.0 : g0 / (g0 - g1);
-        add_point(at(std::clamp(u, 0.0, 1.0)));
-      }
-      continue;
-    }
-    // An arc: sample the crossing function along it, refine sign changes. Where no grazing
-    // angle exists (|sin φ| would exceed 1) the function is continued with sin φ clamped, so
-    // that crossings near the end of the grazing curve are still bracketed; a root counts only
-    // where the grazing angle exists.
-    for (int branch = 0; branch < 2; ++branch) {
-      const auto point_at = [&](double u, bool& exists) {
-        double phi = 0.0;
-        exists = grazing(segment.normal_at(u), branch, phi, true);
-        const Vec2 p = segment.point_at(u);
-        return Vec3(p.x() * std::sin(phi), p.x() * std::cos(phi), p.y());
-      };
-      const auto g = [&](double u) {
-        bool exists = false;
-        return n.dot(point_at(u, exists)) - offset;
-      };
-      const auto add_root = [&](double u) {
-        bool exists = false;
-        const Vec3 p = point_at(u, exists);
-        if (exists) add_point(p);
-      };
-      double u_prev = 0.0;
-      double g_prev = g(0.0);
-      if (g_prev == 0.0) add_root(0.0);
-      for (int k = 1; k <= kArcSamples; ++k) {
-        const double u = static_cast<double>(k) / kArcSamples;
-        const double gu = g(u);
-        if (gu == 0.0) {
-          add_root(u);
-        } else if (g_prev != 0.0 && (gu > 0.0) != (g_prev > 0.0)) {
-          if (const auto root = brent_root(g, u_prev, u)) add_root(*root);
+  // Swept grazing generators of line pieces: a straight generator at a constant φ sweeps a plane
+  // that meets the ray where g(u) = n·(G(u) - o) changes sign, and g is linear in u.
+  for (const Generator& generator : generators_) {
+    const double g0 = n.dot(generator.a) - offset, g1 = n.dot(generator.b) - offset;
+    if ((g0 > 0.0) == (g1 > 0.0) && g0 != 0.0 && g1 != 0.0) continue;
+    const double u = std::clamp(g0 == g1 ? 0.0 : g0 / (g0 - g1), 0.0, 1.0);
+    add_point(generator.a + u * (generator.b - generator.a));
+  }
+  // Swept grazing curves of arcs: sign changes of the crossing function between samples,
+  // refined by Brent's method; a root counts only where the grazing angle exists.
+  for (const GrazingSamples& arc : arcs_) {
+    const auto g = [&](double u) {
+      bool exists = false;
+      return n.dot(grazing_point(arc.segment, arc.branch, u, exists)) - offset;
+    };
+    const auto add_root = [&](double u) {
+      bool exists = false;
+      const Vec3 p = grazing_point(arc.segment, arc.branch, u, exists);
+      if (exists) add_point(p);
+    };
+    double g_prev = n.dot(arc.point[0]) - offset;
+    if (g_prev == 0.0 && arc.exists[0]) add_point(arc.point[0]);
+    for (int k = 1; k <= kArcSamples; ++k) {
+      const auto kk = static_cast<std::size_t>(k);
+      const double gu = n.dot(arc.point[kk]) - offset;
+      if (gu == 0.0) {
+        if (arc.exists[kk]) add_point(arc.point[kk]);
+      } else if (g_prev != 0.0 && (gu > 0.0) != (g_prev > 0.0)) {
+        if (const auto root = brent_root(g, static_cast<double>(k - 1) / kArcSamples,
+                                         static_cast<double>(k) / kArcSamples)) {
+          add_root(*root);
         }
-        u_prev = u;
-        g_prev = gu;
       }
+      g_prev = gu;
     }
   }
-  return hull.lo <= hull.hi ? Interval{hull.lo, hull.hi} : Interval::empty();
+  return hull.interval();
 }
 
 }  // namespace cwe

@@ -64,6 +64,14 @@ TEST(DexelRay, RandomCutsMatchTheReference) {
       ASSERT_LE(r.length(), before);
       const auto got = r.intervals();
       ASSERT_EQ(got.size(), reference.size());
+      // The extent spans the first to the last interval, in every storage layout.
+      const Interval extent = r.extent();
+      if (got.empty()) {
+        ASSERT_TRUE(extent.is_empty());
+      } else {
+        ASSERT_EQ(extent.lo, got.front().lo);
+        ASSERT_EQ(extent.hi, got.back().hi);
+      }
       for (std::size_t i = 0; i < got.size(); ++i) {
         ASSERT_NEAR(got[i].lo, reference[i].lo, 1e-5);
         ASSERT_NEAR(got[i].hi, reference[i].hi, 1e-5);

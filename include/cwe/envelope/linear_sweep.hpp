@@ -9,13 +9,28 @@
 // vertex (a joint, the tip or the top edge, where the normal jumps) the vertex circle. Every point
 // of these surfaces is a point of the tool at some instant, so it lies in SV; the chord is
 // therefore exactly the hull of the ray's crossings with them:
-//  - the tool at both ends: Cutter::intersect;
+//  - the tool at both ends: per profile piece, the frustum, ball or torus-with-core solid;
 //  - swept vertex circles: with n = d × D, n·(C(φ) - o) = 0 is a sin φ + b cos φ + c = 0;
 //  - swept grazing curves of lines: the generator is straight, so the crossing is linear;
 //  - swept grazing curves of arcs (sphere, torus: Aras 2008 eq. 4.54): the crossing function of
-//    the arc angle is sampled and each sign change refined by Brent's method.
+//    the arc angle is sampled at points fixed per move and each sign change refined by Brent's
+//    method.
 // Rays along D (n = 0) need only the two tool chords. Crossings are taken only where the sweep
 // parameter λ ∈ [0, 1].
+//
+// Closed forms for the common 3-axis case (tool axis +Z, also exact): every horizontal section
+// of a tool of revolution about a vertical axis is a disc of radius R(h), the profile's radius at
+// height h above the tip. So
+//  - a level move (D horizontal) sweeps, at each height, the 2-D capsule of radius R(h) about the
+//    tip's path: a horizontal ray's chord is the ray ∩ capsule; a vertical ray at distance r from
+//    the path meets the heights where R(h) ≥ r (an interval, R being concave);
+//  - an axial move (D along the axis: plunge, retract) sweeps, at height z, the disc of the
+//    largest R over the heights the tool passes there; a vertical ray meets the heights where
+//    R(h) ≥ r, widened by the move.
+// `generic_chord` always takes the general route; tests hold the closed forms to it.
+
+#include <array>
+#include <vector>
 
 #include "cwe/geometry/aabb.hpp"
 #include "cwe/geometry/interval.hpp"
@@ -34,15 +49,63 @@ class LinearSweep {
 
   // The interval of ray parameters inside the swept volume (empty if the ray misses it).
   Interval chord(const Ray& ray) const;
+  // The same chord by the general construction only (no closed-form shortcut).
+  Interval generic_chord(const Ray& ray) const;
 
   // A box containing the swept volume.
   const Aabb& bounds() const { return bounds_; }
 
  private:
+  enum class Mode { kGeneric, kLevel, kAxial };
+  static constexpr int kArcSamples = 24;
+
+  // A swept grazing generator of a line piece: the segment a–b of the tool at the start (TCS).
+  struct Generator {
+    Vec3 a, b;
+  };
+  // The grazing curve of an arc piece on one branch, sampled at fixed arc fractions.
+  struct GrazingSamples {
+    int segment = 0;
+    int branch = 0;
+    std::array<Vec3, kArcSamples + 1> point;
+    std::array<bool, kArcSamples + 1> exists{};
+  };
+
+  Vec3 grazing_point(int segment, int branch, double u, bool& exists) const;
+  Interval tool_chord(const Vec3& o, const Vec3& d) const;
+  Interval level_chord(const Ray& ray) const;
+  Interval axial_chord(const Ray& ray) const;
+  // Heights above the tip where the tool's radius is at least r (empty if none).
+  Interval heights_reaching(double r) const;
+  // The tool's radius at height h above the tip (h within the profile).
+  double section_radius(double h) const;
+  // Level mode: the extent along world axis `along` (0 or 1) of the capsule of radius r about
+  // the tip's path, on the horizontal line through o parallel to that axis.
+  Interval capsule_span(const Vec3& o, int along, double r) const;
+
   const Cutter* cutter_;
   Frame tcs_;   // at the start tip: z the axis, x the lateral feed (or a fixed fallback)
   Vec3 delta_;  // D in TCS coordinates
   Aabb bounds_;
+  double lateral_ = 0.0;  // |D_xy| in the TCS
+  double phase_ = 0.0;    // D_x sin φ + D_y cos φ = lateral·sin(φ + phase)
+  std::vector<Vec2> vertices_;
+  std::vector<Generator> generators_;
+  std::vector<GrazingSamples> arcs_;
+  // Closed-form modes (tool axis +Z): the tips in world coordinates, the profile pieces as
+  // radius functions of height, the height of the widest section and the tip's path in plan.
+  struct Section {
+    double z0 = 0.0, z1 = 0.0;  // height range
+    double r0 = 0.0, r1 = 0.0;  // lines: radius at z0 and z1
+    bool arc = false;           // arcs: ρ = centre_r + √(radius² - (z - centre_z)²)
+    double center_r = 0.0, center_z = 0.0, radius = 0.0;
+  };
+  Mode mode_ = Mode::kGeneric;
+  Vec3 start_, end_;
+  std::vector<Section> sections_;
+  double widest_height_ = 0.0;
+  Vec2 path_start_ = Vec2::Zero(), path_along_ = Vec2::UnitX();
+  double path_length_ = 0.0;
 };
 
 }  // namespace cwe

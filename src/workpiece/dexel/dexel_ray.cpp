@@ -41,6 +41,23 @@ const float* DexelRay::data() const {
   return heap;
 }
 
+Interval DexelRay::extent() const {
+  if (on_heap()) {
+    const float* p = data();
+    return {p[0], p[2 * count() - 1]};
+  }
+  // Inline, either slot may be the empty one.
+  const bool first = slot_[0] <= slot_[1], second = slot_[2] <= slot_[3];
+  if (first) return {slot_[0], second ? slot_[3] : slot_[1]};
+  return second ? Interval{slot_[2], slot_[3]} : Interval::empty();
+}
+
+float* DexelRay::heap() {
+  float* array = nullptr;
+  std::memcpy(&array, &slot_[2], sizeof array);
+  return array;
+}
+
 void DexelRay::release() {
   if (on_heap()) delete[] data();
 }
@@ -113,21 +130,28 @@ bool DexelRay::contains(double t) const {
 }
 
 void DexelRay::assign(const std::vector<Interval>& intervals) {
-  release();
-  clear();
-  const std::size_t n = intervals.size();
-  if (n <= 2) {
-    for (std::size_t i = 0; i < n; ++i) {
-      slot_[2 * i] = static_cast<float>(intervals[i].lo);
-      slot_[2 * i + 1] = static_cast<float>(intervals[i].hi);
-    }
+  std::vector<float> pairs;
+  pairs.reserve(2 * intervals.size());
+  for (const Interval& i : intervals) {
+    pairs.push_back(static_cast<float>(i.lo));
+    pairs.push_back(static_cast<float>(i.hi));
+  }
+  store(pairs.data(), static_cast<int>(intervals.size()));
+}
+
+void DexelRay::store(const float* pairs, int n) {
+  if (on_heap() && count() == n) {  // same size: reuse the array (the common shortening cut)
+    std::memcpy(heap(), pairs, sizeof(float) * 2 * static_cast<std::size_t>(n));
     return;
   }
-  auto* heap = new float[2 * n];
-  for (std::size_t i = 0; i < n; ++i) {
-    heap[2 * i] = static_cast<float>(intervals[i].lo);
-    heap[2 * i + 1] = static_cast<float>(intervals[i].hi);
+  release();
+  clear();
+  if (n <= 2) {
+    std::memcpy(slot_, pairs, sizeof(float) * 2 * static_cast<std::size_t>(n));
+    return;
   }
+  auto* heap = new float[2 * static_cast<std::size_t>(n)];
+  std::memcpy(heap, pairs, sizeof(float) * 2 * static_cast<std::size_t>(n));
   std::memcpy(&slot_[0], &kHeapTag, sizeof kHeapTag);
   const auto count32 = static_cast<std::uint32_t>(n);
   std::memcpy(&slot_[1], &count32, sizeof count32);
@@ -135,23 +159,43 @@ void DexelRay::assign(const std::vector<Interval>& intervals) {
 }
 
 bool DexelRay::subtract(double lo, double hi) {
-  if (!(lo <= hi)) return false;
+  // Removing a point (or nothing) leaves the material's measure as it is.
+  if (!(lo < hi)) return false;
+  const Interval span = extent();
+  if (span.is_empty() || hi <= span.lo || lo >= span.hi) return false;
   const int n = count();
+  // What is left of an interval is open at the cut; it is stored closed, as material is measured
+  // by length, and dropped when it rounds to nothing in float.
+  const auto cut_lo = static_cast<float>(lo), cut_hi = static_cast<float>(hi);
+  constexpr int kInline = 8;
+  float local[2 * (kInline + 1)];
+  std::vector<float> spill;
+  float* kept = local;
+  if (n > kInline) {
+    spill.resize(2 * static_cast<std::size_t>(n) + 2);
+    kept = spill.data();
+  }
+  int count = 0;
   bool changed = false;
-  std::vector<Interval> kept;
-  kept.reserve(static_cast<std::size_t>(n) + 1);
+  const auto keep = [&](float a, float b) {
+    kept[2 * count] = a;
+    kept[2 * count + 1] = b;
+    ++count;
+  };
+  // The stored pairs, in order (inline, the first slot may be the empty one).
+  const float* pairs = data();
+  if (!on_heap() && !(slot_[0] <= slot_[1])) pairs = slot_ + 2;
   for (int k = 0; k < n; ++k) {
-    const Interval i = interval(k);
-    if (hi < i.lo || lo > i.hi) {  // untouched
-      kept.push_back(i);
+    const float a = pairs[2 * k], b = pairs[2 * k + 1];
+    if (hi <= a || lo >= b) {  // untouched (at most a common end point)
+      keep(a, b);
       continue;
     }
     changed = true;
-    // What is left is open at the cut; stored closed, as material is measured by length.
-    if (i.lo < lo) kept.push_back({i.lo, lo});
-    if (hi < i.hi) kept.push_back({hi, i.hi});
+    if (a < cut_lo) keep(a, cut_lo);
+    if (cut_hi < b) keep(cut_hi, b);
   }
-  if (changed) assign(kept);
+  if (changed) store(kept, count);
   return changed;
 }
 

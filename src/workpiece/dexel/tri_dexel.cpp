@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include <fmt/format.h>
+#include <tbb/blocked_range2d.h>
+#include <tbb/parallel_reduce.h>
 
 #include "cwe/core/assert.hpp"
 #include "cwe/core/error.hpp"
@@ -87,19 +90,36 @@ std::array<int, 2> TriDexel::index_range(int axis, int cross, double lo, double 
 }
 
 std::size_t TriDexel::remove(const Aabb& bounds, const ChordFunction& chord) {
-  std::size_t changed = 0;
   if (bounds.is_empty() || !bounds.intersects(domain_)) return 0;
+  std::size_t changed = 0;
   for (int a = 0; a < 3; ++a) {
     const int b = cross_b(a), c = cross_c(a);
     const auto is = index_range(a, b, bounds.min[b], bounds.max[b]);
     const auto js = index_range(a, c, bounds.min[c], bounds.max[c]);
-    for (int j = js[0]; j <= js[1]; ++j) {
-      for (int i = is[0]; i <= is[1]; ++i) {
-        const Interval cut = chord(ray(a, i, j));
-        if (cut.is_empty()) continue;
-        if (rays_[static_cast<std::size_t>(a)][index(a, i, j)].subtract(cut.lo, cut.hi)) ++changed;
-      }
-    }
+    if (is[0] > is[1] || js[0] > js[1]) continue;
+    // The solid's extent along the rays, in ray coordinates: a ray whose material lies wholly
+    // outside it cannot change (touching at an end removes only a point of a closed interval).
+    const double low = bounds.min[a] - domain_.min[a], high = bounds.max[a] - domain_.min[a];
+    auto& family = rays_[static_cast<std::size_t>(a)];
+    // Tiles of kTile × kTile rays are the unit of parallel work. Each ray belongs to one tile
+    // and its result does not depend on any other ray, so the outcome is the same for any
+    // number of threads or order of tiles.
+    changed += tbb::parallel_reduce(
+        tbb::blocked_range2d<int>(js[0], js[1] + 1, kTile, is[0], is[1] + 1, kTile), std::size_t{0},
+        [&](const tbb::blocked_range2d<int>& tile, std::size_t count) {
+          for (int j = tile.rows().begin(); j < tile.rows().end(); ++j) {
+            for (int i = tile.cols().begin(); i < tile.cols().end(); ++i) {
+              DexelRay& material = family[index(a, i, j)];
+              const Interval extent = material.extent();
+              if (!(extent.lo < high && extent.hi > low)) continue;
+              const Interval cut = chord(ray(a, i, j));
+              if (cut.is_empty()) continue;
+              if (material.subtract(cut.lo, cut.hi)) ++count;
+            }
+          }
+          return count;
+        },
+        std::plus<>());
   }
   return changed;
 }

@@ -32,6 +32,8 @@ class alignas(8) DexelRay {
   std::vector<Interval> intervals() const;
   bool empty() const { return count() == 0; }
   double length() const;  // total material length
+  // From the first interval's lower end to the last one's upper end (empty if no material).
+  Interval extent() const;
 
   // Material at coordinate t (closed intervals).
   bool contains(double t) const;
@@ -47,7 +49,9 @@ class alignas(8) DexelRay {
  private:
   bool on_heap() const;
   const float* data() const;
+  float* heap();  // the heap array (on_heap() only)
   void release();
+  void store(const float* pairs, int n);  // n sorted, disjoint (lo, hi) pairs
 
   float slot_[4];
 };

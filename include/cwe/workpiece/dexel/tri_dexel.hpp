@@ -42,8 +42,11 @@ class TriDexel {
   const DexelRay& at(int axis, int i, int j) const;
 
   // Removes the solid given by `chord` from every ray whose line meets `bounds`. Returns the
-  // number of rays that changed.
+  // number of rays that changed. Rays are visited in parallel (oneTBB) in tiles of kTile × kTile,
+  // so `chord` must be safe to call concurrently; the result is the same for any thread count.
+  // Rays without material inside `bounds` are skipped without calling `chord`.
   using ChordFunction = std::function<Interval(const Ray&)>;
+  static constexpr int kTile = 32;
   std::size_t remove(const Aabb& bounds, const ChordFunction& chord);
 
   // Material volume as each family measures it (Σ lengths × s²), mm³.
