@@ -48,9 +48,11 @@ TEST(TriDexel, RemovingAToolIsExactPerRay) {
   TriDexel d = TriDexel::from_box(Aabb{{0, 0, 0}, {20, 20, 10}}, 0.1);
   const Cutter flat = cutter_from_spec("flat:6,20");
   const Vec3 tip(10.03, 9.97, 5.0);
-  const std::size_t changed =
+  const TriDexel::Removal removal =
       d.remove(Aabb{tip - Vec3(3, 3, 0), tip + Vec3(3, 3, 20)}, tool_at(flat, tip));
-  EXPECT_GT(changed, 0u);
+  EXPECT_GT(removal.rays, 0u);
+  // The reported volume is what the families measure.
+  EXPECT_NEAR(removal.volume, 4000.0 - d.volume().mean(), 1e-9 * 4000.0);
   for (int j = 0; j < d.grid(0)[1]; ++j) {
     for (int i = 0; i < d.grid(0)[0]; ++i) {
       const Ray r = d.ray(0, i, j);  // along X at (y, z)
@@ -94,6 +96,10 @@ TEST(TriDexel, RemovalNeverAddsMaterial) {
   const TriDexel::Memory m = d.memory();
   EXPECT_EQ(m.ray_bytes, 16u * d.ray_count());
   EXPECT_EQ(m.heap_bytes % 8, 0u);
+  // The running count of heap bytes is the count ray by ray.
+  EXPECT_EQ(m.heap_bytes, d.count_heap_bytes());
+  EXPECT_GE(m.peak_heap_bytes, m.heap_bytes);
+  EXPECT_GT(m.peak_heap_bytes, 0u);
 }
 
 }  // namespace

@@ -158,11 +158,11 @@ void DexelRay::store(const float* pairs, int n) {
   std::memcpy(&slot_[2], &heap, sizeof heap);
 }
 
-bool DexelRay::subtract(double lo, double hi) {
+double DexelRay::subtract(double lo, double hi) {
   // Removing a point (or nothing) leaves the material's measure as it is.
-  if (!(lo < hi)) return false;
+  if (!(lo < hi)) return 0.0;
   const Interval span = extent();
-  if (span.is_empty() || hi <= span.lo || lo >= span.hi) return false;
+  if (span.is_empty() || hi <= span.lo || lo >= span.hi) return 0.0;
   const int n = count();
   // What is left of an interval is open at the cut; it is stored closed, as material is measured
   // by length, and dropped when it rounds to nothing in float.
@@ -177,6 +177,7 @@ bool DexelRay::subtract(double lo, double hi) {
   }
   int count = 0;
   bool changed = false;
+  double removed = 0.0;
   const auto keep = [&](float a, float b) {
     kept[2 * count] = a;
     kept[2 * count + 1] = b;
@@ -192,11 +193,14 @@ bool DexelRay::subtract(double lo, double hi) {
       continue;
     }
     changed = true;
+    removed += static_cast<double>(std::min(b, cut_hi)) - static_cast<double>(std::max(a, cut_lo));
     if (a < cut_lo) keep(a, cut_lo);
     if (cut_hi < b) keep(cut_hi, b);
   }
-  if (changed) store(kept, count);
-  return changed;
+  if (!changed) return 0.0;
+  store(kept, count);
+  // A cut that changed the ray by less than float rounding still counts as a change.
+  return std::max(removed, std::numeric_limits<double>::min());
 }
 
 std::size_t DexelRay::heap_bytes() const {

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 
 #include <fmt/format.h>
 #include <tbb/blocked_range2d.h>
@@ -89,9 +88,10 @@ std::array<int, 2> TriDexel::index_range(int axis, int cross, double lo, double 
           static_cast<int>(std::clamp(last, -1.0, static_cast<double>(n - 1)))};
 }
 
-std::size_t TriDexel::remove(const Aabb& bounds, const ChordFunction& chord) {
-  if (bounds.is_empty() || !bounds.intersects(domain_)) return 0;
-  std::size_t changed = 0;
+TriDexel::Removal TriDexel::remove(const Aabb& bounds, const ChordFunction& chord) {
+  Removal removal;
+  if (bounds.is_empty() || !bounds.intersects(domain_)) return removal;
+  double length = 0.0;
   for (int a = 0; a < 3; ++a) {
     const int b = cross_b(a), c = cross_c(a);
     const auto is = index_range(a, b, bounds.min[b], bounds.max[b]);
@@ -104,9 +104,14 @@ std::size_t TriDexel::remove(const Aabb& bounds, const ChordFunction& chord) {
     // Tiles of kTile × kTile rays are the unit of parallel work. Each ray belongs to one tile
     // and its result does not depend on any other ray, so the outcome is the same for any
     // number of threads or order of tiles.
-    changed += tbb::parallel_reduce(
-        tbb::blocked_range2d<int>(js[0], js[1] + 1, kTile, is[0], is[1] + 1, kTile), std::size_t{0},
-        [&](const tbb::blocked_range2d<int>& tile, std::size_t count) {
+    struct Tally {
+      std::size_t changed = 0;
+      double length = 0.0;      // material length removed
+      std::ptrdiff_t heap = 0;  // change of heap bytes
+    };
+    const Tally tally = tbb::parallel_reduce(
+        tbb::blocked_range2d<int>(js[0], js[1] + 1, kTile, is[0], is[1] + 1, kTile), Tally{},
+        [&](const tbb::blocked_range2d<int>& tile, Tally sum) {
           for (int j = tile.rows().begin(); j < tile.rows().end(); ++j) {
             for (int i = tile.cols().begin(); i < tile.cols().end(); ++i) {
               DexelRay& material = family[index(a, i, j)];
@@ -114,14 +119,29 @@ std::size_t TriDexel::remove(const Aabb& bounds, const ChordFunction& chord) {
               if (!(extent.lo < high && extent.hi > low)) continue;
               const Interval cut = chord(ray(a, i, j));
               if (cut.is_empty()) continue;
-              if (material.subtract(cut.lo, cut.hi)) ++count;
+              const auto before = static_cast<std::ptrdiff_t>(material.heap_bytes());
+              const double removed = material.subtract(cut.lo, cut.hi);
+              if (removed == 0.0) continue;
+              ++sum.changed;
+              sum.length += removed;
+              sum.heap += static_cast<std::ptrdiff_t>(material.heap_bytes()) - before;
             }
           }
-          return count;
+          return sum;
         },
-        std::plus<>());
+        [](Tally x, const Tally& y) {
+          x.changed += y.changed;
+          x.length += y.length;
+          x.heap += y.heap;
+          return x;
+        });
+    removal.rays += tally.changed;
+    length += tally.length;
+    heap_bytes_ = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(heap_bytes_) + tally.heap);
   }
-  return changed;
+  peak_heap_bytes_ = std::max(peak_heap_bytes_, heap_bytes_);
+  removal.volume = length * spacing_ * spacing_ / 3.0;
+  return removal;
 }
 
 double TriDexel::Volume::spread() const {
@@ -154,11 +174,18 @@ bool TriDexel::contains(const Vec3& p) const {
 
 TriDexel::Memory TriDexel::memory() const {
   Memory m;
-  for (const auto& family : rays_) {
-    m.ray_bytes += family.size() * sizeof(DexelRay);
-    for (const DexelRay& r : family) m.heap_bytes += r.heap_bytes();
-  }
+  for (const auto& family : rays_) m.ray_bytes += family.size() * sizeof(DexelRay);
+  m.heap_bytes = heap_bytes_;
+  m.peak_heap_bytes = peak_heap_bytes_;
   return m;
+}
+
+std::size_t TriDexel::count_heap_bytes() const {
+  std::size_t bytes = 0;
+  for (const auto& family : rays_) {
+    for (const DexelRay& r : family) bytes += r.heap_bytes();
+  }
+  return bytes;
 }
 
 }  // namespace cwe

@@ -37,8 +37,9 @@ class alignas(8) DexelRay {
 
   // Material at coordinate t (closed intervals).
   bool contains(double t) const;
-  // Removes [lo, hi]; returns whether anything changed. Removing never adds material.
-  bool subtract(double lo, double hi);
+  // Removes [lo, hi]; returns the length of material removed (> 0 exactly when the ray
+  // changed; 0 when [lo, hi] misses the material or is a point). Never adds material.
+  double subtract(double lo, double hi);
   // Replaces the contents with sorted, disjoint intervals.
   void assign(const std::vector<Interval>& intervals);
   void clear();

@@ -42,12 +42,17 @@ class TriDexel {
   const DexelRay& at(int axis, int i, int j) const;
 
   // Removes the solid given by `chord` from every ray whose line meets `bounds`. Returns the
-  // number of rays that changed. Rays are visited in parallel (oneTBB) in tiles of kTile × kTile,
-  // so `chord` must be safe to call concurrently; the result is the same for any thread count.
-  // Rays without material inside `bounds` are skipped without calling `chord`.
+  // number of rays that changed and the volume removed (the mean of the families' measures). Rays
+  // are visited in parallel (oneTBB) in tiles of kTile × kTile, so `chord` must be safe to call
+  // concurrently; the result is the same for any thread count. Rays without material inside
+  // `bounds` are skipped without calling `chord`.
   using ChordFunction = std::function<Interval(const Ray&)>;
   static constexpr int kTile = 32;
-  std::size_t remove(const Aabb& bounds, const ChordFunction& chord);
+  struct Removal {
+    std::size_t rays = 0;
+    double volume = 0.0;  // mm³
+  };
+  Removal remove(const Aabb& bounds, const ChordFunction& chord);
 
   // Material volume as each family measures it (Σ lengths × s²), mm³.
   struct Volume {
@@ -60,12 +65,17 @@ class TriDexel {
   // Material at p: the vote of the three rays nearest p (two of three).
   bool contains(const Vec3& p) const;
 
+  // Bytes held by the rays, kept up to date by every change (no scan needed).
   struct Memory {
-    std::size_t ray_bytes = 0;   // 16 per ray
-    std::size_t heap_bytes = 0;  // 8 per interval beyond two on a ray
+    std::size_t ray_bytes = 0;        // 16 per ray
+    std::size_t heap_bytes = 0;       // 8 per interval beyond two on a ray
+    std::size_t peak_heap_bytes = 0;  // the most heap_bytes has been
     std::size_t total() const { return ray_bytes + heap_bytes; }
+    std::size_t peak() const { return ray_bytes + peak_heap_bytes; }
   };
   Memory memory() const;
+  // Heap bytes counted ray by ray (tests hold the running count to it).
+  std::size_t count_heap_bytes() const;
 
  private:
   std::size_t index(int axis, int i, int j) const;
@@ -76,6 +86,8 @@ class TriDexel {
   double spacing_ = 1.0;
   std::array<std::array<int, 2>, 3> grid_{};
   std::array<std::vector<DexelRay>, 3> rays_;
+  std::size_t heap_bytes_ = 0;
+  std::size_t peak_heap_bytes_ = 0;
 };
 
 }  // namespace cwe
