@@ -53,11 +53,27 @@ MeshClosure check_closure(const TriangleMesh& mesh) {
   }
   MeshClosure c;
   c.edges = static_cast<int>(uses.size());
+  const auto keep = [&mesh](std::vector<MeshClosure::Edge>& examples, std::pair<int, int> edge) {
+    if (static_cast<int>(examples.size()) >= MeshClosure::kMaxExamples) return;
+    const auto n = static_cast<int>(mesh.vertices.size());
+    if (edge.first < 0 || edge.second >= n) return;  // no location for an index out of range
+    examples.push_back({mesh.vertices[static_cast<std::size_t>(edge.first)],
+                        mesh.vertices[static_cast<std::size_t>(edge.second)]});
+  };
   for (const auto& [edge, u] : uses) {
     const int total = u.first + u.second;
-    if (total == 1) ++c.boundary_edges;
-    if (total > 2) ++c.non_manifold_edges;
-    if (total == 2 && u.first != 1) ++c.misoriented_edges;
+    if (total == 1) {
+      ++c.boundary_edges;
+      keep(c.boundary_examples, edge);
+    }
+    if (total > 2) {
+      ++c.non_manifold_edges;
+      keep(c.non_manifold_examples, edge);
+    }
+    if (total == 2 && u.first != 1) {
+      ++c.misoriented_edges;
+      keep(c.misoriented_examples, edge);
+    }
   }
   return c;
 }

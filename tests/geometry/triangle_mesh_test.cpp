@@ -44,10 +44,21 @@ TEST(TriangleMesh, ClosureCountsBrokenEdges) {
   m.triangles = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
   EXPECT_TRUE(check_closure(m).closed());
   EXPECT_NEAR(m.volume(), 1.0 / 6.0, 1e-15);
+  EXPECT_TRUE(check_closure(m).boundary_examples.empty());
   m.triangles.pop_back();
-  EXPECT_EQ(check_closure(m).boundary_edges, 3);
+  const MeshClosure open = check_closure(m);
+  EXPECT_EQ(open.boundary_edges, 3);
+  // The examples are the missing face's edges, lower vertex index first: 0-2, 0-3, 2-3.
+  ASSERT_EQ(open.boundary_examples.size(), 3u);
+  EXPECT_EQ(open.boundary_examples[0][0], Vec3(0, 0, 0));
+  EXPECT_EQ(open.boundary_examples[0][1], Vec3(0, 1, 0));
+  EXPECT_EQ(open.boundary_examples[2][0], Vec3(0, 1, 0));
+  EXPECT_EQ(open.boundary_examples[2][1], Vec3(0, 0, 1));
   m.triangles.push_back({0, 2, 3});  // wrong orientation
-  EXPECT_EQ(check_closure(m).misoriented_edges, 3);
+  const MeshClosure flipped = check_closure(m);
+  EXPECT_EQ(flipped.misoriented_edges, 3);
+  EXPECT_EQ(flipped.misoriented_examples.size(), 3u);
+  EXPECT_TRUE(flipped.boundary_examples.empty());
 }
 
 }  // namespace

@@ -27,12 +27,23 @@ struct TriangleMesh {
   void append(const TriangleMesh& other);
 };
 
-// Edge statistics that decide closedness.
+// Edge statistics that decide closedness, with where the first offending edges are (so that a
+// refusal can say where to look).
 struct MeshClosure {
+  // End points of an edge (mm), as the mesh's vertices.
+  using Edge = std::array<Vec3, 2>;
+  // At most this many example edges of each kind are kept.
+  static constexpr int kMaxExamples = 5;
+
   int edges = 0;
   int boundary_edges = 0;      // used by one triangle
   int non_manifold_edges = 0;  // used by three or more
   int misoriented_edges = 0;   // used twice in the same direction
+  // The first (up to kMaxExamples) edges of each kind, ordered by their vertex indices (lower
+  // index first): the same mesh always gives the same examples.
+  std::vector<Edge> boundary_examples;
+  std::vector<Edge> non_manifold_examples;
+  std::vector<Edge> misoriented_examples;
   bool closed() const {
     return edges > 0 && boundary_edges == 0 && non_manifold_edges == 0 && misoriented_edges == 0;
   }

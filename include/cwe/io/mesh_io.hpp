@@ -1,5 +1,6 @@
 #pragma once
-// Mesh and polyline files as byte strings (write them with write_file_atomically).
+// Mesh and polyline files as byte strings (write them with write_file_atomically), and STL
+// reading (docs/stock.md states the reader's rules).
 
 #include <string>
 #include <string_view>
@@ -12,6 +13,29 @@ namespace cwe {
 // Binary STL: 80-byte header (from `header`, truncated), facet normals from the winding,
 // coordinates as 32-bit floats in millimetres.
 std::string stl_binary(const TriangleMesh& mesh, std::string_view header);
+
+// A triangle mesh read from an STL file.
+struct StlMesh {
+  // Vertices welded (equal coordinates are one vertex, so neighbouring facets share edges),
+  // triangles in the file's order and winding; the facet normals of the file are ignored.
+  TriangleMesh mesh;
+  // Facets dropped because two of their corners are the same point (after welding).
+  int degenerate_dropped = 0;
+  bool binary = false;  // which of the two encodings the file used
+};
+
+// Reads a binary or ASCII STL file. The encoding is decided from the bytes, not the name: a file
+// is ASCII when it starts with "solid" (after blanks) unless its size is that of a binary STL
+// (84 + 50·n bytes for the n triangles its header declares) and it holds bytes that are not text
+// (binary files from some exporters start their header with "solid" too). Vertices with equal
+// coordinates (float equality of the file's values, -0 equal to 0) become one vertex.
+// Throws InputError naming the file (and the line and column, for ASCII) and what was expected:
+// a truncated or padded binary file, a token that is not a number or keyword, a facet with other
+// than three vertices, a NaN, infinite or out-of-range (> kLargestInputValue) coordinate, or no
+// triangle left.
+StlMesh read_stl(const std::string& path);
+// The same on bytes already read; `source` names them in errors.
+StlMesh parse_stl(std::string_view bytes, const std::string& source);
 
 // ASCII PLY with double-precision vertices and triangular faces.
 std::string ply_ascii(const TriangleMesh& mesh, std::string_view comment);
