@@ -72,6 +72,11 @@ TEST(DexelRay, RandomCutsMatchTheReference) {
         ASSERT_EQ(extent.lo, got.front().lo);
         ASSERT_EQ(extent.hi, got.back().hi);
       }
+      // Overlap with an open probe interval, against the reference.
+      const double p = random.uniform(-5, 105), q = p + random.uniform(0, 10);
+      bool expected = false;
+      for (const Interval& i : got) expected = expected || (i.lo < q && i.hi > p);
+      ASSERT_EQ(r.overlaps(p, q), expected);
       for (std::size_t i = 0; i < got.size(); ++i) {
         ASSERT_NEAR(got[i].lo, reference[i].lo, 1e-5);
         ASSERT_NEAR(got[i].hi, reference[i].hi, 1e-5);

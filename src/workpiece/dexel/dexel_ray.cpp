@@ -52,6 +52,16 @@ Interval DexelRay::extent() const {
   return second ? Interval{slot_[2], slot_[3]} : Interval::empty();
 }
 
+bool DexelRay::overlaps(double lo, double hi) const {
+  const float* pairs = data();
+  const int n = count();
+  if (!on_heap() && !(slot_[0] <= slot_[1])) pairs = slot_ + 2;
+  for (int k = 0; k < n; ++k) {
+    if (pairs[2 * k] < hi && pairs[2 * k + 1] > lo) return true;
+  }
+  return false;
+}
+
 float* DexelRay::heap() {
   float* array = nullptr;
   std::memcpy(&array, &slot_[2], sizeof array);
@@ -133,10 +143,16 @@ void DexelRay::assign(const std::vector<Interval>& intervals) {
   std::vector<float> pairs;
   pairs.reserve(2 * intervals.size());
   for (const Interval& i : intervals) {
-    pairs.push_back(static_cast<float>(i.lo));
-    pairs.push_back(static_cast<float>(i.hi));
+    const auto lo = static_cast<float>(i.lo), hi = static_cast<float>(i.hi);
+    if (!(lo < hi)) continue;  // a point (or less) after rounding holds no material
+    if (!pairs.empty() && lo <= pairs.back()) {  // touches the previous one after rounding
+      pairs.back() = std::max(pairs.back(), hi);
+      continue;
+    }
+    pairs.push_back(lo);
+    pairs.push_back(hi);
   }
-  store(pairs.data(), static_cast<int>(intervals.size()));
+  store(pairs.data(), static_cast<int>(pairs.size() / 2));
 }
 
 void DexelRay::store(const float* pairs, int n) {
@@ -146,6 +162,7 @@ void DexelRay::store(const float* pairs, int n) {
   }
   release();
   clear();
+  if (n == 0) return;
   if (n <= 2) {
     std::memcpy(slot_, pairs, sizeof(float) * 2 * static_cast<std::size_t>(n));
     return;

@@ -19,7 +19,7 @@ int cross_c(int axis) { return (axis + 2) % 3; }
 
 }  // namespace
 
-TriDexel TriDexel::from_box(const Aabb& box, double spacing) {
+TriDexel TriDexel::empty_grid(const Aabb& box, double spacing) {
   if (box.is_empty() || !(box.size().minCoeff() > 0.0) || !box.size().allFinite()) {
     throw InputError("stock box: expected min < max on every axis");
   }
@@ -49,11 +49,19 @@ TriDexel TriDexel::from_box(const Aabb& box, double spacing) {
                                    static_cast<double>(nb) * nc));
     }
     d.grid_[static_cast<std::size_t>(a)] = {nb, nc};
+    d.rays_[static_cast<std::size_t>(a)].resize(static_cast<std::size_t>(nb) * nc);
+  }
+  return d;
+}
+
+TriDexel TriDexel::from_box(const Aabb& box, double spacing) {
+  TriDexel d = empty_grid(box, spacing);
+  for (int a = 0; a < 3; ++a) {
     // Every ray of the block carries the stock between the box's faces along it.
     const auto lo = static_cast<float>(box.min[a] - d.domain_.min[a]);
     const auto hi = static_cast<float>(box.max[a] - d.domain_.min[a]);
-    d.rays_[static_cast<std::size_t>(a)].assign(static_cast<std::size_t>(nb) * nc,
-                                                DexelRay(lo, hi));
+    auto& family = d.rays_[static_cast<std::size_t>(a)];
+    std::fill(family.begin(), family.end(), DexelRay(lo, hi));
   }
   return d;
 }
@@ -97,8 +105,8 @@ TriDexel::Removal TriDexel::remove(const Aabb& bounds, const ChordFunction& chor
     const auto is = index_range(a, b, bounds.min[b], bounds.max[b]);
     const auto js = index_range(a, c, bounds.min[c], bounds.max[c]);
     if (is[0] > is[1] || js[0] > js[1]) continue;
-    // The solid's extent along the rays, in ray coordinates: a ray whose material lies wholly
-    // outside it cannot change (touching at an end removes only a point of a closed interval).
+    // The solid's extent along the rays, in ray coordinates: a ray with no material inside it
+    // cannot change (touching at an end removes only a point of a closed interval).
     const double low = bounds.min[a] - domain_.min[a], high = bounds.max[a] - domain_.min[a];
     auto& family = rays_[static_cast<std::size_t>(a)];
     // Tiles of kTile × kTile rays are the unit of parallel work. Each ray belongs to one tile
@@ -115,8 +123,7 @@ TriDexel::Removal TriDexel::remove(const Aabb& bounds, const ChordFunction& chor
           for (int j = tile.rows().begin(); j < tile.rows().end(); ++j) {
             for (int i = tile.cols().begin(); i < tile.cols().end(); ++i) {
               DexelRay& material = family[index(a, i, j)];
-              const Interval extent = material.extent();
-              if (!(extent.lo < high && extent.hi > low)) continue;
+              if (!material.overlaps(low, high)) continue;
               const Interval cut = chord(ray(a, i, j));
               if (cut.is_empty()) continue;
               const auto before = static_cast<std::ptrdiff_t>(material.heap_bytes());

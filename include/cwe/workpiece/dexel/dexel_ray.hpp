@@ -34,13 +34,16 @@ class alignas(8) DexelRay {
   double length() const;  // total material length
   // From the first interval's lower end to the last one's upper end (empty if no material).
   Interval extent() const;
+  // Material in the open interval (lo, hi)?
+  bool overlaps(double lo, double hi) const;
 
   // Material at coordinate t (closed intervals).
   bool contains(double t) const;
   // Removes [lo, hi]; returns the length of material removed (> 0 exactly when the ray
   // changed; 0 when [lo, hi] misses the material or is a point). Never adds material.
   double subtract(double lo, double hi);
-  // Replaces the contents with sorted, disjoint intervals.
+  // Replaces the contents with sorted intervals; those that touch or overlap once rounded to
+  // float are merged, and those that round to a point are dropped.
   void assign(const std::vector<Interval>& intervals);
   void clear();
 
