@@ -1,0 +1,474 @@
+#include "cwe/workpiece/dexel/dexel_mesh.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "cwe/core/assert.hpp"
+#include "cwe/core/error.hpp"
+
+namespace cwe {
+namespace {
+
+// Cube corners are numbered c = dx + 2·dy + 4·dz by their offsets from the cube's lowest
+// lattice point. Cube edges are numbered 4a + ob + 2·oc: a the edge's axis, (ob, oc) the offsets
+// of its lower end along the two other axes in cyclic order, b = a + 1 and c = a + 2 (mod 3).
+constexpr int kCorners = 8;
+constexpr int kEdges = 12;
+constexpr int kCases = 256;
+constexpr int kMaxTriangles = 10;  // loops of L crossings give L − 2 triangles; ΣL ≤ 12
+
+struct CubeCase {
+  int triangle_count = 0;
+  std::array<std::array<int, 3>, kMaxTriangles> triangles{};  // cube edge numbers
+};
+
+int corner_bit(int corner, int axis) { return (corner >> axis) & 1; }
+
+// The cube edge joining two corners that differ along one axis.
+int edge_between(int corner0, int corner1) {
+  const int differ = corner0 ^ corner1;
+  CWE_ASSERT(differ == 1 || differ == 2 || differ == 4, "corners are not neighbours");
+  const int a = differ == 1 ? 0 : (differ == 2 ? 1 : 2);
+  const int lower = corner0 & corner1;
+  return 4 * a + corner_bit(lower, (a + 1) % 3) + 2 * corner_bit(lower, (a + 2) % 3);
+}
+
+// Whether two cube edges lie on a common face (face 2·axis + side; edge 4a + ob + 2·oc lies on
+// faces (a + 1, ob) and (a + 2, oc)).
+bool share_face(int edge0, int edge1) {
+  const auto faces = [](int e) {
+    const int a = e / 4;
+    return std::array<int, 2>{2 * ((a + 1) % 3) + (e & 1), 2 * ((a + 2) % 3) + ((e >> 1) & 1)};
+  };
+  const auto f0 = faces(edge0), f1 = faces(edge1);
+  return f0[0] == f1[0] || f0[0] == f1[1] || f0[1] == f1[0] || f0[1] == f1[1];
+}
+
+// The triangles of one case (bit c of `inside` set: corner c holds material).
+//
+// Faces first: walking a face's corners counter-clockwise about its outward normal n, every run
+// of inside corners is cut off by one segment, from the edge where the walk enters the run
+// ("entry") to the edge where it leaves it ("exit"). Diagonal inside corners are two runs, so an
+// ambiguous face separates them, whichever cube looks at it. The segment's direction d then
+// makes n × d point from the inside corners to the outside ones.
+// Each crossing edge lies on two faces that walk it in opposite directions, so it is the exit of
+// one face's segment and the entry of the other's: the segments link into loops. A loop is
+// filled as a fan whose right-hand normal, n × d at its rim, points out of the material.
+//
+// The fan's inner edges must stay private to the cube: an inner edge joining two crossings of
+// one (ambiguous) face could also be an inner edge of the neighbour across that face, and then
+// four triangles would share it. So the fan's apex is the first loop vertex none of whose
+// diagonals joins two edges of one face. Such an apex exists in all 256 cases (loops have at
+// most seven crossings); the assertion below checks it when the table is built.
+CubeCase make_case(int inside) {
+  std::array<int, kEdges> next{};
+  next.fill(-1);
+  for (int a = 0; a < 3; ++a) {
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    for (int side = 0; side < 2; ++side) {
+      // (0,0), (1,0), (1,1), (0,1) in (b, c) turn counter-clockwise about e_b × e_c = e_a, the
+      // outward normal of the upper face; the lower face walks them the other way.
+      constexpr std::array<std::array<int, 2>, 4> kSquare{{{0, 0}, {1, 0}, {1, 1}, {0, 1}}};
+      std::array<int, 4> corner{};
+      std::array<bool, 4> in{};
+      for (std::size_t k = 0; k < 4; ++k) {
+        const auto& q = kSquare[side == 1 ? k : 3 - k];
+        corner[k] = (side << a) | (q[0] << b) | (q[1] << c);
+        in[k] = ((inside >> corner[k]) & 1) != 0;
+      }
+      const auto at = [](int k) { return static_cast<std::size_t>(k & 3); };
+      for (int k = 0; k < 4; ++k) {
+        if (!in[at(k)] || in[at(k + 1)]) continue;
+        const int exit = edge_between(corner[at(k)], corner[at(k + 1)]);
+        int m = k - 1;
+        while (in[at(m)]) --m;  // stops: corner k + 1 is outside
+        const int entry = edge_between(corner[at(m)], corner[at(m + 1)]);
+        CWE_ASSERT(next[static_cast<std::size_t>(entry)] < 0, "an edge entered twice");
+        next[static_cast<std::size_t>(entry)] = exit;
+      }
+    }
+  }
+  CubeCase result;
+  const auto add_triangle = [&result](int v0, int v1, int v2) {
+    CWE_ASSERT(result.triangle_count < kMaxTriangles, "too many triangles in a cube");
+    result.triangles[static_cast<std::size_t>(result.triangle_count++)] = {v0, v1, v2};
+  };
+  std::array<bool, kEdges> visited{};
+  for (int start = 0; start < kEdges; ++start) {
+    if (next[static_cast<std::size_t>(start)] < 0 || visited[static_cast<std::size_t>(start)]) {
+      continue;
+    }
+    std::vector<int> loop;
+    for (int e = start; !visited[static_cast<std::size_t>(e)];
+         e = next[static_cast<std::size_t>(e)]) {
+      visited[static_cast<std::size_t>(e)] = true;
+      loop.push_back(e);
+    }
+    const int n = static_cast<int>(loop.size());
+    CWE_ASSERT(n >= 3, "a loop of fewer than three crossings");
+    const auto vertex = [&loop, n](int k) { return loop[static_cast<std::size_t>(k % n)]; };
+    int apex = -1;
+    for (int r = 0; r < n && apex < 0; ++r) {
+      bool private_diagonals = true;
+      for (int k = 2; k <= n - 2; ++k) private_diagonals &= !share_face(vertex(r), vertex(r + k));
+      if (private_diagonals) apex = r;
+    }
+    CWE_ASSERT(apex >= 0, "a loop whose fan would share an inner edge with a neighbour");
+    for (int k = 1; k + 1 < n; ++k) {
+      add_triangle(vertex(apex), vertex(apex + k), vertex(apex + k + 1));
+    }
+  }
+  return result;
+}
+
+const std::array<CubeCase, kCases>& cube_cases() {
+  static const std::array<CubeCase, kCases> cases = [] {
+    std::array<CubeCase, kCases> all;
+    for (int inside = 0; inside < kCases; ++inside) {
+      all[static_cast<std::size_t>(inside)] = make_case(inside);
+    }
+    return all;
+  }();
+  return cases;
+}
+
+// Marching cubes over the lattice g(i, j, k) = min + (f_x(i) + ½, f_y(j) + ½, f_z(k) + ½)·s, slab
+// by slab along Z, where f_a(i) = offset_a + stride·i picks every stride-th ray position along axis
+// a, centred in the domain. Lattice indices run from -1 to n (one padding point beyond each side of
+// the domain, always empty); arrays over a layer are indexed by (i + 1) + (j + 1)·width, the width
+// nx + 2 rounded up to whole 8-byte words (the extra points are padding too) so that rows are
+// processed a word at a time.
+//
+// A point's material along one ray is the test lo ≤ (m + ½)s ≤ hi against the ray's float
+// intervals, evaluated exactly alike everywhere (the layer bits and the crossings), so that the
+// crossings agree with the bits whenever the ray does.
+class LatticeMesher {
+ public:
+  LatticeMesher(const TriDexel& stock, int stride)
+      : stock_(stock),
+        s_(stock.spacing()),
+        origin_(stock.domain().min),
+        stride_(stride),
+        offset_{centring(stock.grid(2)[0], stride), centring(stock.grid(2)[1], stride),
+                centring(stock.grid(0)[1], stride)},
+        nx_(coarse(stock.grid(2)[0], stride)),
+        ny_(coarse(stock.grid(2)[1], stride)),
+        nz_(coarse(stock.grid(0)[1], stride)),
+        width_((static_cast<std::size_t>(nx_) + 2 + kWord - 1) / kWord * kWord),
+        layer_size_(width_ * (static_cast<std::size_t>(ny_) + 2)),
+        toggles_(layer_size_, 0),
+        running_(width_ / kWord, 0),
+        z_inside_(layer_size_, 0),
+        z_vertex_(layer_size_) {
+    CWE_ASSERT(stock.grid(0)[0] == stock.grid(2)[1] && stock.grid(1)[0] == stock.grid(0)[1] &&
+                   stock.grid(1)[1] == stock.grid(2)[0],
+               "the three ray families span different lattices");
+  }
+
+  TriangleMesh run() {
+    const auto& cases = cube_cases();
+    collect_z_events();
+    Layer lower(layer_size_), upper(layer_size_);  // lower starts as the empty layer -1
+    for (int k = -1; k < nz_; ++k) {               // the slab between layers k and k + 1
+      fill_layer(k + 1, upper);
+      z_vertex_.reset();
+      const std::array<Layer*, 2> slab{&lower, &upper};
+      for (int j = -1; j < ny_; ++j) {
+        const std::uint8_t* l0 = &lower.inside[point(-1, j)];
+        const std::uint8_t* l1 = l0 + width_;
+        const std::uint8_t* u0 = &upper.inside[point(-1, j)];
+        const std::uint8_t* u1 = u0 + width_;
+        for (int i = -1; i < nx_;) {
+          const auto x = static_cast<std::size_t>(i + 1);
+          // Eight points alike in all four rows: the seven cubes between them are all empty or
+          // all full (most of a stock is).
+          if (x + 8 <= width_ && alike(l0 + x, l1 + x, u0 + x, u1 + x)) {
+            i += 7;
+            continue;
+          }
+          const int inside = l0[x] | l0[x + 1] << 1 | l1[x] << 2 | l1[x + 1] << 3 | u0[x] << 4 |
+                             u0[x + 1] << 5 | u1[x] << 6 | u1[x + 1] << 7;
+          if (inside != 0 && inside != kCases - 1) {
+            const CubeCase& cube = cases[static_cast<std::size_t>(inside)];
+            for (int t = 0; t < cube.triangle_count; ++t) {
+              const auto& edges = cube.triangles[static_cast<std::size_t>(t)];
+              std::array<int, 3> triangle{};
+              for (std::size_t v = 0; v < 3; ++v) triangle[v] = vertex(edges[v], i, j, k, slab);
+              mesh_.triangles.push_back(triangle);
+            }
+          }
+          ++i;
+        }
+      }
+      std::swap(lower, upper);
+    }
+    return std::move(mesh_);
+  }
+
+ private:
+  // Vertex indices on the lattice edges of one kind (along X or Y in a layer, along Z in a slab)
+  // by the edge's lower point, -1 until made. Reset by undoing only the entries set, so a layer
+  // costs its crossings, not its points.
+  struct EdgeVertices {
+    explicit EdgeVertices(std::size_t size) : index(size, -1) {}
+    void reset() {
+      for (const std::size_t p : touched) index[p] = -1;
+      touched.clear();
+    }
+    std::vector<int> index;
+    std::vector<std::size_t> touched;
+  };
+
+  struct Layer {
+    explicit Layer(std::size_t size) : inside(size, 0), x_vertex(size), y_vertex(size) {}
+    std::vector<std::uint8_t> inside;  // 1 where the point holds material
+    EdgeVertices x_vertex;             // on the edge from the point along +X
+    EdgeVertices y_vertex;             // along +Y
+  };
+
+  static constexpr std::size_t kWord = sizeof(std::uint64_t);
+  static constexpr std::uint64_t kAllOnes = 0x0101010101010101u;
+
+  static void add_word(std::uint8_t* bytes, std::uint64_t addend) {
+    std::uint64_t word = 0;
+    std::memcpy(&word, bytes, kWord);
+    word += addend;
+    std::memcpy(bytes, &word, kWord);
+  }
+
+  static bool alike(const std::uint8_t* a, const std::uint8_t* b, const std::uint8_t* c,
+                    const std::uint8_t* d) {
+    std::uint64_t wa = 0, wb = 0, wc = 0, wd = 0;
+    std::memcpy(&wa, a, sizeof wa);
+    std::memcpy(&wb, b, sizeof wb);
+    std::memcpy(&wc, c, sizeof wc);
+    std::memcpy(&wd, d, sizeof wd);
+    return wa == wb && wa == wc && wa == wd && (wa == 0 || wa == kAllOnes);
+  }
+
+  // Lattice points along an axis with n ray positions: every stride-th, centred.
+  static int coarse(int n, int stride) { return (n - 1) / stride + 1; }
+  static int centring(int n, int stride) { return ((n - 1) % stride) / 2; }
+  // The ray position (index in the stock's grid) of lattice index `index` along `axis`.
+  int fine(int axis, int index) const {
+    return offset_[static_cast<std::size_t>(axis)] + stride_ * index;
+  }
+  // The ray coordinate of lattice index `index` along `axis`.
+  double lattice_t(int axis, int index) const { return (fine(axis, index) + 0.5) * s_; }
+  int count(int axis) const { return axis == 0 ? nx_ : (axis == 1 ? ny_ : nz_); }
+
+  std::size_t point(int i, int j) const {
+    return static_cast<std::size_t>(i + 1) + static_cast<std::size_t>(j + 1) * width_;
+  }
+
+  // The lattice indices m in [0, n) along `axis` with lo ≤ lattice_t(axis, m) ≤ hi, as
+  // [first, end). The guesses from division are corrected by the exact test, which is the one
+  // the crossings use.
+  std::array<int, 2> span(const Interval& interval, int axis) const {
+    const int n = count(axis);
+    const double offset = offset_[static_cast<std::size_t>(axis)];
+    const auto guess = [n](double m) {
+      return static_cast<int>(std::clamp(m, 0.0, static_cast<double>(n)));
+    };
+    int first = guess(std::ceil((interval.lo / s_ - 0.5 - offset) / stride_));
+    while (first > 0 && lattice_t(axis, first - 1) >= interval.lo) --first;
+    while (first < n && lattice_t(axis, first) < interval.lo) ++first;
+    int end = guess(std::floor((interval.hi / s_ - 0.5 - offset) / stride_) + 1);
+    while (end > 0 && lattice_t(axis, end - 1) > interval.hi) --end;
+    while (end < n && lattice_t(axis, end) <= interval.hi) ++end;
+    return {first, std::max(first, end)};
+  }
+
+  // Z rays cross every layer: their state flips at the layers where an interval starts and
+  // after the one where it ends. The flips are bucketed by layer (two per interval).
+  void collect_z_events() {
+    z_event_start_.assign(static_cast<std::size_t>(nz_) + 1, 0);
+    const auto for_each_flip = [this](const auto& visit) {
+      for (int j = 0; j < ny_; ++j) {
+        for (int i = 0; i < nx_; ++i) {
+          const DexelRay& ray = stock_.at(2, fine(0, i), fine(1, j));
+          for (int m = 0; m < ray.count(); ++m) {
+            const auto [first, end] = span(ray.interval(m), 2);
+            if (first == end) continue;
+            visit(first, point(i, j));
+            if (end < nz_) visit(end, point(i, j));
+          }
+        }
+      }
+    };
+    for_each_flip(
+        [this](int k, std::size_t) { ++z_event_start_[static_cast<std::size_t>(k) + 1]; });
+    for (std::size_t k = 1; k < z_event_start_.size(); ++k) {
+      z_event_start_[k] += z_event_start_[k - 1];
+    }
+    z_events_.resize(z_event_start_.back());
+    std::vector<std::size_t> fill(z_event_start_.begin(), z_event_start_.end() - 1);
+    for_each_flip(
+        [&](int k, std::size_t p) { z_events_[fill[static_cast<std::size_t>(k)]++] = p; });
+  }
+
+  // The bits of layer k: the two-of-three vote of the rays through each point, padding empty.
+  void fill_layer(int k, Layer& layer) {
+    layer.x_vertex.reset();
+    layer.y_vertex.reset();
+    std::uint8_t* votes = layer.inside.data();
+    std::fill(layer.inside.begin(), layer.inside.end(), std::uint8_t{0});
+    if (k < 0 || k >= nz_) return;
+    // X rays (j, k) lie in the layer along its rows: count their spans directly.
+    for (int j = 0; j < ny_; ++j) {
+      const DexelRay& ray = stock_.at(0, fine(1, j), fine(2, k));
+      std::uint8_t* row = votes + point(0, j);
+      for (int m = 0; m < ray.count(); ++m) {
+        const auto [first, end] = span(ray.interval(m), 0);
+        for (int i = first; i < end; ++i) ++row[i];
+      }
+    }
+    // Y rays (k, i) run across the rows: mark where each span starts and ends, then carry the
+    // state from row to row (reading the marks clears them for the next layer).
+    for (int i = 0; i < nx_; ++i) {
+      const DexelRay& ray = stock_.at(1, fine(2, k), fine(0, i));
+      for (int m = 0; m < ray.count(); ++m) {
+        const auto [first, end] = span(ray.interval(m), 1);
+        if (first == end) continue;
+        toggles_[point(i, first)] ^= 1;
+        toggles_[point(i, end)] ^= 1;  // row ny is padding, never counted
+      }
+    }
+    // Bytes hold 0 to 3 here, so eight of them add as one word without carries.
+    std::fill(running_.begin(), running_.end(), std::uint64_t{0});
+    for (int j = 0; j <= ny_; ++j) {
+      std::uint8_t* marks = &toggles_[point(-1, j)];
+      std::uint8_t* row = votes + point(-1, j);
+      for (std::size_t w = 0; w < running_.size(); ++w) {
+        std::uint64_t flips = 0;
+        std::memcpy(&flips, marks + kWord * w, kWord);
+        running_[w] ^= flips;
+        if (j < ny_) add_word(row + kWord * w, running_[w]);
+      }
+      std::fill(marks, marks + width_, std::uint8_t{0});
+    }
+    // Z rays: apply this layer's flips, then add their state and take the vote (bit 1 of a
+    // count from 0 to 3 says "two or more").
+    const auto kk = static_cast<std::size_t>(k);
+    for (std::size_t e = z_event_start_[kk]; e < z_event_start_[kk + 1]; ++e) {
+      z_inside_[z_events_[e]] ^= 1;
+    }
+    for (std::size_t p = 0; p < layer_size_; p += kWord) {
+      std::uint64_t count = 0, z = 0;
+      std::memcpy(&count, votes + p, kWord);
+      std::memcpy(&z, &z_inside_[p], kWord);
+      count = ((count + z) >> 1) & kAllOnes;
+      std::memcpy(votes + p, &count, kWord);
+    }
+  }
+
+  // The ray coordinate of the vertex on the lattice edge from index m to m + 1 of `ray`, whose
+  // lower end has bit `inside0` and upper end the other bit: the ray's first material boundary
+  // at or after the lower end when the ray agrees with both bits, else the edge's midpoint.
+  double crossing(const DexelRay& ray, int axis, int m, bool inside0) const {
+    const double t0 = lattice_t(axis, m), t1 = lattice_t(axis, m + 1);
+    const int count = ray.count();
+    int index = 0;
+    while (index < count && ray.interval(index).hi < t0) ++index;
+    bool ray_inside0 = false, ray_inside1 = false;
+    double boundary = t0;
+    if (index < count) {
+      const Interval first = ray.interval(index);
+      ray_inside0 = first.lo <= t0;
+      boundary = ray_inside0 ? first.hi : first.lo;
+      while (index < count && ray.interval(index).hi < t1) ++index;
+      ray_inside1 = index < count && ray.interval(index).lo <= t1;
+    }
+    // The vote overruled this ray at one end: its boundary may lie outside the edge.
+    if (ray_inside0 != inside0 || ray_inside1 == inside0) return 0.5 * (t0 + t1);
+    return std::clamp(boundary, t0, t1);  // already inside; the clamp only guards rounding
+  }
+
+  // The index of the vertex on cube edge `edge` of the cube whose lowest point is (i, j, k),
+  // made on first use. A crossing edge never runs through padding across its axis (both its
+  // ends would be empty), so its ray exists.
+  int vertex(int edge, int i, int j, int k, const std::array<Layer*, 2>& slab) {
+    const int a = edge / 4;
+    std::array<int, 3> p{i, j, k};  // the edge's lower end
+    p[static_cast<std::size_t>((a + 1) % 3)] += edge & 1;
+    p[static_cast<std::size_t>((a + 2) % 3)] += (edge >> 1) & 1;
+    Layer& layer = *slab[static_cast<std::size_t>(p[2] - k)];
+    const std::size_t at = point(p[0], p[1]);
+    EdgeVertices& edges = a == 0 ? layer.x_vertex : (a == 1 ? layer.y_vertex : z_vertex_);
+    int& slot = edges.index[at];
+    if (slot >= 0) return slot;
+
+    const bool inside0 = layer.inside[at] != 0;
+    double t = 0.0;
+    if (a == 0) {
+      t = crossing(stock_.at(0, fine(1, p[1]), fine(2, p[2])), 0, p[0], inside0);
+    } else if (a == 1) {
+      t = crossing(stock_.at(1, fine(2, p[2]), fine(0, p[0])), 1, p[1], inside0);
+    } else {
+      t = crossing(stock_.at(2, fine(0, p[0]), fine(1, p[1])), 2, p[2], inside0);
+    }
+    Vec3 position;
+    for (int axis = 0; axis < 3; ++axis) {
+      position[axis] =
+          origin_[axis] + (axis == a ? t : lattice_t(axis, p[static_cast<std::size_t>(axis)]));
+    }
+    if (mesh_.vertices.size() >= static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+      throw InputError("dexel mesh: more than 2^31 vertices; export at a coarser spacing");
+    }
+    slot = static_cast<int>(mesh_.vertices.size());
+    edges.touched.push_back(at);
+    mesh_.vertices.push_back(position);
+    return slot;
+  }
+
+  const TriDexel& stock_;
+  double s_;
+  Vec3 origin_;
+  int stride_;                              // lattice spacing in ray spacings
+  std::array<int, 3> offset_;               // ray position of lattice index 0 per axis
+  int nx_, ny_, nz_;                        // lattice points inside the domain per axis
+  std::size_t width_;                       // padded points along X: nx + 2 or up to 7 more
+  std::size_t layer_size_;                  // (nx + 2)(ny + 2)
+  std::vector<std::uint8_t> toggles_;       // Y span ends in the layer being filled
+  std::vector<std::uint64_t> running_;      // Y ray states along the current row, 8 a word
+  std::vector<std::uint8_t> z_inside_;      // Z ray state at the current layer, by point
+  std::vector<std::size_t> z_event_start_;  // flips of layer k: [start[k], start[k + 1])
+  std::vector<std::size_t> z_events_;       // the points whose Z ray flips
+  EdgeVertices z_vertex_;                   // on the edges from layer k to k + 1
+  TriangleMesh mesh_;
+};
+
+}  // namespace
+
+TriangleMesh dexel_mesh(const TriDexel& stock, int stride) {
+  if (stride < 1) {
+    throw InputError(fmt::format("dexel mesh stride {}: expected a whole number ≥ 1", stride));
+  }
+  return LatticeMesher(stock, stride).run();
+}
+
+int dexel_mesh_stride(const TriDexel& stock, std::size_t triangle_budget) {
+  // Every material boundary on a ray is a surface crossing; a lattice cell the surface passes
+  // through gives about two triangles and is crossed by about one ray of the three families
+  // (exactly one for faces square to an axis), so a stride-k lattice gives about
+  // 2 × crossings / k² triangles.
+  double crossings = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    for (int j = 0; j < stock.grid(a)[1]; ++j) {
+      for (int i = 0; i < stock.grid(a)[0]; ++i) crossings += 2.0 * stock.at(a, i, j).count();
+    }
+  }
+  const double budget = std::max<double>(1.0, static_cast<double>(triangle_budget));
+  return std::max(1, static_cast<int>(std::ceil(std::sqrt(2.0 * crossings / budget))));
+}
+
+}  // namespace cwe
