@@ -2,12 +2,16 @@
 
 #include <CLI/CLI.hpp>
 
+#include <unistd.h>
+
 #include <exception>
+#include <iostream>
 
 #include "cwe/core/assert.hpp"
 #include "cwe/core/error.hpp"
 #include "envelope_command.hpp"
 #include "path_command.hpp"
+#include "simulate_command.hpp"
 #include "tool_command.hpp"
 
 namespace cwe::app {
@@ -22,6 +26,8 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   add_path_command(app, path_options);
   EnvelopeCommandOptions envelope_options;
   add_envelope_command(app, envelope_options);
+  SimulateCommandOptions simulate_options;
+  add_simulate_command(app, simulate_options);
 
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   if (!reversed.empty()) reversed.pop_back();  // the program name
@@ -36,6 +42,11 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
     if (app.got_subcommand("tool")) return run_tool_command(tool_options, out);
     if (app.got_subcommand("path")) return run_path_command(path_options, out);
     if (app.got_subcommand("envelope")) return run_envelope_command(envelope_options, out);
+    if (app.got_subcommand("simulate")) {
+      // The progress bar goes to the error stream only when that is a terminal.
+      const bool terminal = &err == &std::cerr && isatty(STDERR_FILENO) == 1;
+      return run_simulate_command(simulate_options, out, terminal ? &err : nullptr);
+    }
   } catch (const InputError& e) {
     err << e.what() << '\n';
     return 2;

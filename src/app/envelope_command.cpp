@@ -17,6 +17,7 @@
 #include "cwe/io/mesh_io.hpp"
 #include "cwe/tool/tool_spec.hpp"
 #include "cwe/toolpath/toolpath_reader.hpp"
+#include "tool_choice.hpp"
 
 namespace cwe::app {
 namespace {
@@ -69,21 +70,6 @@ std::vector<std::vector<Vec3>> grazing_polylines(const GrazingCurves& curves) {
   return out;
 }
 
-Cutter resolve_tool(const EnvelopeCommandOptions& options, const Toolpath& path) {
-  if (!options.tool.empty()) return cutter_from_spec(options.tool);
-  if (path.tool_definitions.size() == 1) {
-    const AptCutter& apt = path.tool_definitions.begin()->second;
-    CutterOptions named;
-    named.name = options.path + " " + to_string(apt);
-    named.apt = apt;
-    return Cutter(apt_profile(apt, SourceLocation{options.path}), named);
-  }
-  throw InputError(SourceLocation{options.path},
-                   path.tool_definitions.empty()
-                       ? "the program defines no cutter: name one with --tool"
-                       : "the program defines several cutters: name the one to use with --tool");
-}
-
 }  // namespace
 
 void add_envelope_command(CLI::App& app, EnvelopeCommandOptions& options) {
@@ -108,7 +94,7 @@ void add_envelope_command(CLI::App& app, EnvelopeCommandOptions& options) {
 int run_envelope_command(const EnvelopeCommandOptions& options, std::ostream& out) {
   const ReadToolpath read = read_toolpath_file(options.path);
   const Toolpath& path = read.toolpath;
-  const Cutter cutter = resolve_tool(options, path);
+  const Cutter cutter = choose_cutter(options.tool, path, options.path);
   const int count = static_cast<int>(path.moves.size());
   const std::optional<MoveRange> range = parse_range(options.moves, count);
   std::vector<int> selected;

@@ -252,5 +252,99 @@ TEST(CliEnvelope, WritesClosedVolumesCurvesAndPictures) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(CliSimulate, WritesStockAndSummary) {
+  const auto dir = scratch_dir("simulate");
+  std::filesystem::create_directories(dir);
+  const auto program = dir / "slot.ngc";
+  // A 3 mm deep slot of width 10 through a 30 × 20 × 10 block (10 × 30 × 3 = 900 mm³), then a
+  // rapid on line 8 that cuts 1 mm into the top beside the slot: x 10..20, y 0..5, z -1..0
+  // (50 mm³; its round end lies in the slot). All faces lie on cell boundaries at s = 0.25.
+  std::ofstream(program) << "G21 G90\nG0 X-10 Y10 Z1\nG1 Z-3 F100\nG1 X40 F600\nG0 Z5\n"
+                            "G0 X15 Y-10\nG0 Z-1\nG0 Y5\nG0 Z5\nM2\n";
+  const Result r = run_cwe({"simulate", "--stock", "box:0,0,-10,30,20,0", "--tool", "flat:10,20",
+                            "--path", program.string(), "--out", (dir / "out").string(),
+                            "--resolution", "0.25", "--threads", "2"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::ifstream in(dir / "out" / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  EXPECT_EQ(summary["resolution_mm"], 0.25);
+  EXPECT_EQ(summary["moves"], 8);
+  EXPECT_NEAR(summary["initial_volume_mm3"].get<double>(), 6000.0, 1e-6);
+  // Faces on cell boundaries are exact up to float rounding of the ray ends (~1e-6 mm).
+  const double removed = summary["removed_volume_mm3"].get<double>();
+  EXPECT_NEAR(summary["final_volume_mm3"].get<double>(), 6000.0 - removed, 1e-6);
+  EXPECT_NEAR(removed, 950.0, 0.01);
+  EXPECT_EQ(summary["rapid_cuts"]["count"], 1);
+  EXPECT_EQ(summary["rapid_cuts"]["first"][0]["line"], 8);
+  EXPECT_EQ(summary["rays"], 120u * 80u + 80u * 40u + 40u * 120u);
+  EXPECT_GE(summary["peak_memory_bytes"].get<std::size_t>(),
+            16u * summary["rays"].get<std::size_t>());
+  EXPECT_GT(summary["seconds"].get<double>(), 0.0);
+  EXPECT_NE(r.out.find("rapid moves cut material"), std::string::npos) << r.out;
+  const auto stl = dir / "out" / "stock.stl";
+  ASSERT_TRUE(std::filesystem::exists(stl));
+  EXPECT_EQ(std::filesystem::file_size(stl),
+            84u + 50u * summary["stock_mesh"]["triangles"].get<std::size_t>());
+  EXPECT_NEAR(summary["stock_mesh"]["volume_mm3"].get<double>(),
+              summary["final_volume_mm3"].get<double>(), 0.02 * 6000.0);
+
+  // The same job from a JSON job file (paths relative to it); options still override.
+  std::ofstream(dir / "job.json") << R"({"stock": "box:0,0,-10,30,20,0", "tool": "flat:10,20",
+    "path": "slot.ngc", "out": "from-job", "resolution": 0.5, "mesh_stride": 2, "ply": true})";
+  const Result job = run_cwe({"simulate", (dir / "job.json").string(), "--resolution", "0.25"});
+  ASSERT_EQ(job.status, 0) << job.err;
+  std::ifstream job_in(dir / "from-job" / "summary.json");
+  const nlohmann::json job_summary = nlohmann::json::parse(job_in);
+  EXPECT_EQ(job_summary["resolution_mm"], 0.25);
+  EXPECT_EQ(job_summary["removed_volume_mm3"], summary["removed_volume_mm3"]);
+  EXPECT_EQ(job_summary["stock_mesh"]["stride"], 2);
+  EXPECT_EQ(job_summary["stock_mesh"]["lattice_mm"], 0.5);
+  EXPECT_LT(job_summary["stock_mesh"]["triangles"].get<std::size_t>(),
+            summary["stock_mesh"]["triangles"].get<std::size_t>() / 2);
+  EXPECT_TRUE(std::filesystem::exists(dir / "from-job" / "stock.ply"));
+
+  // The machined stock, read back as an STL stock: its volume is the mesh's, within the
+  // scan's discretisation (area × s, area ≈ 2·(600 + 200 + 300) + the slot's walls).
+  const Result again = run_cwe({"simulate", "--stock", stl.string(), "--tool", "flat:10,20",
+                                "--path", program.string(), "--out", (dir / "again").string(),
+                                "--resolution", "0.25", "--quiet"});
+  ASSERT_EQ(again.status, 0) << again.err;
+  std::ifstream again_in(dir / "again" / "summary.json");
+  const nlohmann::json again_summary = nlohmann::json::parse(again_in);
+  EXPECT_NEAR(again_summary["initial_volume_mm3"].get<double>(),
+              summary["stock_mesh"]["volume_mm3"].get<double>(), 2400 * 0.25);
+  EXPECT_LT(again_summary["removed_volume_mm3"].get<double>(), 1.0);  // already cut
+
+  // An open STL is refused, saying how many boundary edges it has and where.
+  std::ofstream(dir / "open.stl") << "solid open\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"
+                                     "vertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid\n";
+  const Result open =
+      run_cwe({"simulate", "--stock", (dir / "open.stl").string(), "--tool", "flat:10", "--path",
+               program.string(), "--out", (dir / "none").string()});
+  EXPECT_EQ(open.status, 2);
+  EXPECT_NE(open.err.find("3 boundary edges"), std::string::npos) << open.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "none"));
+
+  // Errors name what is wrong and write nothing.
+  const auto none = dir / "none";
+  for (const std::vector<std::string>& bad :
+       {std::vector<std::string>{"simulate", "--stock", "box:0,0,0,1,1", "--tool", "flat:10",
+                                 "--path", program.string(), "--out", none.string()},
+        {"simulate", "--stock", "box:0,0,0,10,10,10", "--tool", "flat:10", "--path",
+         program.string(), "--out", none.string(), "--resolution", "-1"},
+        {"simulate", "--stock", "box:0,0,0,10,10,10", "--tool", "flat:10", "--out", none.string()},
+        {"simulate", (dir / "missing.json").string()}}) {
+    const Result e = run_cwe(bad);
+    EXPECT_EQ(e.status, 2) << e.err;
+    EXPECT_NE(e.err.find("error"), std::string::npos) << e.err;
+  }
+  std::ofstream(dir / "typo.json") << R"({"stok": "box:0,0,0,1,1,1"})";
+  const Result typo = run_cwe({"simulate", (dir / "typo.json").string()});
+  EXPECT_EQ(typo.status, 2);
+  EXPECT_NE(typo.err.find("stok"), std::string::npos) << typo.err;
+  EXPECT_FALSE(std::filesystem::exists(none));
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace cwe::app

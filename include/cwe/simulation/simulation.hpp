@@ -1,0 +1,67 @@
+#pragma once
+// The main loop of DESIGN.md on the tri-dexel workpiece: per move, remove the volume the cutter
+// sweeps (envelope::MoveSweep, exact for linear 3-axis and 3+2 moves, subdivided within the
+// tolerance otherwise) from the stock, and keep the figures a report needs.
+//
+// Rapid moves are simulated like feed moves (the material they hit is gone on a real machine
+// too) and each rapid that removes material is recorded: on a machine it is a crash.
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "cwe/core/error.hpp"
+#include "cwe/envelope/move_sweep.hpp"
+#include "cwe/tool/cutter.hpp"
+#include "cwe/toolpath/toolpath.hpp"
+#include "cwe/workpiece/dexel/tri_dexel.hpp"
+
+namespace cwe {
+
+// Where the stock comes from: "box:xmin,ymin,zmin,xmax,ymax,zmax" (mm) or an STL file.
+struct StockSpec {
+  bool is_box = true;
+  Aabb box;
+  std::string path;  // STL file when !is_box
+};
+
+// Parses a stock specification; `source` names where it came from in error messages.
+StockSpec parse_stock_spec(const std::string& text, const SourceLocation& source);
+
+struct SimulationOptions {
+  double resolution = 0.1;  // ray spacing s, mm
+  // Subdivision tolerance of arcs, helices and 5-axis moves, mm (0: resolution / 10).
+  double tolerance = 0.0;
+  double effective_tolerance() const { return tolerance > 0.0 ? tolerance : resolution / 10.0; }
+};
+
+// The stock as a tri-dexel workpiece. Throws InputError for a bad box, an unreadable or open
+// STL, or a resolution the stock cannot take.
+TriDexel make_stock(const StockSpec& spec, const SimulationOptions& options);
+
+struct RapidCut {
+  int move = 0;  // 0-based index into the toolpath
+  SourceLocation location;
+  double volume = 0.0;  // mm³ the rapid removed
+};
+
+struct RemovalSummary {
+  int moves = 0;
+  int feed_moves = 0;
+  int rapid_moves = 0;
+  int cutting_moves = 0;         // moves that removed at least one cell (s³) of material
+  int linear_pieces = 0;         // exact linear sweeps removed (after subdivision, per convex part)
+  double deviation_bound = 0.0;  // largest Hausdorff bound of any move's sweep, mm
+  std::vector<RapidCut> rapid_cuts;
+  std::vector<double> removed_by_move;  // mm³, per move of the toolpath
+};
+
+// Called after each move with (moves done, moves in all).
+using Progress = std::function<void(std::size_t, std::size_t)>;
+
+// Removes every move of `path` swept by `cutter` from `stock`, in order.
+RemovalSummary remove_toolpath(TriDexel& stock, const Cutter& cutter, const Toolpath& path,
+                               const SimulationOptions& options, const Progress& progress = {});
+
+}  // namespace cwe

@@ -1,0 +1,36 @@
+#pragma once
+// `cwe simulate`: runs a toolpath through a stock on the tri-dexel workpiece and writes the
+// in-process workpiece (stock.stl) and a summary (summary.json). The job comes from options or
+// from a JSON job file (see docs/simulate.md); options given on the command line win.
+
+#include <CLI/CLI.hpp>
+
+#include <cstddef>
+#include <ostream>
+#include <string>
+
+namespace cwe::app {
+
+// The triangle budget that picks the stock mesh's stride when none is given: about 50 MB of
+// binary STL.
+inline constexpr std::size_t kStockMeshTriangles = 1'000'000;
+
+struct SimulateCommandOptions {
+  std::string job;    // JSON job file (optional)
+  std::string stock;  // box:xmin,ymin,zmin,xmax,ymax,zmax or an STL file
+  std::string tool;
+  std::string path;
+  std::string out;
+  double resolution = 0.0;  // 0: from the job, else 0.1 mm
+  double tolerance = 0.0;   // 0: from the job, else resolution / 10
+  int threads = 0;          // 0: from the job, else all cores
+  int mesh_stride = 0;      // 0: from the job, else chosen for ≤ kStockMeshTriangles
+  bool ply = false;         // also write stock.ply
+  bool quiet = false;       // no progress bar
+};
+
+void add_simulate_command(CLI::App& app, SimulateCommandOptions& options);
+// `progress` receives the progress bar (stderr when it is a terminal), or nullptr.
+int run_simulate_command(SimulateCommandOptions options, std::ostream& out, std::ostream* progress);
+
+}  // namespace cwe::app

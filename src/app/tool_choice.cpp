@@ -1,0 +1,24 @@
+#include "tool_choice.hpp"
+
+#include "cwe/core/error.hpp"
+#include "cwe/tool/tool_spec.hpp"
+
+namespace cwe::app {
+
+Cutter choose_cutter(const std::string& tool_spec, const Toolpath& path,
+                     const std::string& path_name) {
+  if (!tool_spec.empty()) return cutter_from_spec(tool_spec, SourceLocation{"--tool"});
+  if (path.tool_definitions.size() == 1) {
+    const AptCutter& apt = path.tool_definitions.begin()->second;
+    CutterOptions named;
+    named.name = path_name + " " + to_string(apt);
+    named.apt = apt;
+    return Cutter(apt_profile(apt, SourceLocation{path_name}), named);
+  }
+  throw InputError(SourceLocation{path_name},
+                   path.tool_definitions.empty()
+                       ? "the program defines no cutter: name one with --tool"
+                       : "the program defines several cutters: name the one to use with --tool");
+}
+
+}  // namespace cwe::app

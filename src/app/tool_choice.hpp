@@ -1,0 +1,15 @@
+#pragma once
+// Which cutter a command uses for a toolpath: the --tool specification when given, else the one
+// cutter the program defines (CLDATA CUTTER/), else an error that says what to do.
+
+#include <string>
+
+#include "cwe/tool/cutter.hpp"
+#include "cwe/toolpath/toolpath.hpp"
+
+namespace cwe::app {
+
+Cutter choose_cutter(const std::string& tool_spec, const Toolpath& path,
+                     const std::string& path_name);
+
+}  // namespace cwe::app

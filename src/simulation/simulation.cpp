@@ -1,0 +1,101 @@
+#include "cwe/simulation/simulation.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "cwe/io/mesh_io.hpp"
+
+namespace cwe {
+
+StockSpec parse_stock_spec(const std::string& text, const SourceLocation& source) {
+  constexpr std::string_view kBox = "box:";
+  StockSpec spec;
+  if (text.rfind(kBox, 0) != 0) {
+    if (text.empty()) throw InputError(source, "empty stock: expected box:… or an STL file");
+    spec.is_box = false;
+    spec.path = text;
+    return spec;
+  }
+  const std::string_view body = std::string_view(text).substr(kBox.size());
+  std::vector<double> values;
+  std::size_t start = 0;
+  while (start <= body.size()) {
+    const std::size_t comma = std::min(body.find(',', start), body.size());
+    const std::string_view word = body.substr(start, comma - start);
+    double v = 0.0;
+    const auto [end, ec] = std::from_chars(word.data(), word.data() + word.size(), v);
+    if (word.empty() || ec != std::errc() || end != word.data() + word.size() ||
+        !std::isfinite(v)) {
+      throw InputError(source, fmt::format("stock '{}': '{}' is not a number; expected "
+                                           "box:xmin,ymin,zmin,xmax,ymax,zmax in mm",
+                                           text, word));
+    }
+    values.push_back(v);
+    start = comma + 1;
+  }
+  if (values.size() != 6) {
+    throw InputError(source, fmt::format("stock '{}': expected six numbers "
+                                         "box:xmin,ymin,zmin,xmax,ymax,zmax, got {}",
+                                         text, values.size()));
+  }
+  spec.box = Aabb{{values[0], values[1], values[2]}, {values[3], values[4], values[5]}};
+  for (int a = 0; a < 3; ++a) {
+    if (!(spec.box.min[a] < spec.box.max[a])) {
+      throw InputError(source, fmt::format("stock '{}': {} min {} is not below max {}", text,
+                                           "xyz"[a], spec.box.min[a], spec.box.max[a]));
+    }
+  }
+  return spec;
+}
+
+TriDexel make_stock(const StockSpec& spec, const SimulationOptions& options) {
+  if (!std::isfinite(options.resolution) || options.resolution <= 0.0) {
+    throw InputError(SourceLocation{"--resolution"},
+                     fmt::format("{} mm: expected a positive ray spacing", options.resolution));
+  }
+  if (spec.is_box) return TriDexel::from_box(spec.box, options.resolution);
+  return TriDexel::from_mesh(read_stl(spec.path).mesh, options.resolution, spec.path);
+}
+
+RemovalSummary remove_toolpath(TriDexel& stock, const Cutter& cutter, const Toolpath& path,
+                               const SimulationOptions& options, const Progress& progress) {
+  RemovalSummary summary;
+  const ConvexParts parts(cutter, options.effective_tolerance());
+  const std::size_t total = path.moves.size();
+  for (std::size_t i = 0; i < total; ++i) {
+    const Move& move = path.moves[i];
+    ++summary.moves;
+    ++(move.is_rapid() ? summary.rapid_moves : summary.feed_moves);
+    const MoveSweep sweep(parts, move);
+    summary.linear_pieces += static_cast<int>(sweep.pieces().size());
+    summary.deviation_bound = std::max(summary.deviation_bound, sweep.deviation_bound());
+    TriDexel::Removal removed;
+    for (const LinearSweep& piece : sweep.pieces()) {
+      const TriDexel::Removal r =
+          stock.remove(piece.bounds(), [&piece](const Ray& ray) { return piece.chord(ray); });
+      removed.rays += r.rays;
+      removed.volume += r.volume;
+    }
+    summary.removed_by_move.push_back(removed.volume);
+    // Float rounding of ray ends can shave slivers off rays a move only touches; a move cuts when
+    // it removes at least one cell's worth, s³.
+    const double cell = std::pow(stock.spacing(), 3);
+    const bool cuts = removed.volume >= cell;
+    if (cuts) ++summary.cutting_moves;
+    if (cuts && move.is_rapid()) {
+      const std::string file =
+          move.source >= 0 && static_cast<std::size_t>(move.source) < path.sources.size()
+              ? path.sources[static_cast<std::size_t>(move.source)]
+              : std::string();
+      summary.rapid_cuts.push_back(
+          {static_cast<int>(i), SourceLocation{file, move.line}, removed.volume});
+    }
+    if (progress) progress(i + 1, total);
+  }
+  return summary;
+}
+
+}  // namespace cwe

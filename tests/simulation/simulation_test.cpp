@@ -1,0 +1,337 @@
+#include "cwe/simulation/simulation.hpp"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "cwe/geometry/triangle_mesh.hpp"
+#include "cwe/io/atomic_file.hpp"
+#include "cwe/io/mesh_io.hpp"
+#include "cwe/tool/tool_spec.hpp"
+#include "random.hpp"
+
+namespace cwe {
+namespace {
+
+// Removed volumes against closed forms. Each ray's chord is exact (envelope tests), so a
+// family's measure Σ length × s² errs only where the cut's boundary passes between ray centres:
+// at most the boundary's area times s (each boundary cell of s² misattributes at most a length
+// of about s across the surface). Cases whose faces lie on cell boundaries are exact to float
+// rounding. Stock: a 40 × 30 × 20 mm block, top at z = 20, s = 0.1 mm.
+constexpr double kSpacing = 0.1;
+const Aabb kBlock{{0, 0, 0}, {40, 30, 20}};
+
+Move line(const Vec3& a, const Vec3& b, const Vec3& axis = Vec3::UnitZ()) {
+  Move m;
+  m.start = a;
+  m.end = b;
+  m.start_axis = m.end_axis = axis.normalized();
+  return m;
+}
+
+Move circle(const Vec3& start, const Vec3& center, double turns, double axial) {
+  Move m;
+  m.shape = MoveShape::kArc;
+  m.start = start;
+  m.center = center;
+  m.normal = -Vec3::UnitZ();  // clockwise (G2) seen from above
+  m.sweep = turns * kTwoPi;
+  m.axial = -axial;  // along -normal: the height changes by `axial`
+  m.end = m.position(1.0);
+  return m;
+}
+
+struct Cut {
+  TriDexel::Volume removed;
+  RemovalSummary summary;
+};
+
+Cut cut(const char* tool, const std::vector<Move>& moves, double spacing = kSpacing) {
+  TriDexel stock = TriDexel::from_box(kBlock, spacing);
+  const TriDexel::Volume before = stock.volume();
+  Toolpath path;
+  path.sources = {"test"};
+  path.moves = moves;
+  const Cutter cutter = cutter_from_spec(tool);
+  SimulationOptions options;
+  options.resolution = spacing;
+  Cut result;
+  result.summary = remove_toolpath(stock, cutter, path, options);
+  const TriDexel::Volume after = stock.volume();
+  for (std::size_t a = 0; a < 3; ++a) {
+    result.removed.by_family[a] = before.by_family[a] - after.by_family[a];
+  }
+  return result;
+}
+
+void expect_volume(const Cut& c, double exact, double bound) {
+  for (const double v : c.removed.by_family) EXPECT_NEAR(v, exact, bound);
+  EXPECT_NEAR(c.removed.mean(), exact, bound);
+}
+
+// The per-ray check behind the volumes: what one family must measure when every ray carries
+// the exact length of the true removed region. `length(p, q)` gives, for the ray through cross
+// coordinates (p, q) (family 2: p = x, q = y; family 0: p = y, q = z), the least and the most
+// length the true region allows there (they differ only within a subdivision tolerance of its
+// boundary). The family's measure must fall between the sums, up to float rounding of ray ends.
+template <typename Length>
+void expect_family_between(const Cut& c, int family, Length length) {
+  const Vec3 size = kBlock.size();
+  const int b = (family + 1) % 3, cc = (family + 2) % 3;
+  const int nb = static_cast<int>(std::lround(size[b] / kSpacing));
+  const int nc = static_cast<int>(std::lround(size[cc] / kSpacing));
+  double least = 0.0, most = 0.0;
+  for (int j = 0; j < nc; ++j) {
+    for (int i = 0; i < nb; ++i) {
+      const double p = (i + 0.5) * kSpacing, q = (j + 0.5) * kSpacing;
+      const auto [lo, hi] = length(p, q);
+      least += lo;
+      most += hi;
+    }
+  }
+  const double cell = kSpacing * kSpacing;
+  const double rounding = 2e-5 * nb * nc * cell;  // float ends, 1e-5 mm each
+  EXPECT_GE(c.removed.by_family[static_cast<std::size_t>(family)], least * cell - rounding);
+  EXPECT_LE(c.removed.by_family[static_cast<std::size_t>(family)], most * cell + rounding);
+}
+
+// Lengths of Z rays through a flat-bottomed region of `depth` between radii r0 and r1 about
+// `centre`, uncertain within `band` of either radius.
+std::pair<double, double> in_annulus(double x, double y, const Vec2& centre, double r0, double r1,
+                                     double depth, double band) {
+  const double r = (Vec2(x, y) - centre).norm();
+  const bool surely = r >= r0 + band && r <= r1 - band;
+  const bool maybe = r >= r0 - band && r <= r1 + band;
+  return {surely ? depth : 0.0, maybe ? depth : 0.0};
+}
+
+TEST(RemovedVolume, PartialWidthSideCut) {
+  // Radial depth 3, axial depth 4 along the y = 0 face: 3 × 4 × 40. Faces on cell boundaries.
+  const Cut c = cut("flat:10,30", {line({-10, -2, 16}, {50, -2, 16})});
+  expect_volume(c, 480.0, 0.05);
+}
+
+TEST(RemovedVolume, Ramp) {
+  // Flat D = 10 ramping from the top at x = 0 to 4 mm deep at x = 40, centred at y = 15. At
+  // (x, y) the depth is 0.1·min(x + w, 40), w = √(25 - (y - 15)²); integrating over the block,
+  // V = ∫ (80 + 4w - w²/20) dy = 800 + 4·(25π/2) - 500/3/20.
+  const Cut c = cut("flat:10,30", {line({0, 15, 20}, {40, 15, 16})});
+  const double exact = 800.0 + 50.0 * kPi - 500.0 / 60.0;
+  // Boundary: floor ~ 400, sides 2 × 80, front half-cylinder π·5·4: about 625 mm².
+  expect_volume(c, exact, kSpacing * 625.0);
+  // Each Z ray carries the depth at its (x, y).
+  expect_family_between(c, 2, [](double x, double y) {
+    const double dy = y - 15.0;
+    if (std::abs(dy) > 5.0) return std::pair{0.0, 0.0};
+    const double depth = 0.1 * std::min(x + std::sqrt(25.0 - dy * dy), 40.0);
+    return std::pair{depth, depth};
+  });
+}
+
+TEST(RemovedVolume, Plunge) {
+  // A flat end mill plunging 5 mm: the cylinder π·5²·5.
+  const Cut c = cut("flat:10,30", {line({20.03, 15.02, 25}, {20.03, 15.02, 15})});
+  expect_volume(c, kPi * 25.0 * 5.0, kSpacing * (2 * kPi * 5.0 * 5.0 + kPi * 25.0));
+  expect_family_between(c, 2, [](double x, double y) {
+    return in_annulus(x, y, {20.03, 15.02}, -1.0, 5.0, 5.0, 1e-9);
+  });
+}
+
+TEST(RemovedVolume, CircularPocket) {
+  // A full circle of radius 10 at 3 mm depth: the annulus π(15² - 5²) × 3. Arcs are cut into
+  // linear pieces within s/10, which adds at most that times the wall area.
+  const Cut c = cut("flat:10,30", {circle({30, 15, 17}, {20, 15, 17}, 1.0, 0.0)});
+  const double area = kPi * 200.0 * 3.0 + 2 * kPi * 20.0 * 3.0 + kPi * 200.0;
+  expect_volume(c, kPi * 200.0 * 3.0, kSpacing * area);
+  expect_family_between(c, 2, [](double x, double y) {
+    return in_annulus(x, y, {20, 15}, 5.0, 15.0, 3.0, kSpacing / 10.0);
+  });
+  EXPECT_GT(c.summary.linear_pieces, 50);
+  EXPECT_DOUBLE_EQ(c.summary.deviation_bound, kSpacing / 10.0);
+}
+
+TEST(RemovedVolume, HelicalBore) {
+  // Three turns of radius 3 from the top down to 3 mm, then a full circle at the bottom: a bore
+  // of radius 8, π·8²·3.
+  const Cut c = cut("flat:10,30", {circle({23, 15, 20}, {20, 15, 20}, 3.0, -3.0),
+                                   circle({23, 15, 17}, {20, 15, 17}, 1.0, 0.0)});
+  expect_volume(c, kPi * 64.0 * 3.0, kSpacing * (kPi * 64.0 + 2 * kPi * 8.0 * 3.0));
+  expect_family_between(c, 2, [](double x, double y) {
+    return in_annulus(x, y, {20, 15}, -1.0, 8.0, 3.0, kSpacing / 10.0);
+  });
+}
+
+TEST(RemovedVolume, BullNoseSlot) {
+  // Bull nose D = 10, r = 2, 3 mm deep along x: cross-section ∫₀³ 2ρ(z) dz with ρ = 3 + √(4 -
+  // (2 - z)²) below z = 2 and 5 above: 2(6 + π) + 10.
+  const Cut c = cut("bull:10,2,30", {line({-10, 15.01, 17}, {50, 15.01, 17})});
+  const double section = 2.0 * (6.0 + kPi) + 10.0;
+  expect_volume(c, section * 40.0, kSpacing * (40.0 * 12.0 + 2 * section));
+  // X rays run along the slot: each inside the section carries all 40 mm.
+  expect_family_between(c, 0, [](double y, double z) {
+    const double h = z - 17.0, dy = std::abs(y - 15.01);
+    if (h < 0.0 || z > 20.0) return std::pair{0.0, 0.0};
+    const double rho = h >= 2.0 ? 5.0 : 3.0 + std::sqrt(4.0 - (2.0 - h) * (2.0 - h));
+    return std::pair{dy <= rho ? 40.0 : 0.0, dy <= rho ? 40.0 : 0.0};
+  });
+}
+
+TEST(RemovedVolume, TiltedThreePlusTwoSlot) {
+  // A flat end mill tilted 30° about x, moved along x: its silhouette in the y-z plane (a
+  // 10 × 30 rectangle turned by 30°) swept along x. The part below the top, clipped exactly as
+  // a polygon, times the length.
+  const double theta = kPi / 6.0;
+  const Vec3 axis(0, std::sin(theta), std::cos(theta));
+  const Vec2 tip(15.0, 17.0), along(axis.y(), axis.z()), across(axis.z(), -axis.y());
+  std::vector<Vec2> polygon = {tip - 5.0 * across, tip + 5.0 * across,
+                               tip + 5.0 * across + 30.0 * along,
+                               tip - 5.0 * across + 30.0 * along};
+  // Clip to z ≤ 20 (Sutherland–Hodgman against one half-plane).
+  std::vector<Vec2> clipped;
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const Vec2& p = polygon[i];
+    const Vec2& q = polygon[(i + 1) % polygon.size()];
+    if (p.y() <= 20.0) clipped.push_back(p);
+    if ((p.y() < 20.0) != (q.y() < 20.0)) {
+      clipped.push_back(p + (q - p) * ((20.0 - p.y()) / (q.y() - p.y())));
+    }
+  }
+  double area = 0.0;
+  for (std::size_t i = 0; i < clipped.size(); ++i) {
+    const Vec2& p = clipped[i];
+    const Vec2& q = clipped[(i + 1) % clipped.size()];
+    area += 0.5 * (p.x() * q.y() - q.x() * p.y());
+  }
+  const Cut c = cut("flat:10,30", {line({-10, tip.x(), tip.y()}, {50, tip.x(), tip.y()}, axis)});
+  expect_volume(c, std::abs(area) * 40.0, kSpacing * (40.0 * 20.0 + 2 * std::abs(area)));
+  EXPECT_EQ(c.summary.deviation_bound, 0.0);  // 3+2 linear moves are exact
+  expect_family_between(c, 0, [&](double y, double z) {
+    const Vec2 d = Vec2(y, z) - tip;
+    const double s = d.dot(along), t = d.dot(across);
+    const bool in = z <= 20.0 && s >= 0.0 && s <= 30.0 && std::abs(t) <= 5.0;
+    return std::pair{in ? 40.0 : 0.0, in ? 40.0 : 0.0};
+  });
+}
+
+TEST(Simulation, RapidsThatCutAreReported) {
+  Move rapid = line({-10, 15, 18}, {50, 15, 18});
+  rapid.mode = MotionMode::kRapid;
+  rapid.line = 7;
+  Move retract = line({50, 15, 18}, {50, 15, 40});  // through the air: not a cut
+  retract.mode = MotionMode::kRapid;
+  const Cut c = cut("flat:10,30", {rapid, retract});
+  ASSERT_EQ(c.summary.rapid_cuts.size(), 1u);
+  EXPECT_EQ(c.summary.rapid_cuts[0].move, 0);
+  EXPECT_EQ(c.summary.rapid_cuts[0].location.line, 7);
+  EXPECT_NEAR(c.summary.rapid_cuts[0].volume, 10.0 * 2.0 * 40.0, 0.05);
+  EXPECT_EQ(c.summary.rapid_moves, 2);
+  EXPECT_EQ(c.summary.cutting_moves, 1);
+}
+
+// Retracing a cut removes nothing more (float rounding of ray ends is not a cut).
+TEST(Simulation, RetracingACutRemovesNothing) {
+  const Cut c =
+      cut("ball:10,30", {line({-10, 15, 16}, {50, 15, 16}), line({50, 15, 16}, {-10, 15, 16}),
+                         line({-10, 15, 16}, {-10, 15, 40})});
+  EXPECT_EQ(c.summary.cutting_moves, 1);
+  EXPECT_LT(c.summary.removed_by_move[1], std::pow(kSpacing, 3));
+}
+
+// The same job with one thread and with several gives bit-identical rays.
+// Twelve random lines (every third one tilted) and a helical arc through kBlock.
+std::vector<Move> random_job() {
+  test::Random random(81);
+  std::vector<Move> moves;
+  Vec3 at(5, 5, 18);
+  for (int k = 0; k < 12; ++k) {
+    const Vec3 to(random.uniform(0, 40), random.uniform(0, 30), random.uniform(12, 21));
+    const Vec3 axis =
+        k % 3 == 0 ? Vec3(random.uniform(-0.3, 0.3), random.uniform(-0.3, 0.3), 1) : Vec3::UnitZ();
+    moves.push_back(line(at, to, axis));
+    at = to;
+  }
+  moves.push_back(circle(at, at + Vec3(4, 0, 0), 1.25, -2.0));
+  return moves;
+}
+
+void cut_random_job(TriDexel& stock) {
+  Toolpath path;
+  path.moves = random_job();
+  const Cutter cutter = cutter_from_spec("bull:8,1.5,25");
+  SimulationOptions options;
+  options.resolution = stock.spacing();
+  remove_toolpath(stock, cutter, path, options);
+}
+
+void expect_identical(const TriDexel& one, const TriDexel& other) {
+  ASSERT_EQ(one.ray_count(), other.ray_count());
+  for (int a = 0; a < 3; ++a) {
+    ASSERT_EQ(one.grid(a), other.grid(a));
+    for (int j = 0; j < one.grid(a)[1]; ++j) {
+      for (int i = 0; i < one.grid(a)[0]; ++i) {
+        const auto x = one.at(a, i, j).intervals(), y = other.at(a, i, j).intervals();
+        ASSERT_EQ(x.size(), y.size());
+        for (std::size_t k = 0; k < x.size(); ++k) {
+          ASSERT_EQ(x[k].lo, y[k].lo);  // bit for bit
+          ASSERT_EQ(x[k].hi, y[k].hi);
+        }
+      }
+    }
+  }
+}
+
+TEST(Simulation, IdenticalForAnyThreadCount) {
+  const auto run = [&](int threads) {
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                                    static_cast<std::size_t>(threads));
+    TriDexel stock = TriDexel::from_box(kBlock, 0.25);
+    cut_random_job(stock);
+    return stock;
+  };
+  const TriDexel one = run(1), four = run(4);
+  expect_identical(one, four);
+  EXPECT_LT(one.volume().mean(), 0.99 * 24000.0);  // the job did cut
+}
+
+TEST(Simulation, StlStockOfABoxEqualsTheBoxStock) {
+  std::vector<Vec3> corners;
+  for (int k = 0; k < 8; ++k) {
+    corners.emplace_back(k & 1 ? kBlock.max.x() : kBlock.min.x(),
+                         k & 2 ? kBlock.max.y() : kBlock.min.y(),
+                         k & 4 ? kBlock.max.z() : kBlock.min.z());
+  }
+  const auto file = std::filesystem::temp_directory_path() /
+                    ("cwe-simulation-box-" + std::to_string(::getpid()) + ".stl");
+  write_file_atomically(file, stl_binary(convex_hull(corners), "box stock"));
+  SimulationOptions options;
+  options.resolution = 0.25;
+  TriDexel from_file = make_stock(parse_stock_spec(file.string(), {"--stock"}), options);
+  std::filesystem::remove(file);
+  TriDexel box = make_stock(parse_stock_spec("box:0,0,0,40,30,20", {"--stock"}), options);
+  expect_identical(from_file, box);
+  cut_random_job(from_file);
+  cut_random_job(box);
+  expect_identical(from_file, box);
+}
+
+TEST(StockSpec, ParsesBoxesAndNamesErrors) {
+  const StockSpec box = parse_stock_spec("box:0,0,-30,100,60,0", SourceLocation{"--stock"});
+  EXPECT_TRUE(box.is_box);
+  EXPECT_EQ(box.box.min, Vec3(0, 0, -30));
+  EXPECT_EQ(box.box.max, Vec3(100, 60, 0));
+  const StockSpec file = parse_stock_spec("part.stl", SourceLocation{"--stock"});
+  EXPECT_FALSE(file.is_box);
+  EXPECT_EQ(file.path, "part.stl");
+  for (const char* bad : {"box:0,0,0,1,1", "box:0,0,0,1,1,x", "box:0,0,0,1,0,1", "box:", ""}) {
+    EXPECT_THROW(parse_stock_spec(bad, SourceLocation{"--stock"}), InputError) << bad;
+  }
+}
+
+}  // namespace
+}  // namespace cwe
