@@ -111,8 +111,12 @@ TEST(ConvexParts, ANonConvexToolIsCutIntoSlabs) {
       in_parts = in_parts || part.cutter->contains(p - part.offset * Vec3::UnitZ());
     }
     const double d = test::signed_distance(tool, p);
-    if (d < 0.0) ASSERT_TRUE(in_parts) << p.transpose();
-    if (d > parts.deviation() + 1e-12) ASSERT_FALSE(in_parts) << p.transpose();
+    if (d < 0.0) {
+      ASSERT_TRUE(in_parts) << p.transpose();
+    }
+    if (d > parts.deviation() + 1e-12) {
+      ASSERT_FALSE(in_parts) << p.transpose();
+    }
   }
 }
 

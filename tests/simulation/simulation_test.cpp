@@ -14,6 +14,7 @@
 #include "cwe/io/atomic_file.hpp"
 #include "cwe/io/mesh_io.hpp"
 #include "cwe/tool/tool_spec.hpp"
+#include "envelope/sweep_oracle.hpp"
 #include "random.hpp"
 
 namespace cwe {
@@ -318,6 +319,96 @@ TEST(Simulation, StlStockOfABoxEqualsTheBoxStock) {
   cut_random_job(from_file);
   cut_random_job(box);
   expect_identical(from_file, box);
+}
+
+// Every checked ray against the brute-force oracle: points along the ray are material exactly
+// when they lie in the block and outside the union of the true tool positions of every move
+// (test::union_side, sampling the motion as densely as each point needs), except within the
+// subdivision tolerance of a sweep's boundary. Moves of every kind: 3-axis lines, a plunge, a
+// tilted 3+2 line, a simultaneous 5-axis line, an arc and a helix. Also the invariants: intervals
+// sorted and disjoint, and no material outside the original block.
+TEST(Simulation, RaysAgreeWithDenseToolPositions) {
+  const Aabb block{{0, 0, 0}, {30, 24, 16}};
+  const double s = 0.4;
+  const Cutter cutter = cutter_from_spec("bull:6,1.5,20");
+  const std::vector<Move> moves{
+      line({-4, 6, 13}, {34, 8, 11}),                       // slot descending gently
+      line({15, 12, 20}, {15, 12, 9}),                      // plunge
+      line({2, 18, 12}, {26, 20, 14}, Vec3(0.3, -0.2, 1)),  // tilted 3+2, climbing
+      [] {                                                  // simultaneous 5-axis
+        Move m = line({5, 3, 10}, {25, 16, 12});
+        m.start_axis = Vec3(-0.3, 0, 1).normalized();
+        m.end_axis = Vec3(0.2, 0.3, 1).normalized();
+        return m;
+      }(),
+      circle({22, 12, 10}, {15, 12, 10}, 0.4, 0.0),  // arc
+      circle({12, 12, 9}, {15, 12, 9}, 1.5, -3.0),   // helix downwards
+  };
+  TriDexel stock = TriDexel::from_box(block, s);
+  Toolpath path;
+  path.sources = {"test"};
+  path.moves = moves;
+  SimulationOptions options;
+  options.resolution = s;
+  options.tolerance = 0.02;
+  const RemovalSummary summary = remove_toolpath(stock, cutter, path, options);
+  EXPECT_EQ(summary.cutting_moves, 6);
+
+  const BoundingCylinder cylinder = cutter.bounding_cylinder();
+  const double reach = std::hypot(cylinder.radius, cylinder.z_max);
+  // Subdivision puts the removed sweep within the tolerance of the true one; 1e-4 more covers
+  // float ray ends and the oracle's own rounding.
+  const double band = options.tolerance + 1e-4;
+  std::vector<Aabb> near;  // where a move's sweep and its band can be
+  for (const Move& m : moves) {
+    Aabb box;
+    for (int k = 0; k <= 50; ++k) box.extend(m.position(k / 50.0));
+    box.inflate(reach + band + m.length() / 50);
+    near.push_back(box);
+  }
+  // -1: surely removed, +1: surely material, 0: within the band of some sweep's boundary.
+  const auto oracle = [&](const Vec3& p) {
+    int verdict = 1;
+    for (std::size_t k = 0; k < moves.size(); ++k) {
+      if (!near[k].contains(p)) continue;
+      const int side = test::union_side(cutter, moves[k], p, band, reach);
+      if (side < 0) return -1;
+      verdict = std::min(verdict, side);
+    }
+    return verdict;
+  };
+
+  test::Random random(404);
+  int agreed_removed = 0, agreed_material = 0;
+  for (int a = 0; a < 3; ++a) {
+    for (int j = 0; j < stock.grid(a)[1]; ++j) {
+      for (int i = 0; i < stock.grid(a)[0]; ++i) {
+        const DexelRay& ray = stock.at(a, i, j);
+        const auto intervals = ray.intervals();
+        const double lo = block.min[a] - stock.domain().min[a];
+        const double hi = block.max[a] - stock.domain().min[a];
+        for (std::size_t k = 0; k < intervals.size(); ++k) {
+          ASSERT_LT(intervals[k].lo, intervals[k].hi);
+          if (k > 0) {
+            ASSERT_LT(intervals[k - 1].hi, intervals[k].lo);
+          }
+          ASSERT_GE(intervals[k].lo, lo - 1e-5);
+          ASSERT_LE(intervals[k].hi, hi + 1e-5);
+        }
+        if (random.integer(0, 19) != 0) continue;  // the oracle on one ray in twenty
+        const Ray r = stock.ray(a, i, j);
+        for (double t = lo + 0.0371; t < hi; t += 0.13) {
+          const int expected = oracle(r.at(t));
+          if (expected == 0) continue;
+          ASSERT_EQ(ray.contains(t), expected > 0)
+              << "family " << a << " ray " << i << ", " << j << " at " << r.at(t).transpose();
+          (expected > 0 ? agreed_material : agreed_removed) += 1;
+        }
+      }
+    }
+  }
+  EXPECT_GT(agreed_removed, 2000);
+  EXPECT_GT(agreed_material, 2000);
 }
 
 TEST(StockSpec, ParsesBoxesAndNamesErrors) {
