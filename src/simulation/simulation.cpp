@@ -65,35 +65,55 @@ RemovalSummary remove_toolpath(TriDexel& stock, const Cutter& cutter, const Tool
   RemovalSummary summary;
   const ConvexParts parts(cutter, options.effective_tolerance());
   const std::size_t total = path.moves.size();
-  for (std::size_t i = 0; i < total; ++i) {
-    const Move& move = path.moves[i];
-    ++summary.moves;
-    ++(move.is_rapid() ? summary.rapid_moves : summary.feed_moves);
-    const MoveSweep sweep(parts, move);
-    summary.linear_pieces += static_cast<int>(sweep.pieces().size());
-    summary.deviation_bound = std::max(summary.deviation_bound, sweep.deviation_bound());
-    TriDexel::Removal removed;
-    for (const LinearSweep& piece : sweep.pieces()) {
-      const TriDexel::Removal r =
-          stock.remove(piece.bounds(), [&piece](const Ray& ray) { return piece.chord(ray); });
-      removed.rays += r.rays;
-      removed.volume += r.volume;
+  // Float rounding of ray ends can shave slivers off rays a move only touches; a move cuts when
+  // it removes at least one cell's worth, s³.
+  const double cell = std::pow(stock.spacing(), 3);
+  // Moves are removed in batches of about kBatchPieces linear pieces (TriDexel::remove with
+  // several cuts: the same result as one by one, in one parallel pass).
+  constexpr std::size_t kBatchPieces = 64;
+  std::vector<MoveSweep> sweeps;
+  std::vector<TriDexel::Cut> cuts;
+  std::vector<std::size_t> owner;  // batch move of each cut
+  for (std::size_t first = 0; first < total;) {
+    sweeps.clear();
+    std::size_t pieces = 0;
+    for (std::size_t i = first; i < total && pieces < kBatchPieces; ++i) {
+      sweeps.emplace_back(parts, path.moves[i]);
+      pieces += sweeps.back().pieces().size();
     }
-    summary.removed_by_move.push_back(removed.volume);
-    // Float rounding of ray ends can shave slivers off rays a move only touches; a move cuts when
-    // it removes at least one cell's worth, s³.
-    const double cell = std::pow(stock.spacing(), 3);
-    const bool cuts = removed.volume >= cell;
-    if (cuts) ++summary.cutting_moves;
-    if (cuts && move.is_rapid()) {
-      const std::string file =
-          move.source >= 0 && static_cast<std::size_t>(move.source) < path.sources.size()
-              ? path.sources[static_cast<std::size_t>(move.source)]
-              : std::string();
-      summary.rapid_cuts.push_back(
-          {static_cast<int>(i), SourceLocation{file, move.line}, removed.volume});
+    cuts.clear();
+    owner.clear();
+    for (std::size_t m = 0; m < sweeps.size(); ++m) {
+      for (const LinearSweep& piece : sweeps[m].pieces()) {
+        cuts.push_back({piece.bounds(), [&piece](const Ray& ray) { return piece.chord(ray); }});
+        owner.push_back(m);
+      }
     }
-    if (progress) progress(i + 1, total);
+    const std::vector<TriDexel::Removal> removed = stock.remove(cuts);
+    std::vector<double> volume(sweeps.size(), 0.0);
+    for (std::size_t k = 0; k < cuts.size(); ++k) volume[owner[k]] += removed[k].volume;
+
+    for (std::size_t m = 0; m < sweeps.size(); ++m) {
+      const std::size_t i = first + m;
+      const Move& move = path.moves[i];
+      ++summary.moves;
+      ++(move.is_rapid() ? summary.rapid_moves : summary.feed_moves);
+      summary.linear_pieces += static_cast<int>(sweeps[m].pieces().size());
+      summary.deviation_bound = std::max(summary.deviation_bound, sweeps[m].deviation_bound());
+      summary.removed_by_move.push_back(volume[m]);
+      const bool cuts_material = volume[m] >= cell;
+      if (cuts_material) ++summary.cutting_moves;
+      if (cuts_material && move.is_rapid()) {
+        const std::string file =
+            move.source >= 0 && static_cast<std::size_t>(move.source) < path.sources.size()
+                ? path.sources[static_cast<std::size_t>(move.source)]
+                : std::string();
+        summary.rapid_cuts.push_back(
+            {static_cast<int>(i), SourceLocation{file, move.line}, volume[m]});
+      }
+    }
+    first += sweeps.size();
+    if (progress) progress(first, total);
   }
   return summary;
 }

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "cwe/core/error.hpp"
 #include "cwe/envelope/linear_sweep.hpp"
@@ -100,6 +101,46 @@ TEST(TriDexel, RemovalNeverAddsMaterial) {
   EXPECT_EQ(m.heap_bytes, d.count_heap_bytes());
   EXPECT_GE(m.peak_heap_bytes, m.heap_bytes);
   EXPECT_GT(m.peak_heap_bytes, 0u);
+}
+
+// Removing several solids in one call is removing them one after the other: the same rays, bit
+// for bit, and the same per-solid removals (each solid's tallies summed in the same tile order).
+TEST(TriDexel, BatchedRemovalEqualsOneByOne) {
+  test::Random random(53);
+  const Cutter bull = cutter_from_spec("bull:4,1,12");
+  std::vector<LinearSweep> sweeps;
+  Vec3 at(2, 2, 5);
+  for (int k = 0; k < 30; ++k) {
+    const Vec3 to(random.uniform(-2, 42), random.uniform(-2, 42), random.uniform(3, 9));
+    sweeps.emplace_back(bull, at, to, Vec3::UnitZ());
+    at = to;
+  }
+  TriDexel one = TriDexel::from_box(Aabb{{0, 0, 0}, {40, 40, 8}}, 0.3);
+  TriDexel batch = one;
+  std::vector<TriDexel::Removal> singles;
+  std::vector<TriDexel::Cut> cuts;
+  for (const LinearSweep& sweep : sweeps) {
+    const auto chord = [&sweep](const Ray& ray) { return sweep.chord(ray); };
+    singles.push_back(one.remove(sweep.bounds(), chord));
+    cuts.push_back({sweep.bounds(), chord});
+  }
+  const std::vector<TriDexel::Removal> batched = batch.remove(cuts);
+  ASSERT_EQ(batched.size(), singles.size());
+  int cutting = 0;
+  for (std::size_t k = 0; k < singles.size(); ++k) {
+    EXPECT_EQ(batched[k].rays, singles[k].rays) << k;
+    EXPECT_EQ(batched[k].volume, singles[k].volume) << k;
+    cutting += singles[k].volume > 0.0 ? 1 : 0;
+  }
+  EXPECT_GT(cutting, 20);
+  for (int a = 0; a < 3; ++a) {
+    for (int j = 0; j < one.grid(a)[1]; ++j) {
+      for (int i = 0; i < one.grid(a)[0]; ++i) {
+        ASSERT_EQ(one.at(a, i, j).intervals(), batch.at(a, i, j).intervals());
+      }
+    }
+  }
+  EXPECT_EQ(batch.memory().heap_bytes, batch.count_heap_bytes());
 }
 
 }  // namespace

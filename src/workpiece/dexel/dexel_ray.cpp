@@ -10,20 +10,10 @@
 namespace cwe {
 namespace {
 
-// Bits of slot_[0] that mark heap storage (a quiet-NaN pattern, compared only as an integer).
-constexpr std::uint32_t kHeapTag = 0x7FC0DE5Au;
 constexpr float kEmptyLo = std::numeric_limits<float>::infinity();
 constexpr float kEmptyHi = -std::numeric_limits<float>::infinity();
 
-std::uint32_t bits(float f) {
-  std::uint32_t b = 0;
-  std::memcpy(&b, &f, sizeof b);
-  return b;
-}
-
 }  // namespace
-
-bool DexelRay::on_heap() const { return bits(slot_[0]) == kHeapTag; }
 
 int DexelRay::count() const {
   if (on_heap()) {
@@ -52,10 +42,9 @@ Interval DexelRay::extent() const {
   return second ? Interval{slot_[2], slot_[3]} : Interval::empty();
 }
 
-bool DexelRay::overlaps(double lo, double hi) const {
+bool DexelRay::heap_overlaps(double lo, double hi) const {
   const float* pairs = data();
   const int n = count();
-  if (!on_heap() && !(slot_[0] <= slot_[1])) pairs = slot_ + 2;
   for (int k = 0; k < n; ++k) {
     if (pairs[2 * k] < hi && pairs[2 * k + 1] > lo) return true;
   }
@@ -218,10 +207,6 @@ double DexelRay::subtract(double lo, double hi) {
   store(kept, count);
   // A cut that changed the ray by less than float rounding still counts as a change.
   return std::max(removed, std::numeric_limits<double>::min());
-}
-
-std::size_t DexelRay::heap_bytes() const {
-  return on_heap() ? static_cast<std::size_t>(count()) * 2 * sizeof(float) : 0;
 }
 
 }  // namespace cwe

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <utility>
 
 #include <fmt/format.h>
-#include <tbb/blocked_range2d.h>
-#include <tbb/parallel_reduce.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "cwe/core/assert.hpp"
 #include "cwe/core/error.hpp"
@@ -97,58 +99,100 @@ std::array<int, 2> TriDexel::index_range(int axis, int cross, double lo, double 
 }
 
 TriDexel::Removal TriDexel::remove(const Aabb& bounds, const ChordFunction& chord) {
-  Removal removal;
-  if (bounds.is_empty() || !bounds.intersects(domain_)) return removal;
-  double length = 0.0;
+  return remove(std::vector<Cut>{{bounds, chord}}).front();
+}
+
+std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts) {
+  std::vector<Removal> removals(cuts.size());
+  std::vector<double> lengths(cuts.size(), 0.0);
+  // What one tile did for one cut.
+  struct Tally {
+    std::size_t changed = 0;
+    double length = 0.0;      // material length removed
+    std::ptrdiff_t heap = 0;  // change of heap bytes
+  };
   for (int a = 0; a < 3; ++a) {
     const int b = cross_b(a), c = cross_c(a);
-    const auto is = index_range(a, b, bounds.min[b], bounds.max[b]);
-    const auto js = index_range(a, c, bounds.min[c], bounds.max[c]);
-    if (is[0] > is[1] || js[0] > js[1]) continue;
-    // The solid's extent along the rays, in ray coordinates: a ray with no material inside it
-    // cannot change (touching at an end removes only a point of a closed interval).
-    const double low = bounds.min[a] - domain_.min[a], high = bounds.max[a] - domain_.min[a];
-    auto& family = rays_[static_cast<std::size_t>(a)];
-    // Tiles of kTile × kTile rays are the unit of parallel work. Each ray belongs to one tile
-    // and its result does not depend on any other ray, so the outcome is the same for any
-    // number of threads or order of tiles.
-    struct Tally {
-      std::size_t changed = 0;
-      double length = 0.0;      // material length removed
-      std::ptrdiff_t heap = 0;  // change of heap bytes
+    // Each cut's rays (index ranges) and its extent along them, in ray coordinates: a ray with no
+    // material inside it cannot change (touching at an end removes only a point).
+    struct Reach {
+      std::array<int, 2> is{0, -1}, js{0, -1};
+      double low = 0.0, high = 0.0;
     };
-    const Tally tally = tbb::parallel_reduce(
-        tbb::blocked_range2d<int>(js[0], js[1] + 1, kTile, is[0], is[1] + 1, kTile), Tally{},
-        [&](const tbb::blocked_range2d<int>& tile, Tally sum) {
-          for (int j = tile.rows().begin(); j < tile.rows().end(); ++j) {
-            for (int i = tile.cols().begin(); i < tile.cols().end(); ++i) {
-              DexelRay& material = family[index(a, i, j)];
-              if (!material.overlaps(low, high)) continue;
-              const Interval cut = chord(ray(a, i, j));
-              if (cut.is_empty()) continue;
-              const auto before = static_cast<std::ptrdiff_t>(material.heap_bytes());
-              const double removed = material.subtract(cut.lo, cut.hi);
-              if (removed == 0.0) continue;
-              ++sum.changed;
-              sum.length += removed;
-              sum.heap += static_cast<std::ptrdiff_t>(material.heap_bytes()) - before;
+    std::vector<Reach> reach(cuts.size());
+    std::array<int, 2> all_is{std::numeric_limits<int>::max(), -1}, all_js = all_is;
+    for (std::size_t k = 0; k < cuts.size(); ++k) {
+      const Aabb& box = cuts[k].bounds;
+      if (box.is_empty() || !box.intersects(domain_)) continue;
+      Reach& r = reach[k];
+      r.is = index_range(a, b, box.min[b], box.max[b]);
+      r.js = index_range(a, c, box.min[c], box.max[c]);
+      if (r.is[0] > r.is[1] || r.js[0] > r.js[1]) continue;
+      r.low = box.min[a] - domain_.min[a];
+      r.high = box.max[a] - domain_.min[a];
+      all_is = {std::min(all_is[0], r.is[0]), std::max(all_is[1], r.is[1])};
+      all_js = {std::min(all_js[0], r.js[0]), std::max(all_js[1], r.js[1])};
+    }
+    if (all_is[0] > all_is[1]) continue;
+    // Tiles of kTile × kTile rays, on a grid fixed to the family, are the unit of parallel work:
+    // a tile applies every cut that reaches it, in order, to its rays. Each ray belongs to one
+    // tile and its result depends on no other ray, and the tallies are summed in tile order, so
+    // the outcome is the same for any number of threads.
+    const int ti0 = all_is[0] / kTile, tj0 = all_js[0] / kTile;
+    const int nti = all_is[1] / kTile - ti0 + 1, ntj = all_js[1] / kTile - tj0 + 1;
+    std::vector<std::vector<std::pair<std::size_t, Tally>>> tallies(static_cast<std::size_t>(nti) *
+                                                                    static_cast<std::size_t>(ntj));
+    auto& family = rays_[static_cast<std::size_t>(a)];
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, tallies.size(), 1),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+          for (std::size_t t = range.begin(); t < range.end(); ++t) {
+            const int ti = ti0 + static_cast<int>(t % static_cast<std::size_t>(nti));
+            const int tj = tj0 + static_cast<int>(t / static_cast<std::size_t>(nti));
+            for (std::size_t k = 0; k < cuts.size(); ++k) {
+              const Reach& r = reach[k];
+              const int i0 = std::max(r.is[0], ti * kTile),
+                        i1 = std::min(r.is[1], ti * kTile + kTile - 1);
+              const int j0 = std::max(r.js[0], tj * kTile),
+                        j1 = std::min(r.js[1], tj * kTile + kTile - 1);
+              if (i0 > i1 || j0 > j1) continue;
+              Tally sum;
+              for (int j = j0; j <= j1; ++j) {
+                DexelRay* row = &family[index(a, 0, j)];
+                // The ray's origin as ray(a, i, j) makes it, without the index checks.
+                Vec3 origin = domain_.min;
+                origin[c] += (j + 0.5) * spacing_;
+                for (int i = i0; i <= i1; ++i) {
+                  DexelRay& material = row[i];
+                  if (!material.overlaps(r.low, r.high)) continue;
+                  origin[b] = domain_.min[b] + (i + 0.5) * spacing_;
+                  const Interval cut = cuts[k].chord(Ray{origin, Vec3::Unit(a)});
+                  if (cut.is_empty()) continue;
+                  const auto before = static_cast<std::ptrdiff_t>(material.heap_bytes());
+                  const double removed = material.subtract(cut.lo, cut.hi);
+                  if (removed == 0.0) continue;
+                  ++sum.changed;
+                  sum.length += removed;
+                  sum.heap += static_cast<std::ptrdiff_t>(material.heap_bytes()) - before;
+                }
+              }
+              if (sum.changed > 0) tallies[t].emplace_back(k, sum);
             }
           }
-          return sum;
-        },
-        [](Tally x, const Tally& y) {
-          x.changed += y.changed;
-          x.length += y.length;
-          x.heap += y.heap;
-          return x;
         });
-    removal.rays += tally.changed;
-    length += tally.length;
-    heap_bytes_ = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(heap_bytes_) + tally.heap);
+    for (const auto& tile : tallies) {
+      for (const auto& [k, sum] : tile) {
+        removals[k].rays += sum.changed;
+        lengths[k] += sum.length;
+        heap_bytes_ = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(heap_bytes_) + sum.heap);
+      }
+    }
   }
   peak_heap_bytes_ = std::max(peak_heap_bytes_, heap_bytes_);
-  removal.volume = length * spacing_ * spacing_ / 3.0;
-  return removal;
+  for (std::size_t k = 0; k < cuts.size(); ++k) {
+    removals[k].volume = lengths[k] * spacing_ * spacing_ / 3.0;
+  }
+  return removals;
 }
 
 double TriDexel::Volume::spread() const {

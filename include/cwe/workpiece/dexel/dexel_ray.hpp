@@ -8,6 +8,7 @@
 // pattern that is never read as a float.
 
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "cwe/geometry/interval.hpp"
@@ -34,8 +35,12 @@ class alignas(8) DexelRay {
   double length() const;  // total material length
   // From the first interval's lower end to the last one's upper end (empty if no material).
   Interval extent() const;
-  // Material in the open interval (lo, hi)?
-  bool overlaps(double lo, double hi) const;
+  // Material in the open interval (lo, hi)? Inline: removal asks it of every ray it reaches.
+  bool overlaps(double lo, double hi) const {
+    if (on_heap()) return heap_overlaps(lo, hi);
+    // An empty slot holds (+inf, -inf) and never overlaps.
+    return (slot_[0] < hi && slot_[1] > lo) || (slot_[2] < hi && slot_[3] > lo);
+  }
 
   // Material at coordinate t (closed intervals).
   bool contains(double t) const;
@@ -48,10 +53,19 @@ class alignas(8) DexelRay {
   void clear();
 
   // Heap bytes owned by this ray (0 for up to two intervals).
-  std::size_t heap_bytes() const;
+  std::size_t heap_bytes() const {
+    return on_heap() ? static_cast<std::size_t>(count()) * 2 * sizeof(float) : 0;
+  }
 
  private:
-  bool on_heap() const;
+  // Bits of slot_[0] that mark heap storage (a quiet-NaN pattern, compared only as an integer).
+  static constexpr std::uint32_t kHeapTag = 0x7FC0DE5Au;
+  bool on_heap() const {
+    std::uint32_t b = 0;
+    std::memcpy(&b, &slot_[0], sizeof b);
+    return b == kHeapTag;
+  }
+  bool heap_overlaps(double lo, double hi) const;
   const float* data() const;
   float* heap();  // the heap array (on_heap() only)
   void release();

@@ -71,6 +71,15 @@ class TriDexel {
     double volume = 0.0;  // mm³
   };
   Removal remove(const Aabb& bounds, const ChordFunction& chord);
+  // Several solids removed one after the other, as by one remove() each, with one parallel pass:
+  // each tile applies, in order, every cut that reaches it, so its rays stay in cache across the
+  // cuts and there is one fork and join per family instead of one per cut. Returns each cut's
+  // removal (what it took that the earlier cuts had not). The memory peak is sampled at the end.
+  struct Cut {
+    Aabb bounds;
+    ChordFunction chord;
+  };
+  std::vector<Removal> remove(const std::vector<Cut>& cuts);
 
   // Material volume as each family measures it (Σ lengths × s²), mm³.
   struct Volume {
