@@ -390,6 +390,41 @@ IntervalPair intersect(const Ray& ray, const Torus& torus) {
   const Vec3 radial0 = p - pz * axis;
   const Vec3 radial_rate = u - uz * axis;
   const double major_squared = major * major;
+  // Rays along the axis or square to it (every axis-aligned dexel ray of a tool standing along a
+  // world axis) meet the tube in closed form: a vertical line at constant ρ, or a line in a
+  // plane z = const across the annulus R ± √(r² - z²).
+  // A tangency (a zero under the root) is kept as a touching point within the rounding of the
+  // coordinates, as the quartic path does.
+  constexpr double kAligned = 1e-14;
+  const double allowance = 4.0 * tol::kGeometricRounding * (major + minor) *
+                           (p.norm() + major + minor + ray.origin.norm() + torus.center.norm());
+  if (radial_rate.squaredNorm() <= kAligned * kAligned) {
+    const double rho = radial0.norm();
+    const double w2 = minor * minor - (rho - major) * (rho - major);
+    if (w2 < -allowance) return result;
+    const double w = w2 <= allowance ? 0.0 : std::sqrt(w2);
+    const double a = (-w - pz) / uz, b = (w - pz) / uz;
+    add(local.ray_interval({std::min(a, b), std::max(a, b)}));
+    return result;
+  }
+  if (std::abs(uz) <= kAligned) {
+    const double h2 = minor * minor - pz * pz;
+    if (h2 < -allowance) return result;
+    const double h = h2 <= allowance ? 0.0 : std::sqrt(h2);
+    // The line's closest point to the axis is the offset's radial part (u ⟂ axis, p ⟂ u).
+    const double d2 = radial0.squaredNorm();
+    const double outer = major + h, inner = major - h;
+    if (outer * outer < d2) return result;
+    const double a = std::sqrt(outer * outer - d2);
+    if (inner > 0.0 && inner * inner > d2) {
+      const double c = std::sqrt(inner * inner - d2);
+      add(local.ray_interval({-a, -c}));
+      add(local.ray_interval({c, a}));
+    } else {
+      add(local.ray_interval({-a, a}));
+    }
+    return result;
+  }
   const double e = p.squaredNorm() + major_squared - minor * minor;
   // (|P|² + R² - r²)² - 4R²|P_radial|² with |P|² = uu x² + 2βx + |p|² (Aras 2008 uses the same
   // implicit form, eq. 6.7).

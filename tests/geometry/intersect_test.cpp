@@ -734,3 +734,48 @@ TEST(IntersectTorus, RandomLinesInTheTopPlane) {
 
 }  // namespace
 }  // namespace cwe
+
+namespace cwe {
+namespace {
+
+// Rays along a torus's axis or square to it take the closed forms (a vertical line at constant ρ,
+// a line across the annulus of its plane): their chords agree with point membership.
+TEST(IntersectTorus, AxisAlignedRaysInClosedForm) {
+  test::Random rng(55);
+  int hits = 0, twos = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const Torus torus{rng.point_in_box(3.0), Vec3::UnitZ(), rng.uniform(0.5, 4.0),
+                      rng.uniform(0.2, 2.0)};
+    const double angle = rng.uniform(0.0, kTwoPi);
+    const Vec3 direction = trial % 3 == 0 ? Vec3(0, 0, trial % 2 ? 1.0 : -1.0)
+                                          : Vec3(std::cos(angle), std::sin(angle), 0.0);
+    const Vec3 origin =
+        torus.center + rng.point_in_box(torus.major_radius + torus.minor_radius) - 8.0 * direction;
+    const Ray ray{origin, direction};
+    const IntervalPair pair = intersect(ray, torus);
+    hits += pair.count > 0 ? 1 : 0;
+    twos += pair.count == 2 ? 1 : 0;
+    for (int k = 0; k <= 1600; ++k) {
+      const double t = k * 0.01;
+      bool in = false, near_end = false;
+      for (const Interval& i : pair) {
+        in = in || i.contains(t);
+        near_end = near_end || std::abs(t - i.lo) < 1e-9 || std::abs(t - i.hi) < 1e-9;
+      }
+      if (near_end) continue;
+      ASSERT_EQ(in, contains(torus, ray.at(t))) << describe(ray) << " t " << t;
+    }
+    for (const Interval& i : pair) {
+      for (const double t : {i.lo, i.hi}) {
+        const Vec3 q = ray.at(t) - torus.center;
+        const double rho = std::hypot(q.x(), q.y());
+        EXPECT_NEAR(std::hypot(rho - torus.major_radius, q.z()), torus.minor_radius, 1e-12);
+      }
+    }
+  }
+  EXPECT_GT(hits, 150);
+  EXPECT_GT(twos, 20);
+}
+
+}  // namespace
+}  // namespace cwe
