@@ -60,13 +60,49 @@ TriDexel make_stock(const StockSpec& spec, const SimulationOptions& options) {
   return TriDexel::from_mesh(read_stl(spec.path).mesh, options.resolution, spec.path);
 }
 
+namespace {
+
+// Counts a move and its removal into the summary.
+void record_move(RemovalSummary& summary, const Toolpath& path, std::size_t index, int pieces,
+                 double deviation, double volume, double cell) {
+  const Move& move = path.moves[index];
+  ++summary.moves;
+  ++(move.is_rapid() ? summary.rapid_moves : summary.feed_moves);
+  summary.linear_pieces += pieces;
+  summary.deviation_bound = std::max(summary.deviation_bound, deviation);
+  summary.removed_by_move.push_back(volume);
+  // Float rounding of ray ends can shave slivers off rays a move only touches; a move cuts when
+  // it removes at least one cell's worth, s³.
+  const bool cuts = volume >= cell;
+  if (cuts) ++summary.cutting_moves;
+  if (cuts && move.is_rapid()) {
+    const std::string file =
+        move.source >= 0 && static_cast<std::size_t>(move.source) < path.sources.size()
+            ? path.sources[static_cast<std::size_t>(move.source)]
+            : std::string();
+    summary.rapid_cuts.push_back(
+        {static_cast<int>(index), SourceLocation{file, move.line}, volume});
+  }
+}
+
+// Removes one sweep; returns the volume removed.
+double remove_sweep(TriDexel& stock, const MoveSweep& sweep) {
+  std::vector<TriDexel::Cut> cuts;
+  for (const LinearSweep& piece : sweep.pieces()) {
+    cuts.push_back({piece.bounds(), [&piece](const Ray& ray) { return piece.chord(ray); }});
+  }
+  double volume = 0.0;
+  for (const TriDexel::Removal& r : stock.remove(cuts)) volume += r.volume;
+  return volume;
+}
+
+}  // namespace
+
 RemovalSummary remove_toolpath(TriDexel& stock, const Cutter& cutter, const Toolpath& path,
                                const SimulationOptions& options, const Progress& progress) {
   RemovalSummary summary;
   const ConvexParts parts(cutter, options.effective_tolerance());
   const std::size_t total = path.moves.size();
-  // Float rounding of ray ends can shave slivers off rays a move only touches; a move cuts when
-  // it removes at least one cell's worth, s³.
   const double cell = std::pow(stock.spacing(), 3);
   // Moves are removed in batches of about kBatchPieces linear pieces (TriDexel::remove with
   // several cuts: the same result as one by one, in one parallel pass).
@@ -92,28 +128,57 @@ RemovalSummary remove_toolpath(TriDexel& stock, const Cutter& cutter, const Tool
     const std::vector<TriDexel::Removal> removed = stock.remove(cuts);
     std::vector<double> volume(sweeps.size(), 0.0);
     for (std::size_t k = 0; k < cuts.size(); ++k) volume[owner[k]] += removed[k].volume;
-
     for (std::size_t m = 0; m < sweeps.size(); ++m) {
-      const std::size_t i = first + m;
-      const Move& move = path.moves[i];
-      ++summary.moves;
-      ++(move.is_rapid() ? summary.rapid_moves : summary.feed_moves);
-      summary.linear_pieces += static_cast<int>(sweeps[m].pieces().size());
-      summary.deviation_bound = std::max(summary.deviation_bound, sweeps[m].deviation_bound());
-      summary.removed_by_move.push_back(volume[m]);
-      const bool cuts_material = volume[m] >= cell;
-      if (cuts_material) ++summary.cutting_moves;
-      if (cuts_material && move.is_rapid()) {
-        const std::string file =
-            move.source >= 0 && static_cast<std::size_t>(move.source) < path.sources.size()
-                ? path.sources[static_cast<std::size_t>(move.source)]
-                : std::string();
-        summary.rapid_cuts.push_back(
-            {static_cast<int>(i), SourceLocation{file, move.line}, volume[m]});
-      }
+      record_move(summary, path, first + m, static_cast<int>(sweeps[m].pieces().size()),
+                  sweeps[m].deviation_bound(), volume[m], cell);
     }
     first += sweeps.size();
     if (progress) progress(first, total);
+  }
+  return summary;
+}
+
+RemovalSummary simulate_engagement(TriDexel& stock, const Cutter& cutter, const Toolpath& path,
+                                   const SimulationOptions& options,
+                                   const SamplingOptions& sampling,
+                                   const EngagementOptions& engagement, const EngagementSink& sink,
+                                   const Progress& progress) {
+  RemovalSummary summary;
+  const ConvexParts parts(cutter, options.effective_tolerance());
+  const DexelEngagement engage(cutter, stock.spacing(), engagement);
+  SamplingOptions feed_only = sampling;
+  feed_only.include_rapids = false;
+  const std::vector<ClPoint> cls = sample_cl_points(path, feed_only);
+  const std::size_t total = path.moves.size();
+  const double cell = std::pow(stock.spacing(), 3);
+  std::size_t next = 0;  // the next CL sample
+  Vec3 previous_x = Vec3::Zero();
+  for (std::size_t i = 0; i < total; ++i) {
+    const Move& move = path.moves[i];
+    std::size_t end = next;
+    while (end < cls.size() && cls[end].move == static_cast<int>(i)) ++end;
+    int pieces = 0;
+    double deviation = 0.0, volume = 0.0;
+    const auto remove_part = [&](double u0, double u1) {
+      const MoveSweep sweep(parts, u0 == 0.0 && u1 == 1.0 ? move : move.part(u0, u1));
+      pieces += static_cast<int>(sweep.pieces().size());
+      deviation = std::max(deviation, sweep.deviation_bound());
+      volume += remove_sweep(stock, sweep);
+    };
+    if (next == end) {
+      remove_part(0.0, 1.0);
+    } else {
+      if (cls[next].u > 0.0) remove_part(0.0, cls[next].u);
+      for (std::size_t k = next; k < end; ++k) {
+        const ToolState state = tool_state(cls[k], previous_x);
+        previous_x = state.tcs.x();
+        sink(k, cls[k], state, engage.at(stock, state));
+        remove_part(cls[k].u, k + 1 < end ? cls[k + 1].u : 1.0);
+      }
+    }
+    next = end;
+    record_move(summary, path, i, pieces, deviation, volume, cell);
+    if (progress) progress(i + 1, total);
   }
   return summary;
 }

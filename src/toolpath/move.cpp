@@ -102,4 +102,18 @@ Aabb Move::bounds() const {
   return box;
 }
 
+Move Move::part(double u0, double u1) const {
+  Move m = *this;
+  m.start = position(u0);
+  m.end = position(u1);
+  m.start_axis = axis(u0);
+  m.end_axis = axis(u1);
+  if (is_arc()) {
+    m.center = center + (u0 * axial) * normal;  // at the part's start height
+    m.sweep = (u1 - u0) * sweep;
+    m.axial = (u1 - u0) * axial;
+  }
+  return m;
+}
+
 }  // namespace cwe

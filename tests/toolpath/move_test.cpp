@@ -193,3 +193,38 @@ TEST(ClSampling, DegenerateMovesAndBadSteps) {
 
 }  // namespace
 }  // namespace cwe
+
+namespace cwe {
+namespace {
+
+// A part of a move is the same motion over a sub-range of u: positions and axes agree at every
+// parameter, for lines with a turning axis and for helices.
+TEST(Move, PartFollowsTheMove) {
+  Move line;
+  line.start = {1, 2, 3};
+  line.end = {11, -4, 0};
+  line.start_axis = Vec3::UnitZ();
+  line.end_axis = Vec3(0.3, 0.2, 1).normalized();
+  Move helix;
+  helix.shape = MoveShape::kArc;
+  helix.start = {8, 0, 5};
+  helix.center = {5, 0, 5};
+  helix.normal = -Vec3::UnitZ();
+  helix.sweep = 2.5 * kPi;
+  helix.axial = 3.0;
+  helix.end = helix.position(1.0);
+  for (const Move& move : {line, helix}) {
+    const double u0 = 0.3, u1 = 0.75;
+    const Move part = move.part(u0, u1);
+    EXPECT_EQ(part.shape, move.shape);
+    for (int k = 0; k <= 10; ++k) {
+      const double v = k / 10.0, u = u0 + v * (u1 - u0);
+      EXPECT_LT((part.position(v) - move.position(u)).norm(), 1e-12) << v;
+      EXPECT_LT((part.axis(v) - move.axis(u)).norm(), 1e-12) << v;
+    }
+    EXPECT_NEAR(part.length(), (u1 - u0) * move.length(), 1e-12);
+  }
+}
+
+}  // namespace
+}  // namespace cwe

@@ -12,8 +12,10 @@
 #include <vector>
 
 #include "cwe/core/error.hpp"
+#include "cwe/engagement/dexel_engagement.hpp"
 #include "cwe/envelope/move_sweep.hpp"
 #include "cwe/tool/cutter.hpp"
+#include "cwe/toolpath/cl_sampling.hpp"
 #include "cwe/toolpath/toolpath.hpp"
 #include "cwe/workpiece/dexel/tri_dexel.hpp"
 
@@ -63,5 +65,20 @@ using Progress = std::function<void(std::size_t, std::size_t)>;
 // Removes every move of `path` swept by `cutter` from `stock`, in order.
 RemovalSummary remove_toolpath(TriDexel& stock, const Cutter& cutter, const Toolpath& path,
                                const SimulationOptions& options, const Progress& progress = {});
+
+// Receives the engagement at each cutter location, in order: the sample (its index among all
+// samples, from 0), the tool's state there and the map.
+using EngagementSink =
+    std::function<void(std::size_t, const ClPoint&, const ToolState&, const EngagementMap&)>;
+
+// The main job: at each cutter location of the feed moves (sample_cl_points), the engagement
+// with the workpiece as cut by all motion before it, then the removal of the motion up to the
+// next location (DESIGN.md data flow); rapid moves and moves without samples are removed whole.
+// The removal summary is that of remove_toolpath (the same workpiece results).
+RemovalSummary simulate_engagement(TriDexel& stock, const Cutter& cutter, const Toolpath& path,
+                                   const SimulationOptions& options,
+                                   const SamplingOptions& sampling,
+                                   const EngagementOptions& engagement, const EngagementSink& sink,
+                                   const Progress& progress = {});
 
 }  // namespace cwe

@@ -60,6 +60,9 @@ struct Move {
   // steps grown by its sagitta, so it contains the curve and exceeds it by at most
   // r(1 - cos 1°) ≈ 1.5e-4·r.
   Aabb bounds() const;
+  // The part of the move from u0 to u1 (0 ≤ u0 ≤ u1 ≤ 1) as a move of its own: same shape,
+  // mode, feed and source, reparameterised so that its u = 0 and 1 are this move's u0 and u1.
+  Move part(double u0, double u1) const;
 };
 
 // Spherical linear interpolation of unit vectors (the shorter great circle; a fixed

@@ -152,8 +152,8 @@ void DexelRay::store(const float* pairs, int n) {
   release();
   clear();
   if (n == 0) return;
-  if (n <= 2) {
-    std::memcpy(slot_, pairs, sizeof(float) * 2 * static_cast<std::size_t>(n));
+  if (n <= 2) {  // element by element: a fixed-size copy the compiler inlines
+    for (int k = 0; k < 2 * n; ++k) slot_[k] = pairs[k];
     return;
   }
   auto* heap = new float[2 * static_cast<std::size_t>(n)];

@@ -223,6 +223,31 @@ bool TriDexel::contains(const Vec3& p) const {
   return votes >= 2;
 }
 
+bool TriDexel::material_outside(const Vec3& point, const Vec3& normal, double gap,
+                                Vec3* where) const {
+  int a = 0;
+  for (int k = 1; k < 3; ++k) {
+    if (std::abs(normal[k]) > std::abs(normal[a])) a = k;
+  }
+  if (!(std::abs(normal[a]) > 0.0)) return false;
+  const int b = cross_b(a), c = cross_c(a);
+  const auto& g = grid_[static_cast<std::size_t>(a)];
+  const double fi = std::floor((point[b] - domain_.min[b]) / spacing_);
+  const double fj = std::floor((point[c] - domain_.min[c]) / spacing_);
+  if (!(fi >= 0.0 && fj >= 0.0 && fi < g[0] && fj < g[1])) return false;
+  const int i = static_cast<int>(fi), j = static_cast<int>(fj);
+  // The ray (origin o, direction e_a) meets the tangent plane (q - point)·n = 0 at t*.
+  Vec3 o = domain_.min;
+  o[b] += (i + 0.5) * spacing_;
+  o[c] += (j + 0.5) * spacing_;
+  const double t = (point - o).dot(normal) / normal[a];
+  if (where != nullptr) {
+    *where = o;
+    (*where)[a] += t;
+  }
+  return at(a, i, j).contains(t + gap / normal[a]);
+}
+
 TriDexel::Memory TriDexel::memory() const {
   Memory m;
   for (const auto& family : rays_) m.ray_bytes += family.size() * sizeof(DexelRay);

@@ -92,6 +92,19 @@ class TriDexel {
   // Material at p: the vote of the three rays nearest p (two of three).
   bool contains(const Vec3& p) const;
 
+  // Material immediately outside a surface (for engagement): is there material within `gap` mm
+  // outside the surface through `point` with unit outward `normal`, as seen along the ray of
+  // the family most nearly along the normal (|n_a| ≥ 1/√3) that passes nearest the point (within
+  // s/√2)? The ray meets the surface's tangent plane at a point Q; the answer is the ray's
+  // material at Q + gap·normal projected on the ray. A surface just cut by a tool is the
+  // material's boundary along every ray, so this reads the workpiece at Q exactly, without the
+  // bias of a point test offset by a ray spacing; `gap` must cover float rounding of ray ends
+  // and the surface's departure from its tangent plane over s/√2 (about s²κ for curvature κ).
+  // `where`, when given, receives Q (also when the answer is false; unchanged when no ray
+  // passes near the point), so that a caller can tell whether Q still lies on its surface.
+  bool material_outside(const Vec3& point, const Vec3& normal, double gap,
+                        Vec3* where = nullptr) const;
+
   // Bytes held by the rays, kept up to date by every change (no scan needed).
   struct Memory {
     std::size_t ray_bytes = 0;        // 16 per ray

@@ -1,0 +1,247 @@
+#include "cwe/engagement/dexel_engagement.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "cwe/core/error.hpp"
+#include "cwe/envelope/tangency.hpp"
+
+namespace cwe {
+namespace {
+
+// Bisection steps that place an interval end: the cell width / 2⁶.
+constexpr int kRefineSteps = 6;
+
+int patch_of_segment(const Cutter& cutter, int segment) {
+  for (std::size_t p = 0; p < cutter.patches().size(); ++p) {
+    if (cutter.patches()[p].segment == segment) return static_cast<int>(p);
+  }
+  return 0;
+}
+
+// ∫ ρ ds of the profile between heights z0 and z1 (the area of the revolved band per radian).
+double side_area_per_radian(const Profile& profile, double z0, double z1) {
+  constexpr int kSteps = 16;
+  double area = 0.0;
+  Vec2 previous(profile.radius_at(z0), z0);
+  for (int k = 1; k <= kSteps; ++k) {
+    const double z = z0 + (z1 - z0) * k / kSteps;
+    const Vec2 p(profile.radius_at(z), z);
+    area += 0.5 * (previous.x() + p.x()) * (p - previous).norm();
+    previous = p;
+  }
+  return area;
+}
+
+// The smallest-angle merge of intervals on [0, 2π] and the ends of their largest gap.
+void entry_exit(std::vector<Interval> all, double& entry, double& exit) {
+  entry = exit = 0.0;
+  if (all.empty()) return;
+  std::sort(all.begin(), all.end(),
+            [](const Interval& x, const Interval& y) { return x.lo < y.lo; });
+  std::vector<Interval> merged{all.front()};
+  for (std::size_t k = 1; k < all.size(); ++k) {
+    if (all[k].lo <= merged.back().hi) {
+      merged.back().hi = std::max(merged.back().hi, all[k].hi);
+    } else {
+      merged.push_back(all[k]);
+    }
+  }
+  // The gap through φ = 0 first; an inner gap must be strictly larger to win.
+  double best = merged.front().lo + (2.0 * kPi - merged.back().hi);
+  entry = merged.front().lo;
+  exit = merged.back().hi;
+  for (std::size_t k = 1; k < merged.size(); ++k) {
+    const double gap = merged[k].lo - merged[k - 1].hi;
+    if (gap > best) {
+      best = gap;
+      entry = merged[k].lo;
+      exit = merged[k - 1].hi;
+    }
+  }
+  if (best <= 0.0) {  // a full ring
+    entry = 0.0;
+    exit = 2.0 * kPi;
+  }
+}
+
+}  // namespace
+
+DexelEngagement::DexelEngagement(const Cutter& cutter, double spacing,
+                                 const EngagementOptions& options)
+    : cutter_(&cutter), spacing_(spacing) {
+  if (!(spacing > 0.0) || !std::isfinite(spacing)) {
+    throw InputError(
+        fmt::format("engagement: ray spacing {} mm, expected a positive length", spacing));
+  }
+  if (!(options.disc_height >= 0.0) || !(options.phi_step >= 0.0) ||
+      !std::isfinite(options.disc_height) || !std::isfinite(options.phi_step)) {
+    throw InputError("engagement: disc height and φ step must be positive (or 0 for the default)");
+  }
+  disc_height_ = options.disc_height > 0.0 ? options.disc_height : spacing;
+  const Profile& profile = cutter.profile();
+  const double max_radius = std::max(profile.max_radius(), spacing);
+  const double step =
+      options.phi_step > 0.0 ? options.phi_step : std::min(kPi / 180.0, 0.5 * spacing / max_radius);
+  phi_cells_ = std::clamp(static_cast<int>(std::ceil(2.0 * kPi / step)), 8, 1 << 16);
+  for (int k = 0; k < phi_cells_; ++k) {
+    const double phi = (k + 0.5) * 2.0 * kPi / phi_cells_;
+    sin_.push_back(std::sin(phi));
+    cos_.push_back(std::cos(phi));
+  }
+  const double base_gap = spacing / 8.0;
+  const double reach = spacing / std::sqrt(2.0);  // how far from a point its ray may pass
+
+  // Side discs: every height of the profile's non-horizontal pieces.
+  const auto& segments = profile.segments();
+  const double height = profile.height();
+  const int discs = static_cast<int>(std::ceil(height / disc_height_ - 1e-9));
+  for (int k = 0; k < discs; ++k) {
+    Band band;
+    band.lo = k * disc_height_;
+    band.hi = std::min(height, (k + 1) * disc_height_);
+    // Sampled away from the flutes' ends by the reach of a ray (s/√2), so that the ray read for
+    // a cell meets this surface and not the tangent plane beyond its rim.
+    band.z = std::clamp(0.5 * (band.lo + band.hi), std::min(reach, 0.5 * height),
+                        std::max(height - reach, 0.5 * height));
+    int segment = -1;
+    for (std::size_t s = 0; s < segments.size(); ++s) {
+      if (!segments[s].is_horizontal() && segments[s].min_z() <= band.z &&
+          band.z <= segments[s].max_z()) {
+        segment = static_cast<int>(s);
+        break;
+      }
+    }
+    if (segment < 0) continue;  // only horizontal pieces at this height: nothing to map
+    const ProfileSegment& piece = segments[static_cast<std::size_t>(segment)];
+    band.rho = piece.radius_at(band.z);
+    band.normal = piece.normal_at(piece.closest(Vec2(band.rho, band.z)).u);
+    band.patch = patch_of_segment(cutter, segment);
+    band.area_per_radian = side_area_per_radian(profile, band.lo, band.hi);
+    // Curvatures: of the profile (arcs) and of the parallel circle (n_ρ / ρ).
+    const double kappa =
+        std::max(piece.kind == ProfileSegment::Kind::kArc ? 1.0 / piece.radius : 0.0,
+                 std::abs(band.normal.x()) / std::max(band.rho, spacing));
+    band.gap = std::min(0.5 * spacing, base_gap + spacing * spacing * kappa);
+    discs_.push_back(band);
+  }
+
+  // Bottom rings: a horizontal first piece at the tip.
+  const ProfileSegment& first = segments.front();
+  if (first.is_horizontal() && first.start.y() == 0.0) {
+    const double outer = first.max_radius();
+    const int rings = static_cast<int>(std::ceil(outer / disc_height_ - 1e-9));
+    for (int k = 0; k < rings; ++k) {
+      Band band;
+      band.lo = k * disc_height_;
+      band.hi = std::min(outer, (k + 1) * disc_height_);
+      band.rho = std::max(0.0, std::min(0.5 * (band.lo + band.hi), outer - reach));
+      band.z = 0.0;
+      band.normal = Vec2(0.0, -1.0);
+      band.patch = patch_of_segment(cutter, 0);
+      band.area_per_radian = 0.5 * (band.hi * band.hi - band.lo * band.lo);
+      band.gap = base_gap;
+      band.ring = true;
+      rings_.push_back(band);
+    }
+  }
+}
+
+std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const ToolState& state,
+                                            const Band& band, const Vec3& v_tcs,
+                                            const Vec3& w_tcs) const {
+  const Frame& tcs = state.tcs;
+  const Vec3 x = tcs.x(), y = tcs.y(), z = tcs.z();
+  const Vec3 centre = tcs.origin + band.z * z;
+  // Skip a band whose circle cannot reach the workpiece's domain.
+  Aabb reach;
+  for (int a = 0; a < 3; ++a) {
+    const double e = band.rho * std::sqrt(std::max(0.0, 1.0 - z[a] * z[a])) + band.gap;
+    reach.min[a] = centre[a] - e;
+    reach.max[a] = centre[a] + e;
+  }
+  if (!reach.intersects(stock.domain())) return {};
+
+  const TangencyCoefficients f =
+      tangency_coefficients(Vec2(band.rho, band.z), band.normal, v_tcs, w_tcs);
+  // Grazing points (f = 0) are not engaged; f_min absorbs rounding of the coefficients.
+  const double f_min = 1e-9 * (std::abs(f.a) + std::abs(f.b) + std::abs(f.c));
+  if (!(std::abs(f.a) + std::abs(f.b) + std::abs(f.c) > 0.0)) return {};
+  // The ray read for P meets the surface at Q, within s/√2 of P; a Q beyond the band's own
+  // surface (past the bottom's rim, below the tip or above the flutes) says nothing of it.
+  const bool bottom = band.ring;
+  const double rim = bottom ? rings_.back().hi : 0.0;
+  const double top = cutter_->profile().height();
+  const auto engaged = [&](double s, double c) {
+    if (!(f.a * s + f.b * c + f.c > f_min)) return false;
+    const Vec3 radial = s * x + c * y;
+    Vec3 q = Vec3::Zero();
+    if (!stock.material_outside(centre + band.rho * radial,
+                                band.normal.x() * radial + band.normal.y() * z, band.gap, &q)) {
+      return false;
+    }
+    const Vec3 local = tcs.to_local(q);
+    if (bottom) return local.head<2>().norm() <= rim;
+    return local.z() >= 0.0 && local.z() <= top;
+  };
+  const auto engaged_at = [&](double phi) { return engaged(std::sin(phi), std::cos(phi)); };
+  // The boundary between an engaged angle and one that is not.
+  const auto refine = [&](double in, double out) {
+    for (int k = 0; k < kRefineSteps; ++k) {
+      const double mid = 0.5 * (in + out);
+      (engaged_at(mid) ? in : out) = mid;
+    }
+    return 0.5 * (in + out);
+  };
+
+  const int n = phi_cells_;
+  const double cell = 2.0 * kPi / n;
+  const auto centre_of = [cell](int k) { return (k + 0.5) * cell; };
+  std::vector<Interval> intervals;
+  int run_start = -1;
+  for (int k = 0; k <= n; ++k) {
+    const bool on =
+        k < n && engaged(sin_[static_cast<std::size_t>(k)], cos_[static_cast<std::size_t>(k)]);
+    if (on && run_start < 0) run_start = k;
+    if (on || run_start < 0) continue;
+    const int last = k - 1;
+    const double lo = run_start == 0 ? (engaged_at(0.0) ? 0.0 : refine(centre_of(0), 0.0))
+                                     : refine(centre_of(run_start), centre_of(run_start - 1));
+    const double hi = last == n - 1
+                          ? (engaged_at(2.0 * kPi) ? 2.0 * kPi : refine(centre_of(last), 2.0 * kPi))
+                          : refine(centre_of(last), centre_of(last + 1));
+    intervals.push_back({lo, hi});
+    run_start = -1;
+  }
+  return intervals;
+}
+
+EngagementMap DexelEngagement::at(const TriDexel& stock, const ToolState& state) const {
+  EngagementMap map;
+  const Vec3 v = state.tip_velocity_tcs(), w = state.angular_velocity_tcs();
+  std::vector<Interval> all;
+  for (const Band& band : discs_) {
+    DiscEngagement disc{band.lo, band.hi, band.patch, scan(stock, state, band, v, w)};
+    for (const Interval& i : disc.phi) {
+      map.area += i.length() * band.area_per_radian;
+      map.axial_depth = std::max(map.axial_depth, band.hi);
+      all.push_back(i);
+    }
+    map.discs.push_back(std::move(disc));
+  }
+  for (const Band& band : rings_) {
+    RingEngagement ring{band.lo, band.hi, scan(stock, state, band, v, w)};
+    for (const Interval& i : ring.phi) {
+      map.area += i.length() * band.area_per_radian;
+      all.push_back(i);
+    }
+    map.rings.push_back(std::move(ring));
+  }
+  map.engaged = !all.empty();
+  entry_exit(std::move(all), map.phi_entry, map.phi_exit);
+  return map;
+}
+
+}  // namespace cwe
