@@ -5,7 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build ccache pkg-config
-  libeigen3-dev libfmt-dev nlohmann-json3-dev libcli11-dev libcgal-dev libtbb-dev
+  libeigen3-dev libfmt-dev nlohmann-json3-dev libcli11-dev libcgal-dev libtbb-dev libcairo2-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 

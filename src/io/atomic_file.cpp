@@ -3,7 +3,6 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <cstdio>
 #include <cstring>
 #include <string>
 #include <system_error>
@@ -12,34 +11,62 @@
 
 namespace cwe {
 
-void write_file_atomically(const std::filesystem::path& path, std::string_view content) {
-  namespace fs = std::filesystem;
-  const auto fail = [&](const std::string& why) {
-    throw InputError(SourceLocation{path.string()}, "cannot write the file: " + why);
-  };
+AtomicFileWriter::AtomicFileWriter(std::filesystem::path path) : path_(std::move(path)) {
   std::error_code ec;
-  if (path.has_parent_path()) {
-    fs::create_directories(path.parent_path(), ec);
+  if (path_.has_parent_path()) {
+    std::filesystem::create_directories(path_.parent_path(), ec);
     if (ec) fail(ec.message());
   }
-  const fs::path temporary =
-      path.string() + ".tmp-" + std::to_string(static_cast<long>(::getpid()));
-  std::FILE* file = std::fopen(temporary.c_str(), "wb");
-  if (file == nullptr) fail(std::strerror(errno));
-  const bool written = std::fwrite(content.data(), 1, content.size(), file) == content.size();
-  const bool flushed = std::fflush(file) == 0 && ::fsync(::fileno(file)) == 0;
-  const bool closed = std::fclose(file) == 0;
-  if (!written || !flushed || !closed) {
+  temporary_ = path_.string() + ".tmp-" + std::to_string(static_cast<long>(::getpid()));
+  file_ = std::fopen(temporary_.c_str(), "wb");
+  if (file_ == nullptr) fail(std::strerror(errno));
+}
+
+AtomicFileWriter::~AtomicFileWriter() {
+  if (file_ == nullptr) return;
+  std::fclose(file_);
+  std::error_code ec;
+  std::filesystem::remove(temporary_, ec);
+}
+
+void AtomicFileWriter::fail(const std::string& why) {
+  if (file_ != nullptr) {
+    std::fclose(file_);
+    file_ = nullptr;
+    std::error_code ec;
+    std::filesystem::remove(temporary_, ec);
+  }
+  throw InputError(SourceLocation{path_.string()}, "cannot write the file: " + why);
+}
+
+void AtomicFileWriter::append(std::string_view text) {
+  if (file_ == nullptr) fail("the file was already committed");
+  if (std::fwrite(text.data(), 1, text.size(), file_) != text.size()) fail(std::strerror(errno));
+}
+
+void AtomicFileWriter::commit() {
+  if (file_ == nullptr) fail("the file was already committed");
+  const bool flushed = std::fflush(file_) == 0 && ::fsync(::fileno(file_)) == 0;
+  const bool closed = std::fclose(file_) == 0;
+  file_ = nullptr;
+  std::error_code ec;
+  if (!flushed || !closed) {
     const std::string why = std::strerror(errno);
-    fs::remove(temporary, ec);
+    std::filesystem::remove(temporary_, ec);
     fail(why);
   }
-  fs::rename(temporary, path, ec);
+  std::filesystem::rename(temporary_, path_, ec);
   if (ec) {
     const std::string why = ec.message();
-    fs::remove(temporary, ec);
+    std::filesystem::remove(temporary_, ec);
     fail(why);
   }
+}
+
+void write_file_atomically(const std::filesystem::path& path, std::string_view content) {
+  AtomicFileWriter writer(path);
+  writer.append(content);
+  writer.commit();
 }
 
 }  // namespace cwe

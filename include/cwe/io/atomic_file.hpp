@@ -2,6 +2,7 @@
 // Outputs are written whole or not at all: the content goes to a temporary file beside the
 // target, is flushed, and is renamed over the target only when complete.
 
+#include <cstdio>
 #include <filesystem>
 #include <string_view>
 
@@ -11,5 +12,28 @@ namespace cwe {
 // directories. Throws cwe::InputError naming the path when the file cannot be written; the
 // target is then untouched.
 void write_file_atomically(const std::filesystem::path& path, std::string_view content);
+
+// The same for content produced piece by piece (outputs too large to hold in memory): append()
+// writes to the temporary file, commit() flushes it and renames it over the target. A writer
+// destroyed without commit() (an error on the way) removes its temporary file and leaves the
+// target untouched.
+class AtomicFileWriter {
+ public:
+  explicit AtomicFileWriter(std::filesystem::path path);
+  AtomicFileWriter(const AtomicFileWriter&) = delete;
+  AtomicFileWriter& operator=(const AtomicFileWriter&) = delete;
+  ~AtomicFileWriter();
+
+  void append(std::string_view text);
+  void commit();
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  [[noreturn]] void fail(const std::string& why);
+
+  std::filesystem::path path_;
+  std::filesystem::path temporary_;
+  std::FILE* file_ = nullptr;
+};
 
 }  // namespace cwe
