@@ -137,6 +137,13 @@ LinearSweep::LinearSweep(const Cutter& cutter, const Vec3& start, const Vec3& en
           generators_.push_back({a, grazing_point(static_cast<int>(i), branch, 1.0, exists)});
           continue;
         }
+        if (segment.center.x() <= 0.0) {  // a sphere: one closed-form piece for both branches
+          if (branch == 0) {
+            spheres_.push_back(
+                {segment.center.y(), segment.radius, segment.min_z(), segment.max_z()});
+          }
+          continue;
+        }
         GrazingSamples samples;
         samples.segment = static_cast<int>(i);
         samples.branch = branch;
@@ -404,10 +411,18 @@ Interval LinearSweep::generic_chord(const Ray& ray) const {
       add_point(Vec3(0.0, 0.0, v.y()));  // a point on the axis: its swept segment
       continue;
     }
-    // n·(ρ sin φ, ρ cos φ, z) = n·o
-    const Roots roots = solve_sin_cos(n.x() * v.x(), n.y() * v.x(), n.z() * v.y() - offset);
-    for (const double phi : roots)
-      add_point(Vec3(v.x() * std::sin(phi), v.x() * std::cos(phi), v.y()));
+    // n·(ρ sin φ, ρ cos φ, z) = n·o: the line a·s + b·c = k meets the unit circle (s, c) at
+    // the foot of the perpendicular ± h along the line (no trigonometry needed).
+    const double a = n.x() * v.x(), b = n.y() * v.x(), k = offset - n.z() * v.y();
+    const double r2 = a * a + b * b;
+    if (!(r2 > 0.0)) continue;
+    const double h2 = 1.0 - k * k / r2;
+    if (h2 < 0.0) continue;
+    const double h = std::sqrt(h2 / r2);
+    const double s0 = a * k / r2, c0 = b * k / r2;
+    for (const double sign : {-1.0, 1.0}) {
+      add_point(Vec3(v.x() * (s0 - sign * b * h), v.x() * (c0 + sign * a * h), v.y()));
+    }
   }
   if (lateral_ <= tol::kLength) return hull.interval();  // axial motion: vertex circles suffice
 
@@ -418,6 +433,28 @@ Interval LinearSweep::generic_chord(const Ray& ray) const {
     if ((g0 > 0.0) == (g1 > 0.0) && g0 != 0.0 && g1 != 0.0) continue;
     const double u = std::clamp(g0 == g1 ? 0.0 : g0 / (g0 - g1), 0.0, 1.0);
     add_point(generator.a + u * (generator.b - generator.a));
+  }
+  // Swept great circles of spheres: the cylinder of radius r about the centre's path.
+  const double feed2 = delta_.squaredNorm();
+  for (const SpherePiece& sphere : spheres_) {
+    const Vec3 c(0.0, 0.0, sphere.center_z);
+    const Vec3 rel = o - c;
+    const Vec3 p0 = rel - (rel.dot(delta_) / feed2) * delta_;
+    const Vec3 m = d - (d.dot(delta_) / feed2) * delta_;
+    const double a = m.squaredNorm();
+    if (!(a > 0.0)) continue;
+    const double b = p0.dot(m);
+    const double disc = b * b - a * (p0.squaredNorm() - sphere.radius * sphere.radius);
+    if (disc < 0.0) continue;
+    const double root = std::sqrt(disc);
+    for (const double t : {(-b - root) / a, (-b + root) / a}) {
+      const Vec3 x = rel + t * d;  // relative to the centre at the start
+      const double lambda = x.dot(delta_) / feed2;
+      if (lambda < 0.0 || lambda > 1.0) continue;
+      const double height = sphere.center_z + (x - lambda * delta_).z();  // of the grazing point
+      if (height < sphere.z0 || height > sphere.z1) continue;
+      hull.add(t);
+    }
   }
   // Swept grazing curves of arcs: sign changes of the crossing function between samples,
   // refined by Brent's method; a root counts only where the grazing angle exists.

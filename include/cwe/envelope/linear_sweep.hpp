@@ -92,6 +92,14 @@ class LinearSweep {
   std::vector<Vec2> vertices_;
   std::vector<Generator> generators_;
   std::vector<GrazingSamples> arcs_;
+  // Arcs centred on the axis (ball ends): their grazing curve is a great circle square to the
+  // feed, which sweeps a cylinder; its crossings with a ray come in closed form.
+  struct SpherePiece {
+    double center_z = 0.0;
+    double radius = 0.0;
+    double z0 = 0.0, z1 = 0.0;  // the piece's height range
+  };
+  std::vector<SpherePiece> spheres_;
   // Closed-form modes (tool axis +Z): the tips in world coordinates, the profile pieces as
   // radius functions of height, the height of the widest section and the tip's path in plan.
   struct Section {
