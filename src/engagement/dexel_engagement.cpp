@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include "cwe/core/error.hpp"
 #include "cwe/envelope/tangency.hpp"
@@ -83,8 +84,10 @@ DexelEngagement::DexelEngagement(const Cutter& cutter, double spacing,
   disc_height_ = options.disc_height > 0.0 ? options.disc_height : spacing;
   const Profile& profile = cutter.profile();
   const double max_radius = std::max(profile.max_radius(), spacing);
+  // Cells of about one ray spacing at the largest radius: interval ends are refined by bisection
+  // below the cell size, so cells need only be fine enough not to step over an engaged region.
   const double step =
-      options.phi_step > 0.0 ? options.phi_step : std::min(kPi / 180.0, 0.5 * spacing / max_radius);
+      options.phi_step > 0.0 ? options.phi_step : std::min(kPi / 180.0, spacing / max_radius);
   phi_cells_ = std::clamp(static_cast<int>(std::ceil(2.0 * kPi / step)), 8, 1 << 16);
   for (int k = 0; k < phi_cells_; ++k) {
     const double phi = (k + 0.5) * 2.0 * kPi / phi_cells_;
@@ -221,9 +224,16 @@ std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const ToolSta
 EngagementMap DexelEngagement::at(const TriDexel& stock, const ToolState& state) const {
   EngagementMap map;
   const Vec3 v = state.tip_velocity_tcs(), w = state.angular_velocity_tcs();
+  // Bands are independent: scanned in parallel, each into its own slot (deterministic).
+  std::vector<std::vector<Interval>> found(discs_.size() + rings_.size());
+  tbb::parallel_for(std::size_t{0}, found.size(), [&](std::size_t k) {
+    const Band& band = k < discs_.size() ? discs_[k] : rings_[k - discs_.size()];
+    found[k] = scan(stock, state, band, v, w);
+  });
   std::vector<Interval> all;
-  for (const Band& band : discs_) {
-    DiscEngagement disc{band.lo, band.hi, band.patch, scan(stock, state, band, v, w)};
+  for (std::size_t k = 0; k < discs_.size(); ++k) {
+    const Band& band = discs_[k];
+    DiscEngagement disc{band.lo, band.hi, band.patch, std::move(found[k])};
     for (const Interval& i : disc.phi) {
       map.area += i.length() * band.area_per_radian;
       map.axial_depth = std::max(map.axial_depth, band.hi);
@@ -231,8 +241,9 @@ EngagementMap DexelEngagement::at(const TriDexel& stock, const ToolState& state)
     }
     map.discs.push_back(std::move(disc));
   }
-  for (const Band& band : rings_) {
-    RingEngagement ring{band.lo, band.hi, scan(stock, state, band, v, w)};
+  for (std::size_t k = 0; k < rings_.size(); ++k) {
+    const Band& band = rings_[k];
+    RingEngagement ring{band.lo, band.hi, std::move(found[discs_.size() + k])};
     for (const Interval& i : ring.phi) {
       map.area += i.length() * band.area_per_radian;
       all.push_back(i);

@@ -72,10 +72,11 @@ void record_move(RemovalSummary& summary, const Toolpath& path, std::size_t inde
   summary.deviation_bound = std::max(summary.deviation_bound, deviation);
   summary.removed_by_move.push_back(volume);
   // Float rounding of ray ends can shave slivers off rays a move only touches; a move cuts when
-  // it removes at least one cell's worth, s³.
+  // it removes at least one cell's worth, s³. A rapid is reported from ten cells on: subdivided
+  // moves (arcs, 5-axis) leave slivers up to their tolerance thick that a retract may clear.
   const bool cuts = volume >= cell;
   if (cuts) ++summary.cutting_moves;
-  if (cuts && move.is_rapid()) {
+  if (volume >= 10.0 * cell && move.is_rapid()) {
     const std::string file =
         move.source >= 0 && static_cast<std::size_t>(move.source) < path.sources.size()
             ? path.sources[static_cast<std::size_t>(move.source)]

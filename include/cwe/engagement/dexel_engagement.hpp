@@ -27,7 +27,7 @@ namespace cwe {
 
 struct EngagementOptions {
   double disc_height = 0.0;  // mm; 0: the workpiece's ray spacing s
-  double phi_step = 0.0;     // rad; 0: an arc of s/2 at the cutter's largest radius, ≤ 1°
+  double phi_step = 0.0;     // rad; 0: an arc of s at the cutter's largest radius, ≤ 1°
 };
 
 class DexelEngagement {
