@@ -1,29 +1,29 @@
 #!/usr/bin/env bash
-# Builds cwe (installing what is missing) and runs it on the bundled example: every cutter of
-# examples/cutters.txt is described and its profile drawn into out/example/, the example
-# programs (G-code and APT CLDATA) are read, summarised and dumped as JSON lines, and the swept
-# volumes, grazing curves and feasible contact surfaces of the first pocketing moves are written;
-# then the pocketing job is simulated on the tri-dexel workpiece (examples/jobs/pocket.json).
+# Builds cwe (installing what is missing) and runs the main job on the bundled example
+# (examples/jobs/example.json): a block cut by a 10 mm flat end mill (slot, side milling up and
+# down, ramp, helical entry, plunge, peck drilling), a 6 mm ball end mill finishing pass and a
+# simultaneous 5-axis APT CLDATA pass, with the cutter-workpiece engagement at every cutter
+# location. On the way it also draws the example cutters, dumps the example programs' moves and
+# writes the swept volumes of the first pocketing moves, all into out/example/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 scripts/build.sh
 out=out/example
 mapfile -t specs < <(grep -v '^\s*\(#\|$\)' examples/cutters.txt)
-build/cwe tool "${specs[@]}" --svg-dir "$out"
+build/cwe tool "${specs[@]}" --svg-dir "$out" > /dev/null
 for program in examples/programs/*; do
-  echo
-  build/cwe path "$program"
   build/cwe path "$program" --dump > "$out/$(basename "$program").moves.jsonl"
 done
-echo
 build/cwe envelope --tool flat:10 --path examples/programs/pocket.ngc --moves 1-25 \
-  --out "$out/envelope"
+  --out "$out/envelope" > /dev/null
+# The main job: engagement at every cutter location of three operations on one block.
+build/cwe simulate examples/jobs/example.json
 echo
-build/cwe simulate examples/jobs/pocket.json
-echo
-echo "Drawings of the ${#specs[@]} cutters are in $out/ (open the .svg files in a browser);"
-echo "the moves of each example program, one JSON object per line, are in $out/*.moves.jsonl;"
-echo "swept volumes (STL/PLY), grazing curves (OBJ) and feasible contact surfaces (SVG) of the"
-echo "first pocketing moves are in $out/envelope/; the machined stock (STL) and the simulation"
-echo "summary (JSON) are in $out/simulate/."
+echo "Where to look:"
+echo "  $out/simulate/engagement.csv    one row per cutter location: entry/exit angle, depth, area"
+echo "  $out/simulate/engagement.jsonl  per cutter location, the engaged angles of every axial disc"
+echo "  $out/simulate/maps/             engagement maps (PNG, SVG) and path.png along the whole job"
+echo "  $out/simulate/stock.stl         the machined block; summary.json: volumes, memory, time"
+echo "Also: cutter drawings in $out/*.svg, the programs' moves in $out/*.moves.jsonl, swept"
+echo "volumes and feasible contact surfaces of the first pocketing moves in $out/envelope/."

@@ -1,10 +1,18 @@
 #include "simulate_command.hpp"
 
+#include <unistd.h>
+
+#include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <filesystem>
+#include <optional>
+#include <string_view>
+#include <vector>
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
+#include <fmt/ranges.h>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 #include <nlohmann/json.hpp>
@@ -12,8 +20,10 @@
 #include "cwe/core/error.hpp"
 #include "cwe/core/text_file.hpp"
 #include "cwe/io/atomic_file.hpp"
+#include "cwe/io/engagement_plot.hpp"
 #include "cwe/io/mesh_io.hpp"
 #include "cwe/simulation/simulation.hpp"
+#include "cwe/toolpath/cl_sampling.hpp"
 #include "cwe/toolpath/toolpath_reader.hpp"
 #include "cwe/workpiece/dexel/dexel_mesh.hpp"
 #include "tool_choice.hpp"
@@ -39,13 +49,15 @@ void read_job(SimulateCommandOptions& options) {
   const auto where = [&](const std::string& key) {
     return SourceLocation{fmt::format("{}: \"{}\"", options.job, key)};
   };
-  static const char* const kKeys[] = {"stock",     "tool",    "path",        "out", "resolution",
-                                      "tolerance", "threads", "mesh_stride", "ply", "comment"};
+  static const char* const kKeys[] = {
+      "stock",   "tool", "path",    "operations", "out",        "resolution",  "tolerance",
+      "threads", "ply",  "cl_step", "maps",       "stock_only", "mesh_stride", "comment"};
   for (const auto& [key, value] : job.items()) {
     if (std::find(std::begin(kKeys), std::end(kKeys), key) == std::end(kKeys)) {
       throw InputError(where(key),
-                       "unknown key; expected stock, tool, path, out, resolution, "
-                       "tolerance, threads, mesh_stride, ply or comment");
+                       "unknown key; expected stock, tool, path, operations, out, resolution, "
+                       "tolerance, threads, mesh_stride, ply, cl_step, maps, stock_only or "
+                       "comment");
     }
   }
   const auto text_of = [&](const char* key, std::string& field, bool is_path) {
@@ -76,6 +88,41 @@ void read_job(SimulateCommandOptions& options) {
   }
   text_of("path", options.path, true);
   text_of("out", options.out, true);
+  // Operations: toolpaths run one after the other on the same stock, each with its tool.
+  if (job.contains("operations") && options.operations.empty() && options.path.empty()) {
+    const nlohmann::json& list = job["operations"];
+    if (!list.is_array() || list.empty()) {
+      throw InputError(where("operations"), "expected a non-empty array of {\"tool\", \"path\"}");
+    }
+    for (std::size_t k = 0; k < list.size(); ++k) {
+      const nlohmann::json& op = list[k];
+      const SourceLocation at{fmt::format("{}: \"operations\"[{}]", options.job, k)};
+      if (!op.is_object()) throw InputError(at, "expected an object {\"tool\", \"path\"}");
+      for (const auto& [key, value] : op.items()) {
+        if (key != "tool" && key != "path" && key != "comment") {
+          throw InputError(at,
+                           fmt::format("unknown key \"{}\"; expected tool, path or comment", key));
+        }
+      }
+      if (!op.contains("path") || !op["path"].is_string()) {
+        throw InputError(at, "expected \"path\": a toolpath file");
+      }
+      if (op.contains("tool") && !op["tool"].is_string()) {
+        throw InputError(at, "expected \"tool\" to be a string");
+      }
+      Operation operation;
+      operation.path = op["path"].get<std::string>();
+      if (std::filesystem::path(operation.path).is_relative()) {
+        operation.path = (folder / operation.path).lexically_normal().string();
+      }
+      operation.tool = op.value("tool", std::string());
+      if (operation.tool.size() > 5 && operation.tool.ends_with(".json") &&
+          std::filesystem::path(operation.tool).is_relative()) {
+        operation.tool = (folder / operation.tool).lexically_normal().string();
+      }
+      options.operations.push_back(operation);
+    }
+  }
   number_of("resolution", options.resolution);
   number_of("tolerance", options.tolerance);
   if (job.contains("threads") && options.threads == 0) {
@@ -94,6 +141,149 @@ void read_job(SimulateCommandOptions& options) {
     if (!job["ply"].is_boolean()) throw InputError(where("ply"), "expected true or false");
     options.ply = job["ply"].get<bool>();
   }
+  if (job.contains("stock_only") && !options.stock_only) {
+    if (!job["stock_only"].is_boolean()) {
+      throw InputError(where("stock_only"), "expected true or false");
+    }
+    options.stock_only = job["stock_only"].get<bool>();
+  }
+  number_of("cl_step", options.cl_step);
+  text_of("maps", options.maps, false);
+}
+
+// Which CLs get a map figure: every:N, cl:i,j,… (indices from 0), none, or (empty) about ten
+// spread over the path: in each tenth of the CLs, its first engaged one.
+struct MapChoice {
+  std::size_t every = 0;        // 0: none by period
+  std::vector<std::size_t> cl;  // sorted
+  bool engaged_only = false;    // the default: each period's first engaged CL
+  bool due = false;             // (default) a period began and has no map yet
+  bool chosen(std::size_t k, bool engaged) {
+    if (engaged_only) {
+      due = due || k % every == 0;
+      if (!due || !engaged) return false;
+      due = false;
+      return true;
+    }
+    return (every > 0 && k % every == 0) || std::binary_search(cl.begin(), cl.end(), k);
+  }
+};
+
+MapChoice parse_maps(const std::string& text, std::size_t cl_count) {
+  const SourceLocation where{"--maps"};
+  MapChoice choice;
+  if (text.empty()) {
+    choice.every = std::max<std::size_t>(1, (cl_count + 9) / 10);
+    choice.engaged_only = true;
+    return choice;
+  }
+  if (text == "none") return choice;
+  const auto number = [&](std::string_view word) {
+    std::size_t value = 0;
+    const auto [end, ec] = std::from_chars(word.data(), word.data() + word.size(), value);
+    if (word.empty() || ec != std::errc() || end != word.data() + word.size()) {
+      throw InputError(where, fmt::format("'{}' in '{}' is not a whole number; expected every:N, "
+                                          "cl:i,j,… or none",
+                                          word, text));
+    }
+    return value;
+  };
+  const std::string_view view(text);
+  if (view.starts_with("every:")) {
+    choice.every = number(view.substr(6));
+    if (choice.every == 0) throw InputError(where, "every:0: expected a period of at least 1");
+    return choice;
+  }
+  if (view.starts_with("cl:")) {
+    std::string_view rest = view.substr(3);
+    while (true) {
+      const std::size_t comma = rest.find(',');
+      choice.cl.push_back(number(rest.substr(0, comma)));
+      if (comma == std::string_view::npos) break;
+      rest = rest.substr(comma + 1);
+    }
+    std::sort(choice.cl.begin(), choice.cl.end());
+    return choice;
+  }
+  throw InputError(where, fmt::format("'{}': expected every:N, cl:i,j,… or none", text));
+}
+
+// A map folder written whole or not at all: figures go to a temporary folder that replaces
+// <out>/maps only when the job has finished.
+class MapFolder {
+ public:
+  explicit MapFolder(const std::filesystem::path& out)
+      : target_(out / "maps"),
+        temporary_(out / ("maps.tmp-" + std::to_string(static_cast<long>(::getpid())))) {}
+  MapFolder(const MapFolder&) = delete;
+  MapFolder& operator=(const MapFolder&) = delete;
+  ~MapFolder() {
+    std::error_code ec;
+    if (!committed_) std::filesystem::remove_all(temporary_, ec);
+  }
+  void write(const std::string& name, std::string_view bytes) {
+    write_file_atomically(temporary_ / name, bytes);
+  }
+  void commit() {
+    std::error_code ec;
+    std::filesystem::create_directories(temporary_, ec);
+    std::filesystem::remove_all(target_, ec);
+    std::filesystem::rename(temporary_, target_, ec);
+    if (ec) {
+      throw InputError(SourceLocation{target_.string()},
+                       "cannot write the map folder: " + ec.message());
+    }
+    committed_ = true;
+  }
+
+ private:
+  std::filesystem::path target_, temporary_;
+  bool committed_ = false;
+};
+
+double degrees(double radians) { return radians * 180.0 / kPi; }
+
+// One engagement.jsonl line: the engaged discs and rings, angles in degrees.
+std::string jsonl_line(std::size_t k, const ClPoint& cl, const EngagementMap& map) {
+  const auto intervals = [](const std::vector<Interval>& phi) {
+    std::string out = "[";
+    for (std::size_t i = 0; i < phi.size(); ++i) {
+      out += fmt::format("{}[{:.3f},{:.3f}]", i ? "," : "", degrees(phi[i].lo), degrees(phi[i].hi));
+    }
+    return out + "]";
+  };
+  std::string line = fmt::format(R"({{"cl":{},"move":{},"discs":[)", k, cl.move + 1);
+  bool first = true;
+  for (const DiscEngagement& disc : map.discs) {
+    if (disc.phi.empty()) continue;
+    line += fmt::format(R"({}{{"z0":{:.4f},"z1":{:.4f},"intervals":{}}})", first ? "" : ",",
+                        disc.z0, disc.z1, intervals(disc.phi));
+    first = false;
+  }
+  line += R"(],"bottom":{"rings":[)";
+  first = true;
+  for (const RingEngagement& ring : map.rings) {
+    if (ring.phi.empty()) continue;
+    line += fmt::format(R"({}{{"r0":{:.4f},"r1":{:.4f},"intervals":{}}})", first ? "" : ",",
+                        ring.r0, ring.r1, intervals(ring.phi));
+    first = false;
+  }
+  return line + "]}}\n";
+}
+
+constexpr const char* kCsvHeader =
+    "cl,move,line,x,y,z,i,j,k,feed_x,feed_y,feed_z,engaged,phi_entry_deg,phi_exit_deg,"
+    "axial_depth_mm,area_mm2,u,path_mm,motion,operation\n";
+
+std::string csv_row(std::size_t k, const ClPoint& cl, const ToolState& state,
+                    const EngagementMap& map, std::size_t operation) {
+  return fmt::format(
+      "{},{},{},{:.4f},{:.4f},{:.4f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{},"
+      "{:.3f},{:.3f},{:.4f},{:.4f},{:.6f},{:.4f},{},{}\n",
+      k, cl.move + 1, cl.line, cl.position.x(), cl.position.y(), cl.position.z(), cl.axis.x(),
+      cl.axis.y(), cl.axis.z(), cl.feed_direction.x(), cl.feed_direction.y(), cl.feed_direction.z(),
+      map.engaged ? 1 : 0, degrees(map.phi_entry), degrees(map.phi_exit), map.axial_depth, map.area,
+      cl.u, cl.path_length, to_string(state.motion), operation);
 }
 
 void require(const std::string& value, const char* what, const char* option) {
@@ -152,16 +342,60 @@ void add_simulate_command(CLI::App& app, SimulateCommandOptions& options) {
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--ply", options.ply,
                 "Also write the stock as stock.ply (ASCII, double precision)");
+  cmd->add_option("--cl-step", options.cl_step,
+                  "Cutter-location spacing along the tip path, mm (default: 0.5 or D/20, the "
+                  "smaller)");
+  cmd->add_option("--maps", options.maps,
+                  "Engagement-map figures: every:N, cl:i,j,… (CL indices from 0) or none "
+                  "(default: the first engaged CL of each tenth of the path)");
+  cmd->add_flag("--stock-only", options.stock_only,
+                "Material removal only: no engagement outputs (faster)");
   cmd->add_flag("--quiet", options.quiet, "No progress bar");
 }
+
+namespace {
+
+// An operation ready to run: its program read and its cutter chosen.
+struct PreparedOperation {
+  std::string path;
+  ReadToolpath read;
+  Cutter cutter;
+  SamplingOptions sampling;
+  std::size_t cl_points = 0;
+};
+
+// Adds one operation's removal figures to the job's.
+void merge(RemovalSummary& job, const RemovalSummary& op, int move_offset) {
+  job.moves += op.moves;
+  job.feed_moves += op.feed_moves;
+  job.rapid_moves += op.rapid_moves;
+  job.cutting_moves += op.cutting_moves;
+  job.linear_pieces += op.linear_pieces;
+  job.deviation_bound = std::max(job.deviation_bound, op.deviation_bound);
+  for (RapidCut cut : op.rapid_cuts) {
+    cut.move += move_offset;
+    job.rapid_cuts.push_back(cut);
+  }
+  job.removed_by_move.insert(job.removed_by_move.end(), op.removed_by_move.begin(),
+                             op.removed_by_move.end());
+}
+
+}  // namespace
 
 int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
                          std::ostream* progress) {
   const auto started = std::chrono::steady_clock::now();
   if (!options.job.empty()) read_job(options);
   require(options.stock, "stock", "--stock");
-  require(options.path, "toolpath", "--path");
   require(options.out, "output folder", "--out");
+  if (!options.path.empty()) {
+    options.operations = {{options.tool, options.path}};
+  } else if (!options.tool.empty() && !options.operations.empty()) {
+    for (Operation& op : options.operations) {
+      if (op.tool.empty()) op.tool = options.tool;
+    }
+  }
+  if (options.operations.empty()) require(options.path, "toolpath", "--path");
   SimulationOptions simulation;
   simulation.resolution = options.resolution != 0.0 ? options.resolution : 0.1;
   simulation.tolerance = options.tolerance;
@@ -169,21 +403,112 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
     throw InputError(SourceLocation{"--tolerance"},
                      fmt::format("{} mm: expected a positive length", options.tolerance));
   }
+  if (options.cl_step < 0.0 || !std::isfinite(options.cl_step)) {
+    throw InputError(SourceLocation{"--cl-step"},
+                     fmt::format("{} mm: expected a positive length", options.cl_step));
+  }
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   const tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
                                         static_cast<std::size_t>(threads));
 
-  const ReadToolpath read = read_toolpath_file(options.path);
-  const Toolpath& path = read.toolpath;
-  const Cutter cutter = choose_cutter(options.tool, path, options.path);
+  // Everything the job needs is read and checked before the long part starts.
+  std::vector<PreparedOperation> operations;
+  std::size_t cl_count = 0;
+  for (const Operation& op : options.operations) {
+    ReadToolpath read = read_toolpath_file(op.path);
+    Cutter cutter = choose_cutter(op.tool, read.toolpath, op.path);
+    SamplingOptions sampling;
+    sampling.step = options.cl_step > 0.0 ? options.cl_step : default_cl_step(cutter.diameter());
+    const std::size_t cls =
+        options.stock_only ? 0 : sample_cl_points(read.toolpath, sampling).size();
+    cl_count += cls;
+    operations.push_back({op.path, std::move(read), std::move(cutter), sampling, cls});
+  }
+  MapChoice maps = parse_maps(options.stock_only ? "none" : options.maps, cl_count);
   const StockSpec stock_spec = parse_stock_spec(options.stock, SourceLocation{"--stock"});
   TriDexel stock = make_stock(stock_spec, simulation);
   const TriDexel::Volume initial = stock.volume();
+  const std::filesystem::path folder(options.out);
 
   ProgressBar bar(options.quiet ? nullptr : progress);
-  const RemovalSummary removal =
-      remove_toolpath(stock, cutter, path, simulation,
-                      [&bar](std::size_t done, std::size_t total) { bar(done, total); });
+  std::size_t all_moves = 0;
+  for (const PreparedOperation& op : operations) all_moves += op.read.toolpath.moves.size();
+  RemovalSummary removal;
+  std::vector<RemovalSummary> per_operation;
+  // Engagement outputs, streamed to temporary files that replace the targets at the end.
+  std::optional<AtomicFileWriter> csv, jsonl;
+  std::optional<MapFolder> map_folder;
+  std::vector<PathPlotPoint> along;
+  std::size_t engaged_cls = 0, maps_written = 0;
+  double deepest = 0.0, largest_area = 0.0;
+  if (!options.stock_only) {
+    csv.emplace(folder / "engagement.csv");
+    jsonl.emplace(folder / "engagement.jsonl");
+    map_folder.emplace(folder);
+    csv->append(kCsvHeader);
+  }
+  std::string csv_block, jsonl_block;  // appended in blocks of about a megabyte
+  const auto flush = [&](bool force) {
+    if (!force && csv_block.size() + jsonl_block.size() < (1u << 20)) return;
+    csv->append(csv_block);
+    jsonl->append(jsonl_block);
+    csv_block.clear();
+    jsonl_block.clear();
+  };
+  std::size_t moves_before = 0, cls_before = 0;
+  for (std::size_t o = 0; o < operations.size(); ++o) {
+    const PreparedOperation& op = operations[o];
+    const Toolpath& path = op.read.toolpath;
+    const auto report = [&](std::size_t done, std::size_t) { bar(moves_before + done, all_moves); };
+    if (options.stock_only) {
+      per_operation.push_back(remove_toolpath(stock, op.cutter, path, simulation, report));
+    } else {
+      const auto sink = [&](std::size_t index, const ClPoint& cl, const ToolState& state,
+                            const EngagementMap& map) {
+        const std::size_t k = cls_before + index;
+        ClPoint global = cl;
+        global.move += static_cast<int>(moves_before);
+        csv_block += csv_row(k, global, state, map, o + 1);
+        jsonl_block += jsonl_line(k, global, map);
+        flush(false);
+        along.push_back({static_cast<int>(k), map.engaged, degrees(map.phi_entry),
+                         degrees(map.phi_exit), map.axial_depth});
+        if (map.engaged) ++engaged_cls;
+        deepest = std::max(deepest, map.axial_depth);
+        largest_area = std::max(largest_area, map.area);
+        if (!maps.chosen(k, map.engaged)) return;
+        const Move& move = path.moves[static_cast<std::size_t>(cl.move)];
+        const std::string file =
+            move.source >= 0 && static_cast<std::size_t>(move.source) < path.sources.size()
+                ? path.sources[static_cast<std::size_t>(move.source)]
+                : op.path;
+        const MapPlotInfo info{
+            fmt::format("CL {} · move {} ({} line {}) · {}", k, global.move + 1,
+                        std::filesystem::path(file).filename().string(), cl.line, op.cutter.name()),
+            0.5 * op.cutter.diameter(), op.cutter.flute_length()};
+        const std::string name = fmt::format("cl_{:06d}", k);
+        map_folder->write(name + ".png", engagement_map_png(map, info));
+        map_folder->write(name + ".svg", engagement_map_svg(map, info));
+        ++maps_written;
+      };
+      per_operation.push_back(simulate_engagement(stock, op.cutter, path, simulation, op.sampling,
+                                                  EngagementOptions{}, sink, report));
+    }
+    merge(removal, per_operation.back(), static_cast<int>(moves_before));
+    moves_before += path.moves.size();
+    cls_before += op.cl_points;
+  }
+  if (!options.stock_only) {
+    flush(true);
+    const std::string title =
+        operations.size() == 1
+            ? fmt::format("Engagement along {} with {}",
+                          std::filesystem::path(operations[0].path).filename().string(),
+                          operations[0].cutter.name())
+            : fmt::format("Engagement along {} operations", operations.size());
+    map_folder->write("path.png", engagement_path_png(along, title));
+    map_folder->write("path.svg", engagement_path_svg(along, title));
+  }
   const TriDexel::Volume final_volume = stock.volume();
   const TriDexel::Memory memory = stock.memory();
   const int stride =
@@ -192,6 +517,11 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 
+  std::vector<std::string> tool_names, paths;
+  for (const PreparedOperation& op : operations) {
+    tool_names.push_back(op.cutter.name());
+    paths.push_back(op.path);
+  }
   nlohmann::json summary;
   summary["resolution_mm"] = simulation.resolution;
   summary["moves"] = removal.moves;
@@ -201,10 +531,19 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   summary["rays"] = stock.ray_count();
   summary["peak_memory_bytes"] = memory.peak();
   summary["seconds"] = seconds;
-  summary["tool"] = cutter.name();
-  summary["path"] = options.path;
+  summary["tool"] = fmt::format("{}", fmt::join(tool_names, ", "));
+  summary["path"] = fmt::format("{}", fmt::join(paths, ", "));
   summary["stock"] = options.stock;
   summary["threads"] = threads;
+  nlohmann::json ops = nlohmann::json::array();
+  for (std::size_t o = 0; o < operations.size(); ++o) {
+    ops.push_back({{"tool", operations[o].cutter.name()},
+                   {"path", operations[o].path},
+                   {"moves", per_operation[o].moves},
+                   {"cl_points", operations[o].cl_points},
+                   {"cl_step_mm", operations[o].sampling.step}});
+  }
+  summary["operations"] = ops;
   summary["feed_moves"] = removal.feed_moves;
   summary["rapid_moves"] = removal.rapid_moves;
   summary["cutting_moves"] = removal.cutting_moves;
@@ -221,6 +560,17 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
                            {"triangles", mesh.triangles.size()},
                            {"volume_mm3", mesh.volume()}};
   if (options.ply) summary["stock_mesh"]["ply"] = "stock.ply";
+  if (!options.stock_only) {
+    const DexelEngagement grid(operations.front().cutter, simulation.resolution);
+    summary["engagement"] = {{"cl_points", along.size()},
+                             {"engaged_cl_points", engaged_cls},
+                             {"disc_height_mm", grid.disc_height()},
+                             {"phi_step_deg", degrees(grid.phi_step())},
+                             {"max_axial_depth_mm", deepest},
+                             {"max_area_mm2", largest_area},
+                             {"maps", maps_written},
+                             {"files", {"engagement.csv", "engagement.jsonl", "maps/"}}};
+  }
   nlohmann::json rapids = nlohmann::json::array();
   for (std::size_t i = 0; i < removal.rapid_cuts.size() && i < kRapidCutsListed; ++i) {
     const RapidCut& cut = removal.rapid_cuts[i];
@@ -231,21 +581,30 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   }
   summary["rapid_cuts"] = {{"count", removal.rapid_cuts.size()}, {"first", rapids}};
   nlohmann::json warnings = nlohmann::json::array();
-  for (const Diagnostic& d : path.warnings) {
-    warnings.push_back(
-        {{"file", d.location.source}, {"line", d.location.line}, {"message", d.message}});
+  std::size_t warning_count = 0;
+  for (const PreparedOperation& op : operations) {
+    for (const Diagnostic& d : op.read.toolpath.warnings) {
+      warnings.push_back(
+          {{"file", d.location.source}, {"line", d.location.line}, {"message", d.message}});
+      ++warning_count;
+    }
   }
   summary["toolpath_warnings"] = warnings;
 
-  // Everything is computed: write the outputs, each whole.
-  const std::filesystem::path folder(options.out);
-  const std::string title = fmt::format("cwe in-process stock after {}", options.path);
+  // Everything is computed: commit the outputs, each whole; the summary last.
+  if (csv) csv->commit();
+  if (jsonl) jsonl->commit();
+  if (map_folder) map_folder->commit();
+  const std::string title =
+      fmt::format("cwe in-process stock after {}", summary["path"].get<std::string>());
   write_file_atomically(folder / "stock.stl", stl_binary(mesh, title));
   if (options.ply) write_file_atomically(folder / "stock.ply", ply_ascii(mesh, title));
   write_file_atomically(folder / "summary.json", summary.dump(2) + "\n");
 
-  fmt::print(out, "cwe simulate: {} moves of {} with {}\n", removal.moves, options.path,
-             cutter.name());
+  for (const PreparedOperation& op : operations) {
+    fmt::print(out, "cwe simulate: {} moves of {} with {}\n", op.read.toolpath.moves.size(),
+               op.path, op.cutter.name());
+  }
   fmt::print(out, "  stock       {} at s = {:g} mm: {} rays, peak {:.1f} MiB ({:.2f} bytes/ray)\n",
              options.stock, simulation.resolution, stock.ray_count(),
              static_cast<double>(memory.peak()) / (1024.0 * 1024.0),
@@ -255,6 +614,12 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
              "{:.2f} mm³)\n",
              initial.mean() - final_volume.mean(), initial.mean(), removal.cutting_moves,
              final_volume.spread());
+  if (!options.stock_only) {
+    fmt::print(out,
+               "  engagement  {} cutter locations, {} engaged; deepest {:.2f} mm, largest "
+               "contact {:.1f} mm²\n",
+               along.size(), engaged_cls, deepest, largest_area);
+  }
   fmt::print(out,
              "  accuracy    exact sweeps for linear moves; arcs, helices, 5-axis within "
              "{:g} mm\n",
@@ -267,14 +632,22 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
                "summary.json\n",
                removal.rapid_cuts.size(), first.location.source, first.location.line);
   }
-  if (!path.warnings.empty()) {
-    fmt::print(out, "  warning     the toolpath reader reported {} warnings; see summary.json\n",
-               path.warnings.size());
+  if (warning_count > 0) {
+    fmt::print(out, "  warning     the toolpath readers reported {} warnings; see summary.json\n",
+               warning_count);
+  }
+  if (!options.stock_only) {
+    fmt::print(out,
+               "  outputs     {0}/engagement.csv (one row per cutter location), "
+               "{0}/engagement.jsonl (per-disc angles),\n"
+               "              {0}/maps/ ({1} engagement maps, path.png along the path),\n",
+               options.out, maps_written);
   }
   fmt::print(out,
-             "  outputs     {}/stock.stl (machined stock, {} triangles on a {:g} mm "
-             "lattice){}, {}/summary.json\n",
-             options.out, mesh.triangles.size(), stride * simulation.resolution,
+             "  {}{}/stock.stl (machined stock, {} triangles on a {:g} mm lattice){}, "
+             "{}/summary.json\n",
+             options.stock_only ? "outputs     " : "            ", options.out,
+             mesh.triangles.size(), stride * simulation.resolution,
              options.ply ? fmt::format(", {}/stock.ply", options.out) : std::string(), options.out);
   return 0;
 }

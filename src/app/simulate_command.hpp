@@ -1,6 +1,8 @@
 #pragma once
-// `cwe simulate`: runs a toolpath through a stock on the tri-dexel workpiece and writes the
-// in-process workpiece (stock.stl) and a summary (summary.json). The job comes from options or
+// `cwe simulate`: the main job. Runs a toolpath through a stock on the tri-dexel workpiece,
+// extracting the cutter–workpiece engagement at every cutter location, and writes the engagement
+// (engagement.csv, engagement.jsonl, maps/), the in-process workpiece (stock.stl) and a summary
+// (summary.json). The job comes from options or
 // from a JSON job file (see docs/simulate.md); options given on the command line win.
 
 #include <CLI/CLI.hpp>
@@ -8,6 +10,7 @@
 #include <cstddef>
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace cwe::app {
 
@@ -15,17 +18,27 @@ namespace cwe::app {
 // binary STL.
 inline constexpr std::size_t kStockMeshTriangles = 1'000'000;
 
+// One toolpath with its tool (empty: the program's own CUTTER).
+struct Operation {
+  std::string tool;
+  std::string path;
+};
+
 struct SimulateCommandOptions {
   std::string job;    // JSON job file (optional)
   std::string stock;  // box:xmin,ymin,zmin,xmax,ymax,zmax or an STL file
   std::string tool;
   std::string path;
+  std::vector<Operation> operations;  // from a job file; else the one --tool/--path
   std::string out;
   double resolution = 0.0;  // 0: from the job, else 0.1 mm
   double tolerance = 0.0;   // 0: from the job, else resolution / 10
   int threads = 0;          // 0: from the job, else all cores
   int mesh_stride = 0;      // 0: from the job, else chosen for ≤ kStockMeshTriangles
   bool ply = false;         // also write stock.ply
+  double cl_step = 0.0;     // 0: from the job, else min(0.5, D/20) mm
+  std::string maps;         // every:N, cl:i,j,…, or none; empty: from the job, else ~10 maps
+  bool stock_only = false;  // material removal only: no engagement outputs
   bool quiet = false;       // no progress bar
 };
 

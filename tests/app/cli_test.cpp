@@ -288,6 +288,58 @@ TEST(CliSimulate, WritesStockAndSummary) {
   EXPECT_NEAR(summary["stock_mesh"]["volume_mm3"].get<double>(),
               summary["final_volume_mm3"].get<double>(), 0.02 * 6000.0);
 
+  // Engagement at every cutter location: the CSV's header and one row per CL, the JSON lines,
+  // the maps (about ten by default) and the plot along the path.
+  const auto lines_of = [](const std::filesystem::path& file) {
+    std::ifstream stream(file);
+    std::vector<std::string> lines;
+    for (std::string line; std::getline(stream, line);) lines.push_back(line);
+    return lines;
+  };
+  const auto csv = lines_of(dir / "out" / "engagement.csv");
+  ASSERT_FALSE(csv.empty());
+  EXPECT_EQ(csv[0].rfind("cl,move,line,x,y,z,i,j,k,feed_x,feed_y,feed_z,engaged,phi_entry_deg,"
+                         "phi_exit_deg,axial_depth_mm,area_mm2",
+                         0),
+            0u);
+  const std::size_t cls = summary["engagement"]["cl_points"].get<std::size_t>();
+  EXPECT_EQ(csv.size(), cls + 1);
+  EXPECT_GT(summary["engagement"]["engaged_cl_points"].get<std::size_t>(), 0u);
+  // The slot's steady state (x = 15): a full slot 3 mm deep, φ 0–180°.
+  bool steady = false;
+  for (const std::string& row : csv) {
+    if (row.find(",15.0000,10.0000,-3.0000,") == std::string::npos) continue;
+    steady = true;
+    std::vector<std::string> field;
+    std::stringstream fields(row);
+    for (std::string f; std::getline(fields, f, ',');) field.push_back(f);
+    ASSERT_GE(field.size(), 17u);
+    EXPECT_EQ(field[12], "1") << row;
+    // Within s/(√2 R) = 0.25/(√2·5) rad ≈ 2° of 0° and 180°, and 3 mm deep within s.
+    EXPECT_NEAR(std::stod(field[13]), 0.0, 2.1) << row;
+    EXPECT_NEAR(std::stod(field[14]), 180.0, 2.1) << row;
+    EXPECT_NEAR(std::stod(field[15]), 3.0, 0.25) << row;
+  }
+  EXPECT_TRUE(steady);
+  const auto jsonl = lines_of(dir / "out" / "engagement.jsonl");
+  ASSERT_EQ(jsonl.size(), cls);
+  for (std::size_t k = 0; k < jsonl.size(); ++k) {
+    const nlohmann::json line = nlohmann::json::parse(jsonl[k]);
+    EXPECT_EQ(line["cl"], k);
+    EXPECT_TRUE(line["discs"].is_array());
+    EXPECT_TRUE(line["bottom"]["rings"].is_array());
+  }
+  EXPECT_TRUE(std::filesystem::exists(dir / "out" / "maps" / "path.png"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "out" / "maps" / "path.svg"));
+  std::size_t pngs = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir / "out" / "maps")) {
+    pngs += entry.path().extension() == ".png" && entry.path().stem() != "path" ? 1 : 0;
+  }
+  EXPECT_EQ(pngs, summary["engagement"]["maps"].get<std::size_t>());
+  // By default the first engaged CL of each tenth of the path: at most ten maps.
+  EXPECT_GE(summary["engagement"]["maps"].get<std::size_t>(), 5u);
+  EXPECT_LE(summary["engagement"]["maps"].get<std::size_t>(), 10u);
+
   // The same job from a JSON job file (paths relative to it); options still override.
   std::ofstream(dir / "job.json") << R"({"stock": "box:0,0,-10,30,20,0", "tool": "flat:10,20",
     "path": "slot.ngc", "out": "from-job", "resolution": 0.5, "mesh_stride": 2, "ply": true})";
@@ -333,7 +385,11 @@ TEST(CliSimulate, WritesStockAndSummary) {
         {"simulate", "--stock", "box:0,0,0,10,10,10", "--tool", "flat:10", "--path",
          program.string(), "--out", none.string(), "--resolution", "-1"},
         {"simulate", "--stock", "box:0,0,0,10,10,10", "--tool", "flat:10", "--out", none.string()},
-        {"simulate", (dir / "missing.json").string()}}) {
+        {"simulate", (dir / "missing.json").string()},
+        {"simulate", "--stock", "box:0,0,0,10,10,10", "--tool", "flat:10", "--path",
+         program.string(), "--out", none.string(), "--maps", "every:x"},
+        {"simulate", "--stock", "box:0,0,0,10,10,10", "--tool", "flat:10", "--path",
+         program.string(), "--out", none.string(), "--cl-step", "-1"}}) {
     const Result e = run_cwe(bad);
     EXPECT_EQ(e.status, 2) << e.err;
     EXPECT_NE(e.err.find("error"), std::string::npos) << e.err;
