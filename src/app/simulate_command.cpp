@@ -320,11 +320,14 @@ class ProgressBar {
 void add_simulate_command(CLI::App& app, SimulateCommandOptions& options) {
   CLI::App* cmd = app.add_subcommand(
       "simulate",
-      "Run a toolpath through a stock (tri-dexel workpiece) and write the machined stock "
-      "(stock.stl) and a summary (summary.json). Job options may come from a JSON job file.");
+      "The main job: run toolpaths through a stock (tri-dexel workpiece), extract the "
+      "cutter-workpiece engagement at every cutter location and write engagement.csv, "
+      "engagement.jsonl, maps/, the machined stock (stock.stl) and summary.json. Options may "
+      "come from a JSON job file (docs/simulate.md).");
   cmd->add_option("job", options.job,
-                  "JSON job file (keys: stock, tool, path, out, resolution, "
-                  "tolerance, threads); options below override it");
+                  "JSON job file (keys: stock, tool, path or operations, out, resolution, "
+                  "tolerance, threads, cl_step, maps, stock_only, mesh_stride, ply); options "
+                  "below override it");
   cmd->add_option("--stock", options.stock,
                   "box:xmin,ymin,zmin,xmax,ymax,zmax (mm) or a closed STL file");
   cmd->add_option("--tool", options.tool,
