@@ -367,6 +367,21 @@ TEST(CliSimulate, WritesStockAndSummary) {
               summary["stock_mesh"]["volume_mm3"].get<double>(), 2400 * 0.25);
   EXPECT_LT(again_summary["removed_volume_mm3"].get<double>(), 1.0);  // already cut
 
+  // Removal only: the same stock, no engagement outputs.
+  const Result stock_only = run_cwe({"simulate", "--stock", "box:0,0,-10,30,20,0", "--tool",
+                                     "flat:10,20", "--path", program.string(), "--out",
+                                     (dir / "stock-only").string(), "--resolution", "0.25",
+                                     "--stock-only"});
+  ASSERT_EQ(stock_only.status, 0) << stock_only.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "stock-only" / "engagement.csv"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "stock-only" / "maps"));
+  std::ifstream stock_only_in(dir / "stock-only" / "summary.json");
+  const nlohmann::json stock_only_summary = nlohmann::json::parse(stock_only_in);
+  // Whole moves here, CL steps there: the same solid, up to float rounding of ray ends.
+  EXPECT_NEAR(stock_only_summary["removed_volume_mm3"].get<double>(),
+              summary["removed_volume_mm3"].get<double>(), 0.05);
+  EXPECT_FALSE(stock_only_summary.contains("engagement"));
+
   // An open STL is refused, saying how many boundary edges it has and where.
   std::ofstream(dir / "open.stl") << "solid open\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"
                                      "vertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid\n";
