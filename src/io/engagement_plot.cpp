@@ -3,179 +3,22 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
-#include <memory>
 #include <numeric>
-#include <stdexcept>
 #include <utility>
 
-#include <cairo-svg.h>
 #include <cairo.h>
 #include <fmt/format.h>
 
 #include "cwe/core/error.hpp"
 #include "cwe/geometry/vec.hpp"
+#include "plot_common.hpp"
 
 namespace cwe {
 namespace {
 
 namespace layout = plot_layout;
-
-// Tick arithmetic works on numbers of a few significant digits: this much relative slack keeps
-// 3.0000000000000004 mm from being rounded up to the next tick.
-constexpr double kTickSlack = 1e-9;
-
-// ---------------------------------------------------------------------------------------------
-// Cairo plumbing: one drawing routine, two surfaces.
-
-struct SurfaceDeleter {
-  void operator()(cairo_surface_t* s) const { cairo_surface_destroy(s); }
-};
-struct ContextDeleter {
-  void operator()(cairo_t* c) const { cairo_destroy(c); }
-};
-using SurfacePtr = std::unique_ptr<cairo_surface_t, SurfaceDeleter>;
-using ContextPtr = std::unique_ptr<cairo_t, ContextDeleter>;
-
-// Cairo's stream callback; must not throw through C.
-cairo_status_t append_to_string(void* closure, const unsigned char* data, unsigned int length) {
-  try {
-    static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
-    return CAIRO_STATUS_SUCCESS;
-  } catch (...) {
-    return CAIRO_STATUS_WRITE_ERROR;
-  }
-}
-
-void check(cairo_status_t status, const char* what) {
-  if (status != CAIRO_STATUS_SUCCESS) {
-    throw std::runtime_error(fmt::format("{}: cairo: {}", what, cairo_status_to_string(status)));
-  }
-}
-
-template <typename Draw>
-std::string render_png(int width, int height, const Draw& draw) {
-  const SurfacePtr surface{cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height)};
-  check(cairo_surface_status(surface.get()), "PNG figure");
-  {
-    const ContextPtr cr{cairo_create(surface.get())};
-    draw(cr.get());
-    check(cairo_status(cr.get()), "PNG figure");
-  }
-  cairo_surface_flush(surface.get());
-  std::string bytes;
-  check(cairo_surface_write_to_png_stream(surface.get(), append_to_string, &bytes), "PNG figure");
-  return bytes;
-}
-
-template <typename Draw>
-std::string render_svg(int width, int height, const Draw& draw) {
-  std::string bytes;
-  const SurfacePtr surface{
-      cairo_svg_surface_create_for_stream(append_to_string, &bytes, width, height)};
-  check(cairo_surface_status(surface.get()), "SVG figure");
-  // Unitless width and height: SVG user units, the same numbers as the PNG's pixels.
-  cairo_svg_surface_set_document_unit(surface.get(), CAIRO_SVG_UNIT_USER);
-  cairo_svg_surface_restrict_to_version(surface.get(), CAIRO_SVG_VERSION_1_1);
-  {
-    const ContextPtr cr{cairo_create(surface.get())};
-    draw(cr.get());
-    check(cairo_status(cr.get()), "SVG figure");
-  }
-  cairo_surface_finish(surface.get());  // writes the document's end
-  check(cairo_surface_status(surface.get()), "SVG figure");
-  return bytes;
-}
-
-// ---------------------------------------------------------------------------------------------
-// Drawing helpers.
-
-void set_color(cairo_t* cr, unsigned rgb, double alpha = 1.0) {
-  cairo_set_source_rgba(cr, ((rgb >> 16) & 0xff) / 255.0, ((rgb >> 8) & 0xff) / 255.0,
-                        (rgb & 0xff) / 255.0, alpha);
-}
-
-constexpr unsigned kBlack = 0x000000;
-constexpr unsigned kGridColor = 0xdddddd;
-constexpr unsigned kNoteColor = 0x777777;
-constexpr unsigned kDivideColor = 0x555555;
-
-enum class Anchor { kStart, kMiddle, kEnd };
-
-// Text with its baseline at y; `angle` (radians, cairo's sense: clockwise on screen) turns it
-// about (x, y), -π/2 for a vertical axis label read bottom to top.
-void text(cairo_t* cr, double x, double y, const std::string& s, Anchor anchor = Anchor::kStart,
-          double size = 12, bool bold = false, double angle = 0) {
-  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL,
-                         bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
-  cairo_set_font_size(cr, size);
-  cairo_text_extents_t extents;
-  cairo_text_extents(cr, s.c_str(), &extents);
-  const double dx = anchor == Anchor::kStart    ? 0.0
-                    : anchor == Anchor::kMiddle ? -0.5 * extents.x_advance
-                                                : -extents.x_advance;
-  cairo_save(cr);
-  cairo_translate(cr, x, y);
-  cairo_rotate(cr, angle);
-  cairo_move_to(cr, dx, 0);
-  cairo_show_text(cr, s.c_str());
-  cairo_new_path(cr);
-  cairo_restore(cr);
-}
-
-double text_width(cairo_t* cr, const std::string& s, double size = 12) {
-  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
-  cairo_set_font_size(cr, size);
-  cairo_text_extents_t extents;
-  cairo_text_extents(cr, s.c_str(), &extents);
-  return extents.x_advance;
-}
-
-// A grey remark centred at (x, y) on a white box, readable over grid lines.
-void note(cairo_t* cr, double x, double y, const std::string& s) {
-  const double size = 14, w = text_width(cr, s, size);
-  cairo_set_source_rgb(cr, 1, 1, 1);
-  cairo_rectangle(cr, x - 0.5 * w - 6, y - size, w + 12, size + 8);
-  cairo_fill(cr);
-  set_color(cr, kNoteColor);
-  text(cr, x, y, s, Anchor::kMiddle, size);
-}
-
-void line(cairo_t* cr, double x0, double y0, double x1, double y1) {
-  cairo_move_to(cr, x0, y0);
-  cairo_line_to(cr, x1, y1);
-}
-
-void white_background(cairo_t* cr, int width, int height) {
-  cairo_set_source_rgb(cr, 1, 1, 1);
-  cairo_rectangle(cr, 0, 0, width, height);
-  cairo_fill(cr);
-}
-
-// Step of a 1-2-2.5-5 (or 1-2-5 and at least 1 when `integral`) sequence giving about `ticks`
-// intervals over `range` (> 0).
-double nice_step(double range, int ticks, bool integral = false) {
-  const double raw = range / ticks;
-  if (!(raw > 0.0)) return 1.0;
-  const double magnitude = std::pow(10.0, std::floor(std::log10(raw)));
-  for (double m : {1.0, 2.0, 2.5, 5.0, 10.0}) {
-    if (integral && m == 2.5 && magnitude < 10.0) continue;
-    if (m * magnitude >= raw * (1.0 - kTickSlack))
-      return integral ? std::max(1.0, m * magnitude) : m * magnitude;
-  }
-  return integral ? std::max(1.0, 10.0 * magnitude) : 10.0 * magnitude;
-}
-
-// The smallest multiple of `step` at or above value (>= 0).
-double round_up(double value, double step) {
-  return std::max(0.0, std::ceil(value / step - kTickSlack)) * step;
-}
-
-// Number of whole steps in [0, top].
-int step_count(double top, double step) {
-  return static_cast<int>(std::floor(top / step + kTickSlack));
-}
-
-std::string number(double v) { return fmt::format("{:g}", v); }
+// The figures' plumbing and helpers, private to io (plot_common.hpp).
+using namespace io_detail;
 
 // ---------------------------------------------------------------------------------------------
 // The engagement map figure.

@@ -3,85 +3,23 @@
 // intervals touching 0 and 2π, huge paths) draw without trouble; NaN is an input error.
 #include <gtest/gtest.h>
 
-#include <cairo.h>
-
-#include <algorithm>
 #include <cmath>
-#include <cstdint>
-#include <cstring>
 #include <limits>
-#include <memory>
 #include <string>
 #include <vector>
 
 #include "cwe/core/error.hpp"
 #include "cwe/geometry/vec.hpp"
 #include "cwe/io/engagement_plot.hpp"
+#include "plot_testing.hpp"
 
 namespace cwe {
 namespace {
 
 namespace layout = plot_layout;
-
-// A decoded PNG (cairo image surface, RGB24 or ARGB32 on an opaque background).
-class Image {
- public:
-  explicit Image(const std::string& png) {
-    Reader reader{png, 0};
-    surface_.reset(cairo_image_surface_create_from_png_stream(&Reader::read, &reader));
-    cairo_surface_flush(surface_.get());
-  }
-  bool ok() const { return cairo_surface_status(surface_.get()) == CAIRO_STATUS_SUCCESS; }
-  int width() const { return cairo_image_surface_get_width(surface_.get()); }
-  int height() const { return cairo_image_surface_get_height(surface_.get()); }
-  // 0xRRGGBB of the pixel whose area contains (x, y).
-  unsigned rgb(double x, double y) const {
-    const unsigned char* data = cairo_image_surface_get_data(surface_.get());
-    const int stride = cairo_image_surface_get_stride(surface_.get());
-    const auto column = static_cast<int>(std::floor(x));
-    const auto row = static_cast<int>(std::floor(y));
-    std::uint32_t pixel = 0;
-    std::memcpy(&pixel, data + row * stride + column * 4, sizeof pixel);
-    return pixel & 0xffffffu;
-  }
-  // Pixels of exactly `color` in the rows [row0, row1) and columns [column0, column1); the whole
-  // image by default.
-  int count(unsigned color, int column0 = 0, int row0 = 0, int column1 = -1, int row1 = -1) const {
-    if (column1 < 0) column1 = width();
-    if (row1 < 0) row1 = height();
-    int n = 0;
-    for (int row = row0; row < row1; ++row) {
-      for (int column = column0; column < column1; ++column) n += rgb(column, row) == color;
-    }
-    return n;
-  }
-
- private:
-  struct Reader {
-    const std::string& bytes;
-    std::size_t offset;
-    static cairo_status_t read(void* closure, unsigned char* data, unsigned int length) {
-      auto* self = static_cast<Reader*>(closure);
-      if (self->bytes.size() - self->offset < length) return CAIRO_STATUS_READ_ERROR;
-      std::memcpy(data, self->bytes.data() + self->offset, length);
-      self->offset += length;
-      return CAIRO_STATUS_SUCCESS;
-    }
-  };
-  struct Deleter {
-    void operator()(cairo_surface_t* s) const { cairo_surface_destroy(s); }
-  };
-  std::unique_ptr<cairo_surface_t, Deleter> surface_;
-};
-
-bool is_png(const std::string& bytes) {
-  return bytes.compare(0, 8, std::string("\x89PNG\r\n\x1a\n", 8)) == 0;
-}
-
-bool is_svg(const std::string& bytes) {
-  return (bytes.rfind("<?xml", 0) == 0 || bytes.rfind("<svg", 0) == 0) &&
-         bytes.find("</svg>") != std::string::npos;
-}
+using test::Image;
+using test::is_png;
+using test::is_svg;
 
 // Side discs 1 mm high from the tip to 4 mm, the lower two engaged over φ ∈ [20°, 100°]; with
 // `rings`, a flat bottom of rings 0–2 and 2–4 mm, the outer engaged over φ ∈ [0°, 90°].
