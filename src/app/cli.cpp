@@ -9,8 +9,10 @@
 
 #include "cwe/core/assert.hpp"
 #include "cwe/core/error.hpp"
+#include "cwe/process/cutting_coefficients.hpp"
 #include "envelope_command.hpp"
 #include "path_command.hpp"
+#include "schedule_command.hpp"
 #include "simulate_command.hpp"
 #include "tool_command.hpp"
 
@@ -28,6 +30,11 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   add_envelope_command(app, envelope_options);
   SimulateCommandOptions simulate_options;
   add_simulate_command(app, simulate_options);
+  ScheduleCommandOptions schedule_options;
+  add_schedule_command(app, schedule_options);
+  app.add_subcommand("materials",
+                     "List the bundled cutting-coefficient sets (for --forces) with their "
+                     "sources");
 
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   if (!reversed.empty()) reversed.pop_back();  // the program name
@@ -42,10 +49,21 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
     if (app.got_subcommand("tool")) return run_tool_command(tool_options, out);
     if (app.got_subcommand("path")) return run_path_command(path_options, out);
     if (app.got_subcommand("envelope")) return run_envelope_command(envelope_options, out);
+    // The progress bar goes to the error stream only when that is a terminal.
+    const bool terminal = &err == &std::cerr && isatty(STDERR_FILENO) == 1;
     if (app.got_subcommand("simulate")) {
-      // The progress bar goes to the error stream only when that is a terminal.
-      const bool terminal = &err == &std::cerr && isatty(STDERR_FILENO) == 1;
       return run_simulate_command(simulate_options, out, terminal ? &err : nullptr);
+    }
+    if (app.got_subcommand("schedule")) {
+      return run_schedule_command(schedule_options, out, terminal ? &err : nullptr);
+    }
+    if (app.got_subcommand("materials")) {
+      for (const std::string& name : bundled_materials()) {
+        const CuttingCoefficients k = bundled_coefficients(name);
+        out << name << ": Ktc " << k.ktc << ", Krc " << k.krc << ", Kac " << k.kac << " N/mm²; Kte "
+            << k.kte << ", Kre " << k.kre << ", Kae " << k.kae << " N/mm\n  " << k.source << '\n';
+      }
+      return 0;
     }
   } catch (const InputError& e) {
     err << e.what() << '\n';

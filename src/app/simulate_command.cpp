@@ -21,135 +21,20 @@
 #include "cwe/core/text_file.hpp"
 #include "cwe/io/atomic_file.hpp"
 #include "cwe/io/engagement_plot.hpp"
+#include "cwe/io/force_plot.hpp"
 #include "cwe/io/mesh_io.hpp"
 #include "cwe/simulation/simulation.hpp"
 #include "cwe/toolpath/cl_sampling.hpp"
 #include "cwe/toolpath/toolpath_reader.hpp"
 #include "cwe/workpiece/dexel/dexel_mesh.hpp"
-#include "tool_choice.hpp"
+#include "force_outputs.hpp"
+#include "job.hpp"
 
 namespace cwe::app {
 namespace {
 
 // Rapid moves listed by line in the report (all are counted).
 constexpr std::size_t kRapidCutsListed = 10;
-
-// Fills options not given on the command line from a JSON job file. Paths in the job are
-// relative to the job file's folder.
-void read_job(SimulateCommandOptions& options) {
-  const std::string text = read_text_file(options.job, "job file");
-  nlohmann::json job;
-  try {
-    job = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(SourceLocation{options.job}, fmt::format("not valid JSON: {}", e.what()));
-  }
-  if (!job.is_object()) throw InputError(SourceLocation{options.job}, "expected a JSON object");
-  const std::filesystem::path folder = std::filesystem::path(options.job).parent_path();
-  const auto where = [&](const std::string& key) {
-    return SourceLocation{fmt::format("{}: \"{}\"", options.job, key)};
-  };
-  static const char* const kKeys[] = {
-      "stock",   "tool", "path",    "operations", "out",        "resolution",  "tolerance",
-      "threads", "ply",  "cl_step", "maps",       "stock_only", "mesh_stride", "comment"};
-  for (const auto& [key, value] : job.items()) {
-    if (std::find(std::begin(kKeys), std::end(kKeys), key) == std::end(kKeys)) {
-      throw InputError(where(key),
-                       "unknown key; expected stock, tool, path, operations, out, resolution, "
-                       "tolerance, threads, mesh_stride, ply, cl_step, maps, stock_only or "
-                       "comment");
-    }
-  }
-  const auto text_of = [&](const char* key, std::string& field, bool is_path) {
-    if (!job.contains(key) || !field.empty()) return;
-    if (!job[key].is_string()) throw InputError(where(key), "expected a string");
-    std::string value = job[key].get<std::string>();
-    if (is_path && !value.empty() && std::filesystem::path(value).is_relative()) {
-      value = (folder / value).lexically_normal().string();
-    }
-    field = value;
-  };
-  const auto number_of = [&](const char* key, double& field) {
-    if (!job.contains(key) || field != 0.0) return;
-    if (!job[key].is_number()) throw InputError(where(key), "expected a number");
-    field = job[key].get<double>();
-  };
-  // A stock given as a file is a path; a box is not.
-  if (job.contains("stock") && options.stock.empty()) {
-    if (!job["stock"].is_string()) throw InputError(where("stock"), "expected a string");
-    const std::string stock = job["stock"].get<std::string>();
-    text_of("stock", options.stock, stock.rfind("box:", 0) != 0);
-  }
-  // A tool specification is a path only when it names a JSON tool file.
-  if (job.contains("tool") && options.tool.empty()) {
-    if (!job["tool"].is_string()) throw InputError(where("tool"), "expected a string");
-    const std::string tool = job["tool"].get<std::string>();
-    text_of("tool", options.tool, tool.size() > 5 && tool.ends_with(".json"));
-  }
-  text_of("path", options.path, true);
-  text_of("out", options.out, true);
-  // Operations: toolpaths run one after the other on the same stock, each with its tool.
-  if (job.contains("operations") && options.operations.empty() && options.path.empty()) {
-    const nlohmann::json& list = job["operations"];
-    if (!list.is_array() || list.empty()) {
-      throw InputError(where("operations"), "expected a non-empty array of {\"tool\", \"path\"}");
-    }
-    for (std::size_t k = 0; k < list.size(); ++k) {
-      const nlohmann::json& op = list[k];
-      const SourceLocation at{fmt::format("{}: \"operations\"[{}]", options.job, k)};
-      if (!op.is_object()) throw InputError(at, "expected an object {\"tool\", \"path\"}");
-      for (const auto& [key, value] : op.items()) {
-        if (key != "tool" && key != "path" && key != "comment") {
-          throw InputError(at,
-                           fmt::format("unknown key \"{}\"; expected tool, path or comment", key));
-        }
-      }
-      if (!op.contains("path") || !op["path"].is_string()) {
-        throw InputError(at, "expected \"path\": a toolpath file");
-      }
-      if (op.contains("tool") && !op["tool"].is_string()) {
-        throw InputError(at, "expected \"tool\" to be a string");
-      }
-      Operation operation;
-      operation.path = op["path"].get<std::string>();
-      if (std::filesystem::path(operation.path).is_relative()) {
-        operation.path = (folder / operation.path).lexically_normal().string();
-      }
-      operation.tool = op.value("tool", std::string());
-      if (operation.tool.size() > 5 && operation.tool.ends_with(".json") &&
-          std::filesystem::path(operation.tool).is_relative()) {
-        operation.tool = (folder / operation.tool).lexically_normal().string();
-      }
-      options.operations.push_back(operation);
-    }
-  }
-  number_of("resolution", options.resolution);
-  number_of("tolerance", options.tolerance);
-  if (job.contains("threads") && options.threads == 0) {
-    if (!job["threads"].is_number_integer() || job["threads"].get<int>() < 1) {
-      throw InputError(where("threads"), "expected a whole number of threads, at least 1");
-    }
-    options.threads = job["threads"].get<int>();
-  }
-  if (job.contains("mesh_stride") && options.mesh_stride == 0) {
-    if (!job["mesh_stride"].is_number_integer() || job["mesh_stride"].get<int>() < 1) {
-      throw InputError(where("mesh_stride"), "expected a whole number, at least 1");
-    }
-    options.mesh_stride = job["mesh_stride"].get<int>();
-  }
-  if (job.contains("ply") && !options.ply) {
-    if (!job["ply"].is_boolean()) throw InputError(where("ply"), "expected true or false");
-    options.ply = job["ply"].get<bool>();
-  }
-  if (job.contains("stock_only") && !options.stock_only) {
-    if (!job["stock_only"].is_boolean()) {
-      throw InputError(where("stock_only"), "expected true or false");
-    }
-    options.stock_only = job["stock_only"].get<bool>();
-  }
-  number_of("cl_step", options.cl_step);
-  text_of("maps", options.maps, false);
-}
 
 // Which CLs get a map figure: every:N, cl:i,j,… (indices from 0), none, or (empty) about ten
 // spread over the path: in each tenth of the CLs, its first engaged one.
@@ -169,15 +54,15 @@ struct MapChoice {
   }
 };
 
-MapChoice parse_maps(const std::string& text, std::size_t cl_count) {
-  const SourceLocation where{"--maps"};
+MapChoice parse_maps(const std::string& text, std::size_t cl_count, const char* option = "--maps") {
+  const SourceLocation where{option};
   MapChoice choice;
-  if (text.empty()) {
+  if (text.empty() && std::string_view(option) == "--maps") {
     choice.every = std::max<std::size_t>(1, (cl_count + 9) / 10);
     choice.engaged_only = true;
     return choice;
   }
-  if (text == "none") return choice;
+  if (text == "none" || text.empty()) return choice;
   const auto number = [&](std::string_view word) {
     std::size_t value = 0;
     const auto [end, ec] = std::from_chars(word.data(), word.data() + word.size(), value);
@@ -208,16 +93,16 @@ MapChoice parse_maps(const std::string& text, std::size_t cl_count) {
   throw InputError(where, fmt::format("'{}': expected every:N, cl:i,j,… or none", text));
 }
 
-// A map folder written whole or not at all: figures go to a temporary folder that replaces
-// <out>/maps only when the job has finished.
-class MapFolder {
+// An output folder (maps/, force_curves/) written whole or not at all: files go to a temporary
+// folder that replaces <out>/<name> only when the job has finished.
+class OutputFolder {
  public:
-  explicit MapFolder(const std::filesystem::path& out)
-      : target_(out / "maps"),
-        temporary_(out / ("maps.tmp-" + std::to_string(static_cast<long>(::getpid())))) {}
-  MapFolder(const MapFolder&) = delete;
-  MapFolder& operator=(const MapFolder&) = delete;
-  ~MapFolder() {
+  OutputFolder(const std::filesystem::path& out, const std::string& name)
+      : target_(out / name),
+        temporary_(out / (name + ".tmp-" + std::to_string(static_cast<long>(::getpid())))) {}
+  OutputFolder(const OutputFolder&) = delete;
+  OutputFolder& operator=(const OutputFolder&) = delete;
+  ~OutputFolder() {
     std::error_code ec;
     if (!committed_) std::filesystem::remove_all(temporary_, ec);
   }
@@ -231,7 +116,7 @@ class MapFolder {
     std::filesystem::rename(temporary_, target_, ec);
     if (ec) {
       throw InputError(SourceLocation{target_.string()},
-                       "cannot write the map folder: " + ec.message());
+                       "cannot write the output folder: " + ec.message());
     }
     committed_ = true;
   }
@@ -286,35 +171,6 @@ std::string csv_row(std::size_t k, const ClPoint& cl, const ToolState& state,
       cl.u, cl.path_length, to_string(state.motion), operation);
 }
 
-void require(const std::string& value, const char* what, const char* option) {
-  if (value.empty()) {
-    throw InputError(SourceLocation{"cwe simulate"},
-                     fmt::format("no {}: give {} or put it in a job file", what, option));
-  }
-}
-
-// A one-line progress bar, redrawn when the shown percentage changes.
-class ProgressBar {
- public:
-  explicit ProgressBar(std::ostream* stream) : stream_(stream) {}
-  void operator()(std::size_t done, std::size_t total) {
-    if (stream_ == nullptr || total == 0) return;
-    const int percent = static_cast<int>(100 * done / total);
-    if (percent == shown_) return;
-    shown_ = percent;
-    constexpr int kWidth = 40;
-    const int filled = percent * kWidth / 100;
-    fmt::print(*stream_, "\rremoving material [{}{}] {:3d}%  move {}/{}", std::string(filled, '#'),
-               std::string(kWidth - filled, ' '), percent, done, total);
-    if (done == total) fmt::print(*stream_, "\n");
-    stream_->flush();
-  }
-
- private:
-  std::ostream* stream_;
-  int shown_ = -1;
-};
-
 }  // namespace
 
 void add_simulate_command(CLI::App& app, SimulateCommandOptions& options) {
@@ -322,50 +178,27 @@ void add_simulate_command(CLI::App& app, SimulateCommandOptions& options) {
       "simulate",
       "The main job: run toolpaths through a stock (tri-dexel workpiece), extract the "
       "cutter-workpiece engagement at every cutter location and write engagement.csv, "
-      "engagement.jsonl, maps/, the machined stock (stock.stl) and summary.json. Options may "
-      "come from a JSON job file (docs/simulate.md).");
-  cmd->add_option("job", options.job,
-                  "JSON job file (keys: stock, tool, path or operations, out, resolution, "
-                  "tolerance, threads, cl_step, maps, stock_only, mesh_stride, ply); options "
-                  "below override it");
-  cmd->add_option("--stock", options.stock,
-                  "box:xmin,ymin,zmin,xmax,ymax,zmax (mm) or a closed STL file");
-  cmd->add_option("--tool", options.tool,
-                  "Tool specification or JSON tool file (default: the program's own CUTTER)");
-  cmd->add_option("--path", options.path, "Toolpath file (G-code or APT CLDATA)");
+      "engagement.jsonl, maps/, the machined stock (stock.stl) and summary.json; with --forces "
+      "also forces.csv. Options may come from a JSON job file (docs/simulate.md).");
+  add_job_options(cmd, options);
   cmd->add_option("--out", options.out, "Output folder");
-  cmd->add_option("--resolution", options.resolution, "Ray spacing s, mm (default 0.1)");
-  cmd->add_option("--tolerance", options.tolerance,
-                  "Subdivision tolerance of arcs, helices and 5-axis moves, mm (default s/10)");
-  cmd->add_option("--threads", options.threads, "Worker threads (default: all cores)")
-      ->check(CLI::PositiveNumber);
   cmd->add_option("--mesh-stride", options.mesh_stride,
                   "Contour stock.stl on every k-th ray position (lattice k·s); default: the "
                   "smallest k giving at most about 1,000,000 triangles")
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--ply", options.ply,
                 "Also write the stock as stock.ply (ASCII, double precision)");
-  cmd->add_option("--cl-step", options.cl_step,
-                  "Cutter-location spacing along the tip path, mm (default: 0.5 or D/20, the "
-                  "smaller)");
   cmd->add_option("--maps", options.maps,
                   "Engagement-map figures: every:N, cl:i,j,… (CL indices from 0) or none "
                   "(default: the first engaged CL of each tenth of the path)");
+  cmd->add_option("--force-curves", options.force_curves,
+                  "Force-versus-angle curves (CSV and plots) in force_curves/: every:N, "
+                  "cl:i,j,… or none (default none)");
   cmd->add_flag("--stock-only", options.stock_only,
                 "Material removal only: no engagement outputs (faster)");
-  cmd->add_flag("--quiet", options.quiet, "No progress bar");
 }
 
 namespace {
-
-// An operation ready to run: its program read and its cutter chosen.
-struct PreparedOperation {
-  std::string path;
-  ReadToolpath read;
-  Cutter cutter;
-  SamplingOptions sampling;
-  std::size_t cl_points = 0;
-};
 
 // Adds one operation's removal figures to the job's.
 void merge(RemovalSummary& job, const RemovalSummary& op, int move_offset) {
@@ -388,46 +221,22 @@ void merge(RemovalSummary& job, const RemovalSummary& op, int move_offset) {
 int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
                          std::ostream* progress) {
   const auto started = std::chrono::steady_clock::now();
-  if (!options.job.empty()) read_job(options);
-  require(options.stock, "stock", "--stock");
+  read_job(options);
   require(options.out, "output folder", "--out");
-  if (!options.path.empty()) {
-    options.operations = {{options.tool, options.path}};
-  } else if (!options.tool.empty() && !options.operations.empty()) {
-    for (Operation& op : options.operations) {
-      if (op.tool.empty()) op.tool = options.tool;
-    }
-  }
-  if (options.operations.empty()) require(options.path, "toolpath", "--path");
-  SimulationOptions simulation;
-  simulation.resolution = options.resolution != 0.0 ? options.resolution : 0.1;
-  simulation.tolerance = options.tolerance;
-  if (options.tolerance < 0.0 || !std::isfinite(options.tolerance)) {
-    throw InputError(SourceLocation{"--tolerance"},
-                     fmt::format("{} mm: expected a positive length", options.tolerance));
-  }
-  if (options.cl_step < 0.0 || !std::isfinite(options.cl_step)) {
-    throw InputError(SourceLocation{"--cl-step"},
-                     fmt::format("{} mm: expected a positive length", options.cl_step));
-  }
-  const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
+  PreparedJob job = prepare_job(options, !options.stock_only);
+  const SimulationOptions& simulation = job.simulation;
+  const int threads = job.threads;
   const tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
                                         static_cast<std::size_t>(threads));
-
-  // Everything the job needs is read and checked before the long part starts.
-  std::vector<PreparedOperation> operations;
-  std::size_t cl_count = 0;
-  for (const Operation& op : options.operations) {
-    ReadToolpath read = read_toolpath_file(op.path);
-    Cutter cutter = choose_cutter(op.tool, read.toolpath, op.path);
-    SamplingOptions sampling;
-    sampling.step = options.cl_step > 0.0 ? options.cl_step : default_cl_step(cutter.diameter());
-    const std::size_t cls =
-        options.stock_only ? 0 : sample_cl_points(read.toolpath, sampling).size();
-    cl_count += cls;
-    operations.push_back({op.path, std::move(read), std::move(cutter), sampling, cls});
+  std::vector<PreparedOperation>& operations = job.operations;
+  const std::size_t cl_count = job.cl_count;
+  if (options.stock_only && job.forces) {
+    throw InputError(SourceLocation{"--forces"},
+                     "forces need the engagement, which --stock-only skips; drop one of them");
   }
   MapChoice maps = parse_maps(options.stock_only ? "none" : options.maps, cl_count);
+  MapChoice curves =
+      parse_maps(job.forces ? options.force_curves : "none", cl_count, "--force-curves");
   const StockSpec stock_spec = parse_stock_spec(options.stock, SourceLocation{"--stock"});
   TriDexel stock = make_stock(stock_spec, simulation);
   const TriDexel::Volume initial = stock.volume();
@@ -440,23 +249,36 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   std::vector<RemovalSummary> per_operation;
   // Engagement outputs, streamed to temporary files that replace the targets at the end.
   std::optional<AtomicFileWriter> csv, jsonl;
-  std::optional<MapFolder> map_folder;
+  std::optional<OutputFolder> map_folder, curve_folder;
   std::vector<PathPlotPoint> along;
   std::size_t engaged_cls = 0, maps_written = 0;
   double deepest = 0.0, largest_area = 0.0;
   if (!options.stock_only) {
     csv.emplace(folder / "engagement.csv");
     jsonl.emplace(folder / "engagement.jsonl");
-    map_folder.emplace(folder);
+    map_folder.emplace(folder, "maps");
     csv->append(kCsvHeader);
   }
-  std::string csv_block, jsonl_block;  // appended in blocks of about a megabyte
+  // Forces: forces.csv and the chosen curves.
+  std::optional<AtomicFileWriter> forces_csv;
+  std::size_t curves_written = 0;
+  ForceExtremes extremes;
+  if (job.forces) {
+    forces_csv.emplace(folder / "forces.csv");
+    forces_csv->append(kForcesCsvHeader);
+    curve_folder.emplace(folder, "force_curves");
+  }
+  std::string csv_block, jsonl_block, forces_block;  // appended in blocks of about a megabyte
   const auto flush = [&](bool force) {
-    if (!force && csv_block.size() + jsonl_block.size() < (1u << 20)) return;
+    if (!force && csv_block.size() + jsonl_block.size() + forces_block.size() < (1u << 20)) {
+      return;
+    }
     csv->append(csv_block);
     jsonl->append(jsonl_block);
+    if (forces_csv) forces_csv->append(forces_block);
     csv_block.clear();
     jsonl_block.clear();
+    forces_block.clear();
   };
   std::size_t moves_before = 0, cls_before = 0;
   for (std::size_t o = 0; o < operations.size(); ++o) {
@@ -473,23 +295,41 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
         global.move += static_cast<int>(moves_before);
         csv_block += csv_row(k, global, state, map, o + 1);
         jsonl_block += jsonl_line(k, global, map);
-        flush(false);
         along.push_back({static_cast<int>(k), map.engaged, degrees(map.phi_entry),
                          degrees(map.phi_exit), map.axial_depth});
         if (map.engaged) ++engaged_cls;
         deepest = std::max(deepest, map.axial_depth);
         largest_area = std::max(largest_area, map.area);
-        if (!maps.chosen(k, map.engaged)) return;
         const Move& move = path.moves[static_cast<std::size_t>(cl.move)];
         const std::string file =
             move.source >= 0 && static_cast<std::size_t>(move.source) < path.sources.size()
                 ? path.sources[static_cast<std::size_t>(move.source)]
                 : op.path;
-        const MapPlotInfo info{
-            fmt::format("CL {} · move {} ({} line {}) · {}", k, global.move + 1,
-                        std::filesystem::path(file).filename().string(), cl.line, op.cutter.name()),
-            0.5 * op.cutter.diameter(), op.cutter.flute_length()};
+        const std::string place =
+            fmt::format("CL {} · move {} ({} line {})", k, global.move + 1,
+                        std::filesystem::path(file).filename().string(), cl.line);
         const std::string name = fmt::format("cl_{:06d}", k);
+        if (op.forces) {
+          const bool curve = curves.chosen(k, map.engaged);
+          const double spindle = spindle_speed(move, *job.forces);
+          const ClForces f = op.forces->evaluate(
+              map, state, feed_per_tooth(move.feed_rate, op.forces->flutes(), spindle), spindle,
+              curve);
+          forces_block += forces_csv_row(k, global, o + 1, move, f);
+          extremes.add(f, k, file, cl.line);
+          if (curve) {
+            const ForcePlotInfo info{fmt::format("{} · fz {:.4f} mm · {:.0f} rev/min", place,
+                                                 f.feed_per_tooth, f.spindle_speed)};
+            curve_folder->write(name + ".csv", force_curve_csv(f.curve));
+            curve_folder->write(name + ".png", force_curve_png(f.curve, info));
+            curve_folder->write(name + ".svg", force_curve_svg(f.curve, info));
+            ++curves_written;
+          }
+        }
+        flush(false);
+        if (!maps.chosen(k, map.engaged)) return;
+        const MapPlotInfo info{fmt::format("{} · {}", place, op.cutter.name()),
+                               0.5 * op.cutter.diameter(), op.cutter.flute_length()};
         map_folder->write(name + ".png", engagement_map_png(map, info));
         map_folder->write(name + ".svg", engagement_map_svg(map, info));
         ++maps_written;
@@ -574,6 +414,28 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
                              {"maps", maps_written},
                              {"files", {"engagement.csv", "engagement.jsonl", "maps/"}}};
   }
+  if (job.forces) {
+    const auto extreme = [](const ForceExtremes::Extreme& e) {
+      return nlohmann::json{{"value", e.value}, {"cl", e.cl}, {"file", e.file}, {"line", e.line}};
+    };
+    const ForceModel& model = *operations.front().forces;
+    summary["forces"] = {{"coefficients", job.forces->coefficients.name},
+                         {"coefficients_source", job.forces->coefficients.source},
+                         {"flutes", model.flutes()},
+                         {"helix_deg", degrees(model.helix_angle())},
+                         {"angle_step_deg", 360.0 / model.samples()},
+                         {"runout_mm", job.forces->model.runout.offset},
+                         {"runout_angle_deg", degrees(job.forces->model.runout.angle)},
+                         {"spindle_rpm", job.forces->spindle ? nlohmann::json(*job.forces->spindle)
+                                                             : nlohmann::json("from the program")},
+                         {"cutting_cl_points", extremes.cutting},
+                         {"max_peak_resultant_n", extreme(extremes.force)},
+                         {"max_peak_torque_nm", extreme(extremes.torque)},
+                         {"max_mean_power_w", extreme(extremes.power)},
+                         {"max_chip_mm", extreme(extremes.chip)},
+                         {"curves", curves_written},
+                         {"files", {"forces.csv", "force_curves/"}}};
+  }
   nlohmann::json rapids = nlohmann::json::array();
   for (std::size_t i = 0; i < removal.rapid_cuts.size() && i < kRapidCutsListed; ++i) {
     const RapidCut& cut = removal.rapid_cuts[i];
@@ -598,6 +460,8 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   if (csv) csv->commit();
   if (jsonl) jsonl->commit();
   if (map_folder) map_folder->commit();
+  if (forces_csv) forces_csv->commit();
+  if (curve_folder) curve_folder->commit();
   const std::string title =
       fmt::format("cwe in-process stock after {}", summary["path"].get<std::string>());
   write_file_atomically(folder / "stock.stl", stl_binary(mesh, title));
@@ -623,6 +487,15 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
                "contact {:.1f} mm²\n",
                along.size(), engaged_cls, deepest, largest_area);
   }
+  if (job.forces) {
+    fmt::print(out,
+               "  forces      {}, {} flutes: peak {:.0f} N at CL {} ({} line {}), torque up to "
+               "{:.2f} N·m, power up to {:.2f} kW\n",
+               job.forces->coefficients.name, operations.front().forces->flutes(),
+               extremes.force.value, extremes.force.cl,
+               std::filesystem::path(extremes.force.file).filename().string(), extremes.force.line,
+               extremes.torque.value, extremes.power.value / 1000.0);
+  }
   fmt::print(out,
              "  accuracy    exact sweeps for linear moves; arcs, helices, 5-axis within "
              "{:g} mm\n",
@@ -645,6 +518,14 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
                "{0}/engagement.jsonl (per-disc angles),\n"
                "              {0}/maps/ ({1} engagement maps, path.png along the path),\n",
                options.out, maps_written);
+    if (job.forces) {
+      fmt::print(out,
+                 "              {0}/forces.csv (forces, torque, power per cutter location){1},\n",
+                 options.out,
+                 curves_written > 0
+                     ? fmt::format(", {}/force_curves/ ({} curves)", options.out, curves_written)
+                     : std::string());
+    }
   }
   fmt::print(out,
              "  {}{}/stock.stl (machined stock, {} triangles on a {:g} mm lattice){}, "

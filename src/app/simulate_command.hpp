@@ -40,7 +40,21 @@ struct SimulateCommandOptions {
   std::string maps;         // every:N, cl:i,j,…, or none; empty: from the job, else ~10 maps
   bool stock_only = false;  // material removal only: no engagement outputs
   bool quiet = false;       // no progress bar
+  // Cutting forces (docs/forces.md): a coefficient JSON file or bundled material; empty: none.
+  std::string forces;
+  double spindle = 0.0;      // rev/min overriding the program's; 0: the program's S / SPINDL
+  int flutes = 0;            // 0: the cutter's
+  double helix = -1.0;       // degrees; < 0: the cutter's
+  double force_step = 0.0;   // spindle angle step, degrees; 0: 1°
+  std::string runout;        // offset_mm[,angle_deg]; empty: none
+  std::string force_curves;  // every:N, cl:i,j,… or none (default none)
 };
+
+// The options a job has whatever it writes (stock, tools, paths, resolution, forces), shared by
+// `cwe simulate` and `cwe schedule`.
+void add_job_options(CLI::App* cmd, SimulateCommandOptions& options);
+// Fills the options not given on the command line from options.job (a JSON file), if any.
+void read_job(SimulateCommandOptions& options);
 
 void add_simulate_command(CLI::App& app, SimulateCommandOptions& options);
 // `progress` receives the progress bar (stderr when it is a terminal), or nullptr.

@@ -1,0 +1,55 @@
+#pragma once
+// The force part of `cwe simulate` and `cwe schedule`: the force model's settings from the
+// command line or job file, the spindle speed and feed per tooth at a cutter location, and the
+// rows of forces.csv.
+
+#include <cstddef>
+#include <optional>
+#include <string>
+
+#include "cwe/process/force_model.hpp"
+#include "cwe/toolpath/cl_sampling.hpp"
+#include "cwe/toolpath/toolpath.hpp"
+
+namespace cwe::app {
+
+struct ForceSettings {
+  CuttingCoefficients coefficients;
+  ForceModelOptions model;        // flutes, helix 0/−1 mean: the cutter's
+  std::optional<double> spindle;  // rev/min, overriding the program's
+};
+
+// `forces`: a coefficient JSON file or bundled material; the others as on the command line
+// (spindle 0, flutes 0, helix < 0, step 0 and an empty runout mean "not given"). Throws
+// InputError naming the option.
+ForceSettings force_settings(const std::string& forces, double spindle, int flutes,
+                             double helix_deg, double step_deg, const std::string& runout);
+
+// Checks that every feed move of `path` turns the spindle (or that an override is given):
+// InputError naming the file and line of the first that does not.
+void check_spindle(const Toolpath& path, const std::string& file, const ForceSettings& settings);
+
+// Spindle speed (rev/min) of a move, the override first.
+double spindle_speed(const Move& move, const ForceSettings& settings);
+
+// The largest force, torque and power of a job, and where they occur.
+struct ForceExtremes {
+  struct Extreme {
+    double value = 0.0;
+    std::size_t cl = 0;
+    std::string file;
+    int line = 0;
+  };
+  Extreme force, torque, power, chip;  // peak resultant N, peak torque N·m, mean power W, mm
+  std::size_t cutting = 0;             // CLs where some flute cut a chip
+  void add(const ClForces& f, std::size_t cl, const std::string& file, int line);
+};
+
+extern const char* const kForcesCsvHeader;
+
+// One forces.csv row (tool frame; the workpiece-frame means, the chip and the feed after the
+// required columns).
+std::string forces_csv_row(std::size_t k, const ClPoint& cl, std::size_t operation,
+                           const Move& move, const ClForces& f);
+
+}  // namespace cwe::app

@@ -1,0 +1,244 @@
+#include "job.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include <fmt/format.h>
+#include <tbb/info.h>
+#include <nlohmann/json.hpp>
+
+#include "cwe/core/error.hpp"
+#include "cwe/core/text_file.hpp"
+#include "cwe/toolpath/cl_sampling.hpp"
+#include "tool_choice.hpp"
+
+namespace cwe::app {
+
+void require(const std::string& value, const char* what, const char* option) {
+  if (value.empty()) {
+    throw InputError(SourceLocation{"cwe"},
+                     fmt::format("no {}: give {} or put it in a job file", what, option));
+  }
+}
+
+// Paths in the job are relative to the job file's folder.
+void read_job(SimulateCommandOptions& options) {
+  if (options.job.empty()) return;
+  const std::string text = read_text_file(options.job, "job file");
+  nlohmann::json job;
+  try {
+    job = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError(SourceLocation{options.job}, fmt::format("not valid JSON: {}", e.what()));
+  }
+  if (!job.is_object()) throw InputError(SourceLocation{options.job}, "expected a JSON object");
+  const std::filesystem::path folder = std::filesystem::path(options.job).parent_path();
+  const auto where = [&](const std::string& key) {
+    return SourceLocation{fmt::format("{}: \"{}\"", options.job, key)};
+  };
+  static const char* const kKeys[] = {
+      "stock",   "tool",    "path",    "operations", "out",        "resolution",  "tolerance",
+      "threads", "ply",     "cl_step", "maps",       "stock_only", "mesh_stride", "comment",
+      "forces",  "spindle", "flutes",  "helix",      "force_step", "runout",      "force_curves"};
+  for (const auto& [key, value] : job.items()) {
+    if (std::find(std::begin(kKeys), std::end(kKeys), key) == std::end(kKeys)) {
+      throw InputError(where(key),
+                       "unknown key; expected stock, tool, path, operations, out, resolution, "
+                       "tolerance, threads, mesh_stride, ply, cl_step, maps, stock_only, forces, "
+                       "spindle, flutes, helix, force_step, runout, force_curves or comment");
+    }
+  }
+  const auto text_of = [&](const char* key, std::string& field, bool is_path) {
+    if (!job.contains(key) || !field.empty()) return;
+    if (!job[key].is_string()) throw InputError(where(key), "expected a string");
+    std::string value = job[key].get<std::string>();
+    if (is_path && !value.empty() && std::filesystem::path(value).is_relative()) {
+      value = (folder / value).lexically_normal().string();
+    }
+    field = value;
+  };
+  const auto number_of = [&](const char* key, double& field) {
+    if (!job.contains(key) || field != 0.0) return;
+    if (!job[key].is_number()) throw InputError(where(key), "expected a number");
+    field = job[key].get<double>();
+  };
+  // A stock given as a file is a path; a box is not.
+  if (job.contains("stock") && options.stock.empty()) {
+    if (!job["stock"].is_string()) throw InputError(where("stock"), "expected a string");
+    const std::string stock = job["stock"].get<std::string>();
+    text_of("stock", options.stock, stock.rfind("box:", 0) != 0);
+  }
+  // A tool specification is a path only when it names a JSON tool file.
+  if (job.contains("tool") && options.tool.empty()) {
+    if (!job["tool"].is_string()) throw InputError(where("tool"), "expected a string");
+    const std::string tool = job["tool"].get<std::string>();
+    text_of("tool", options.tool, tool.size() > 5 && tool.ends_with(".json"));
+  }
+  text_of("path", options.path, true);
+  text_of("out", options.out, true);
+  // Operations: toolpaths run one after the other on the same stock, each with its tool.
+  if (job.contains("operations") && options.operations.empty() && options.path.empty()) {
+    const nlohmann::json& list = job["operations"];
+    if (!list.is_array() || list.empty()) {
+      throw InputError(where("operations"), "expected a non-empty array of {\"tool\", \"path\"}");
+    }
+    for (std::size_t k = 0; k < list.size(); ++k) {
+      const nlohmann::json& op = list[k];
+      const SourceLocation at{fmt::format("{}: \"operations\"[{}]", options.job, k)};
+      if (!op.is_object()) throw InputError(at, "expected an object {\"tool\", \"path\"}");
+      for (const auto& [key, value] : op.items()) {
+        if (key != "tool" && key != "path" && key != "comment") {
+          throw InputError(at,
+                           fmt::format("unknown key \"{}\"; expected tool, path or comment", key));
+        }
+      }
+      if (!op.contains("path") || !op["path"].is_string()) {
+        throw InputError(at, "expected \"path\": a toolpath file");
+      }
+      if (op.contains("tool") && !op["tool"].is_string()) {
+        throw InputError(at, "expected \"tool\" to be a string");
+      }
+      Operation operation;
+      operation.path = op["path"].get<std::string>();
+      if (std::filesystem::path(operation.path).is_relative()) {
+        operation.path = (folder / operation.path).lexically_normal().string();
+      }
+      operation.tool = op.value("tool", std::string());
+      if (operation.tool.size() > 5 && operation.tool.ends_with(".json") &&
+          std::filesystem::path(operation.tool).is_relative()) {
+        operation.tool = (folder / operation.tool).lexically_normal().string();
+      }
+      options.operations.push_back(operation);
+    }
+  }
+  number_of("resolution", options.resolution);
+  number_of("tolerance", options.tolerance);
+  if (job.contains("threads") && options.threads == 0) {
+    if (!job["threads"].is_number_integer() || job["threads"].get<int>() < 1) {
+      throw InputError(where("threads"), "expected a whole number of threads, at least 1");
+    }
+    options.threads = job["threads"].get<int>();
+  }
+  if (job.contains("mesh_stride") && options.mesh_stride == 0) {
+    if (!job["mesh_stride"].is_number_integer() || job["mesh_stride"].get<int>() < 1) {
+      throw InputError(where("mesh_stride"), "expected a whole number, at least 1");
+    }
+    options.mesh_stride = job["mesh_stride"].get<int>();
+  }
+  if (job.contains("ply") && !options.ply) {
+    if (!job["ply"].is_boolean()) throw InputError(where("ply"), "expected true or false");
+    options.ply = job["ply"].get<bool>();
+  }
+  if (job.contains("stock_only") && !options.stock_only) {
+    if (!job["stock_only"].is_boolean()) {
+      throw InputError(where("stock_only"), "expected true or false");
+    }
+    options.stock_only = job["stock_only"].get<bool>();
+  }
+  number_of("cl_step", options.cl_step);
+  text_of("maps", options.maps, false);
+  // A coefficient set is a path only when it names a JSON file.
+  if (job.contains("forces") && options.forces.empty()) {
+    if (!job["forces"].is_string()) throw InputError(where("forces"), "expected a string");
+    const std::string forces = job["forces"].get<std::string>();
+    text_of("forces", options.forces, forces.ends_with(".json"));
+  }
+  number_of("spindle", options.spindle);
+  number_of("force_step", options.force_step);
+  if (job.contains("flutes") && options.flutes == 0) {
+    if (!job["flutes"].is_number_integer() || job["flutes"].get<int>() < 1) {
+      throw InputError(where("flutes"), "expected a whole number of flutes, at least 1");
+    }
+    options.flutes = job["flutes"].get<int>();
+  }
+  if (job.contains("helix") && options.helix < 0.0) {
+    if (!job["helix"].is_number()) throw InputError(where("helix"), "expected a number");
+    options.helix = job["helix"].get<double>();
+  }
+  text_of("runout", options.runout, false);
+  text_of("force_curves", options.force_curves, false);
+}
+
+void add_job_options(CLI::App* cmd, SimulateCommandOptions& options) {
+  cmd->add_option("job", options.job,
+                  "JSON job file (keys: stock, tool, path or operations, out, resolution, "
+                  "tolerance, threads, cl_step, maps, stock_only, mesh_stride, ply, forces, "
+                  "spindle, flutes, helix, force_step, runout, force_curves); options below "
+                  "override it");
+  cmd->add_option("--stock", options.stock,
+                  "box:xmin,ymin,zmin,xmax,ymax,zmax (mm) or a closed STL file");
+  cmd->add_option("--tool", options.tool,
+                  "Tool specification or JSON tool file (default: the program's own CUTTER)");
+  cmd->add_option("--path", options.path, "Toolpath file (G-code or APT CLDATA)");
+  cmd->add_option("--resolution", options.resolution, "Ray spacing s, mm (default 0.1)");
+  cmd->add_option("--tolerance", options.tolerance,
+                  "Subdivision tolerance of arcs, helices and 5-axis moves, mm (default s/10)");
+  cmd->add_option("--threads", options.threads, "Worker threads (default: all cores)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--cl-step", options.cl_step,
+                  "Cutter-location spacing along the tip path, mm (default: 0.5 or D/20, the "
+                  "smaller)");
+  cmd->add_option("--forces", options.forces,
+                  "Cutting forces: a coefficient JSON file {Ktc,Krc,Kac,Kte,Kre,Kae} or a bundled "
+                  "material (cwe materials lists them)");
+  cmd->add_option("--spindle", options.spindle,
+                  "Spindle speed, rev/min (default: the program's S words or SPINDL records)");
+  cmd->add_option("--flutes", options.flutes, "Number of flutes (default: the tool's)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--helix", options.helix, "Helix angle, degrees (default: the tool's)");
+  cmd->add_option("--force-step", options.force_step,
+                  "Spindle angle step of the force integration, degrees (default 1)");
+  cmd->add_option("--runout", options.runout,
+                  "Radial runout offset_mm[,angle_deg] of the cutter (default none)");
+  cmd->add_flag("--quiet", options.quiet, "No progress bar");
+}
+
+PreparedJob prepare_job(SimulateCommandOptions& options, bool sample) {
+  require(options.stock, "stock", "--stock");
+  if (!options.path.empty()) {
+    options.operations = {{options.tool, options.path}};
+  } else if (!options.tool.empty() && !options.operations.empty()) {
+    for (Operation& op : options.operations) {
+      if (op.tool.empty()) op.tool = options.tool;
+    }
+  }
+  if (options.operations.empty()) require(options.path, "toolpath", "--path");
+  PreparedJob job;
+  SimulationOptions& simulation = job.simulation;
+  simulation.resolution = options.resolution != 0.0 ? options.resolution : 0.1;
+  simulation.tolerance = options.tolerance;
+  if (options.tolerance < 0.0 || !std::isfinite(options.tolerance)) {
+    throw InputError(SourceLocation{"--tolerance"},
+                     fmt::format("{} mm: expected a positive length", options.tolerance));
+  }
+  if (options.cl_step < 0.0 || !std::isfinite(options.cl_step)) {
+    throw InputError(SourceLocation{"--cl-step"},
+                     fmt::format("{} mm: expected a positive length", options.cl_step));
+  }
+  job.threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
+  if (!options.forces.empty()) {
+    job.forces = force_settings(options.forces, options.spindle, options.flutes, options.helix,
+                                options.force_step, options.runout);
+  }
+
+  // Everything the job needs is read and checked before the long part starts.
+  for (const Operation& op : options.operations) {
+    ReadToolpath read = read_toolpath_file(op.path);
+    Cutter cutter = choose_cutter(op.tool, read.toolpath, op.path);
+    SamplingOptions sampling;
+    sampling.step = options.cl_step > 0.0 ? options.cl_step : default_cl_step(cutter.diameter());
+    const std::size_t cls = sample ? sample_cl_points(read.toolpath, sampling).size() : 0;
+    job.cl_count += cls;
+    std::optional<ForceModel> forces;
+    if (job.forces) {
+      check_spindle(read.toolpath, op.path, *job.forces);
+      forces.emplace(cutter, job.forces->coefficients, job.forces->model);
+    }
+    job.operations.push_back(
+        {op.path, std::move(read), std::move(cutter), sampling, cls, std::move(forces)});
+  }
+  return job;
+}
+
+}  // namespace cwe::app

@@ -1,0 +1,192 @@
+#include "schedule_command.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+#include <vector>
+
+#include "cwe/core/error.hpp"
+#include "cwe/core/text_file.hpp"
+#include "cwe/io/atomic_file.hpp"
+#include "cwe/process/feed_schedule.hpp"
+#include "cwe/toolpath/feed_rewrite.hpp"
+#include "job.hpp"
+
+namespace cwe::app {
+
+namespace {
+
+// Scheduled feeds stay this fraction below the admissible ones, so that rounding the feed to the
+// program's number format never tips a cutter location over the limit.
+constexpr double kSafety = 1e-5;
+
+// One operation's result: the program text and what changed.
+struct ScheduledProgram {
+  std::filesystem::path target;
+  std::string text;
+  Schedule schedule;
+  int first_exceeded_line = 0;
+};
+
+}  // namespace
+
+void add_schedule_command(CLI::App& app, ScheduleCommandOptions& options) {
+  CLI::App* cmd = app.add_subcommand(
+      "schedule",
+      "Feed-rate scheduling: run the job of 'cwe simulate' with --forces, find at every cutter "
+      "location the largest feed that keeps --limit, and write the program again with only its "
+      "feeds changed (G-code F words or CLDATA FEDRAT records). See docs/forces.md.");
+  add_job_options(cmd, options.job);
+  cmd->add_option("--limit", options.limit,
+                  "The limit: force=<N> (peak resultant), torque=<N·m> (peak), power=<W or kW> "
+                  "(mean) or chip=<mm> (thickest chip), e.g. force=800N")
+      ->required();
+  cmd->add_option("--out", options.out,
+                  "The scheduled program (a folder when the job has several operations)")
+      ->required();
+  cmd->add_option("--min-feed", options.min_feed, "Lowest feed, mm/min (default: none)");
+  cmd->add_option("--max-feed", options.max_feed, "Highest feed, mm/min (default: none)");
+  cmd->add_option("--min-scale", options.min_scale,
+                  "Lowest feed as a fraction of each move's programmed feed (default 0.1)");
+  cmd->add_option("--max-scale", options.max_scale,
+                  "Highest feed as a fraction of each move's programmed feed (default 2)");
+  cmd->add_option("--max-change", options.max_change,
+                  "Largest ratio between the feeds of consecutive feed moves (default 1.5)");
+}
+
+int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
+                         std::ostream* progress) {
+  SimulateCommandOptions& sim = options.job;
+  read_job(sim);
+  require(sim.forces, "cutting coefficients", "--forces");
+  const FeedLimit limit = parse_feed_limit(options.limit, "--limit");
+  ScheduleOptions bounds;
+  bounds.min_scale = options.min_scale;
+  bounds.max_scale = options.max_scale;
+  bounds.max_change = options.max_change;
+  if (options.min_feed > 0.0) bounds.min_feed = options.min_feed;
+  if (options.max_feed > 0.0) bounds.max_feed = options.max_feed;
+  const bool bad_feed = options.min_feed < 0.0 || options.max_feed < 0.0 ||
+                        !std::isfinite(options.min_feed) || !std::isfinite(options.max_feed);
+  if (bad_feed || !(options.min_scale > 0.0) || !(options.max_scale >= options.min_scale) ||
+      !std::isfinite(options.max_scale) || !(options.max_change >= 1.0) ||
+      !std::isfinite(options.max_change) ||
+      (bounds.min_feed && bounds.max_feed && *bounds.min_feed > *bounds.max_feed)) {
+    throw InputError(SourceLocation{"cwe schedule"},
+                     "feed bounds: expected 0 < --min-scale <= --max-scale, --min-feed <= "
+                     "--max-feed (mm/min, positive) and --max-change >= 1");
+  }
+  PreparedJob job = prepare_job(sim, true);
+  const tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
+                                        static_cast<std::size_t>(job.threads));
+  TriDexel stock =
+      make_stock(parse_stock_spec(sim.stock, SourceLocation{"--stock"}), job.simulation);
+  ProgressBar bar(sim.quiet ? nullptr : progress);
+  std::size_t all_moves = 0, moves_before = 0;
+  for (const PreparedOperation& op : job.operations) all_moves += op.read.toolpath.moves.size();
+
+  std::vector<ScheduledProgram> programs;
+  for (const PreparedOperation& op : job.operations) {
+    const Toolpath& path = op.read.toolpath;
+    if (std::any_of(path.moves.begin(), path.moves.end(),
+                    [](const Move& m) { return m.source != 0; })) {
+      throw InputError(SourceLocation{op.path},
+                       "the program includes other files; scheduling rewrites one file only");
+    }
+    const ForceModel& model = *op.forces;
+    // The largest feed rate each move's cutter locations allow (mm/min); unset: not sampled.
+    std::vector<std::optional<double>> allowed(path.moves.size());
+    const auto sink = [&](std::size_t, const ClPoint& cl, const ToolState& state,
+                          const EngagementMap& map) {
+      const Move& move = path.moves[static_cast<std::size_t>(cl.move)];
+      std::optional<double>& best = allowed[static_cast<std::size_t>(cl.move)];
+      if (move.is_rapid() || !(move.feed_rate > 0.0)) return;
+      const double spindle = spindle_speed(move, *job.forces);
+      double highest = move.feed_rate * bounds.max_scale;
+      if (bounds.max_feed) highest = std::min(highest, *bounds.max_feed);
+      const double c_max = feed_per_tooth(highest, model.flutes(), spindle);
+      const Vec3 v = state.tip_velocity_tcs();
+      double feed = std::numeric_limits<double>::infinity();
+      if (v.norm() > 0.0 && map.engaged) {
+        const double c = max_feed_per_tooth(model, map, v.normalized(), spindle, limit, c_max);
+        if (c < c_max) feed = c * model.flutes() * spindle * (1.0 - kSafety);
+      }
+      best = std::min(best.value_or(feed), feed);
+    };
+    const auto report = [&](std::size_t done, std::size_t) { bar(moves_before + done, all_moves); };
+    simulate_engagement(stock, op.cutter, path, job.simulation, op.sampling, EngagementOptions{},
+                        sink, report);
+    moves_before += path.moves.size();
+
+    std::vector<MoveFeed> feeds;
+    std::vector<std::size_t> index;  // feed moves scheduled, into path.moves
+    for (std::size_t i = 0; i < path.moves.size(); ++i) {
+      const Move& m = path.moves[i];
+      if (m.is_rapid() || !(m.feed_rate > 0.0)) continue;
+      feeds.push_back({m.feed_rate, allowed[i], m.length()});
+      index.push_back(i);
+    }
+    ScheduledProgram program;
+    program.schedule = schedule_feeds(feeds, bounds);
+    LineFeeds lines;
+    for (std::size_t f = 0; f < index.size(); ++f) {
+      const Move& m = path.moves[index[f]];
+      const ScheduledMove& s = program.schedule.moves[f];
+      auto [it, inserted] = lines.emplace(m.line, s.feed);
+      if (!inserted) it->second = std::min(it->second, s.feed);
+      if (s.limit_exceeded && program.first_exceeded_line == 0) {
+        program.first_exceeded_line = m.line;
+      }
+    }
+    const std::string text = read_text_file(op.path, "toolpath");
+    try {
+      program.text = rewrite_feeds(text, op.read.format, lines, op.path);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(SourceLocation{op.path}, e.what());
+    }
+    program.target = job.operations.size() == 1 ? std::filesystem::path(options.out)
+                                                : std::filesystem::path(options.out) /
+                                                      std::filesystem::path(op.path).filename();
+    programs.push_back(std::move(program));
+  }
+
+  // Everything is computed: write the programs, each whole.
+  if (programs.size() > 1) std::filesystem::create_directories(options.out);
+  for (const ScheduledProgram& p : programs) write_file_atomically(p.target, p.text);
+
+  const char* unit = limit.quantity == FeedLimit::Quantity::kForce    ? "N"
+                     : limit.quantity == FeedLimit::Quantity::kTorque ? "N·m"
+                     : limit.quantity == FeedLimit::Quantity::kPower  ? "W"
+                                                                      : "mm";
+  fmt::print(out, "cwe schedule: limit {} {:g} {} ({})\n", to_string(limit.quantity), limit.value,
+             unit, job.forces->coefficients.name);
+  for (std::size_t o = 0; o < programs.size(); ++o) {
+    const ScheduledProgram& p = programs[o];
+    const Schedule& s = p.schedule;
+    const double change = s.programmed_minutes > 0.0
+                              ? 100.0 * (s.scheduled_minutes / s.programmed_minutes - 1.0)
+                              : 0.0;
+    fmt::print(out,
+               "  {}: {} feed moves, {} slowed, {} sped up; feed time {:.2f} min -> {:.2f} min "
+               "({:+.1f}%)\n",
+               job.operations[o].path, s.moves.size(), s.limited, s.raised, s.programmed_minutes,
+               s.scheduled_minutes, change);
+    if (s.exceeded > 0) {
+      fmt::print(out,
+                 "  warning: {} moves exceed the limit even at the lowest feed (first: line {}); "
+                 "lower --min-feed/--min-scale or the depth of cut\n",
+                 s.exceeded, p.first_exceeded_line);
+    }
+    fmt::print(out, "  scheduled program: {}\n", p.target.string());
+  }
+  return 0;
+}
+
+}  // namespace cwe::app
