@@ -368,10 +368,10 @@ TEST(CliSimulate, WritesStockAndSummary) {
   EXPECT_LT(again_summary["removed_volume_mm3"].get<double>(), 1.0);  // already cut
 
   // Removal only: the same stock, no engagement outputs.
-  const Result stock_only = run_cwe({"simulate", "--stock", "box:0,0,-10,30,20,0", "--tool",
-                                     "flat:10,20", "--path", program.string(), "--out",
-                                     (dir / "stock-only").string(), "--resolution", "0.25",
-                                     "--stock-only"});
+  const Result stock_only =
+      run_cwe({"simulate", "--stock", "box:0,0,-10,30,20,0", "--tool", "flat:10,20", "--path",
+               program.string(), "--out", (dir / "stock-only").string(), "--resolution", "0.25",
+               "--stock-only"});
   ASSERT_EQ(stock_only.status, 0) << stock_only.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "stock-only" / "engagement.csv"));
   EXPECT_FALSE(std::filesystem::exists(dir / "stock-only" / "maps"));
@@ -415,6 +415,129 @@ TEST(CliSimulate, WritesStockAndSummary) {
   EXPECT_NE(typo.err.find("stok"), std::string::npos) << typo.err;
   EXPECT_FALSE(std::filesystem::exists(none));
   std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace cwe::app
+
+namespace cwe::app {
+namespace {
+
+std::vector<std::vector<std::string>> read_csv(const std::filesystem::path& file) {
+  std::ifstream stream(file);
+  std::vector<std::vector<std::string>> rows;
+  for (std::string line; std::getline(stream, line);) {
+    std::vector<std::string> cells;
+    std::stringstream cells_in(line);
+    for (std::string cell; std::getline(cells_in, cell, ',');) cells.push_back(cell);
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+// A 3 mm deep slot then a 1 mm side cut, flat end mill D = 10 with 4 flutes at 10,000 rev/min.
+const char* const kForceProgram =
+    "G21 G90\nS10000 M3\nG0 X-10 Y10 Z1\nG1 Z-3 F200\nG1 X60 F600\nG0 Z5\nG0 X-10 Y-3\n"
+    "G1 Z-1 F200\nG1 X60 F900\nG0 Z5\nM2\n";
+
+TEST(CliForces, SlotForcesMatchTheClosedForm) {
+  const auto dir = scratch_dir("forces");
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "cut.ngc") << kForceProgram;
+  const Result r = run_cwe({"simulate", "--stock", "box:0,0,-10,50,20,0", "--tool", "flat:10,20",
+                            "--path", (dir / "cut.ngc").string(), "--out", (dir / "out").string(),
+                            "--resolution", "0.25", "--forces", "al7075-t6-carbide", "--helix", "0",
+                            "--force-curves", "cl:40", "--maps", "none"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto rows = read_csv(dir / "out" / "forces.csv");
+  ASSERT_GT(rows.size(), 50u);
+  const std::vector<std::string> required = {"cl",
+                                             "move",
+                                             "feed_per_tooth_mm",
+                                             "mean_fx_n",
+                                             "mean_fy_n",
+                                             "mean_fz_n",
+                                             "peak_fx_n",
+                                             "peak_fy_n",
+                                             "peak_fz_n",
+                                             "peak_resultant_n",
+                                             "mean_torque_nm",
+                                             "peak_torque_nm",
+                                             "mean_power_w"};
+  ASSERT_GE(rows[0].size(), required.size());
+  for (std::size_t i = 0; i < required.size(); ++i) EXPECT_EQ(rows[0][i], required[i]);
+  EXPECT_EQ(rows.size(), read_csv(dir / "out" / "engagement.csv").size());
+  // CL 40 is mid-slot (x ≈ 15): full immersion 0..180°, a = 3 mm, c = 600/(4·10000) = 0.015 mm.
+  // Closed forms (ALGORITHMS.md §6) with the bundled Al7075-T6 set.
+  const std::vector<std::string>& row = rows[41];
+  ASSERT_EQ(row[0], "40");
+  const double ktc = 767.01, krc = 168.8, kte = 27.7, kre = 26.6;
+  const double n = 4, a = 3, c = 0.015;
+  const double fx = n * a * c / (8 * kPi) * (-krc * 2 * kPi) + n * a / (2 * kPi) * (-2 * kre);
+  const double fy = n * a * c / (8 * kPi) * (ktc * 2 * kPi) + n * a / (2 * kPi) * (2 * kte);
+  EXPECT_NEAR(std::stod(row[2]), c, 1e-9);
+  // The map's angles are within a ray spacing of 0°/180° and its discs span 3 mm: 2%.
+  EXPECT_NEAR(std::stod(row[3]), fx, 0.02 * std::abs(fy));
+  EXPECT_NEAR(std::stod(row[4]), fy, 0.02 * std::abs(fy));
+  for (const char* ext : {".csv", ".png", ".svg"}) {
+    EXPECT_TRUE(
+        std::filesystem::exists(dir / "out" / "force_curves" / (std::string("cl_000040") + ext)));
+  }
+  const nlohmann::json summary = nlohmann::json::parse(std::ifstream(dir / "out" / "summary.json"));
+  EXPECT_GT(summary["forces"]["max_peak_resultant_n"]["value"].get<double>(), std::abs(fy));
+  EXPECT_NE(r.out.find("forces.csv"), std::string::npos) << r.out;
+}
+
+TEST(CliSchedule, ScheduledProgramNeverExceedsTheLimit) {
+  const auto dir = scratch_dir("schedule");
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "cut.ngc") << kForceProgram;
+  const std::vector<std::string> job = {"--stock",    "box:0,0,-10,50,20,0", "--tool",
+                                        "flat:10,20", "--resolution",        "0.25",
+                                        "--forces",   "al7075-t6-carbide",   "--quiet"};
+  auto with = [&](std::vector<std::string> args) {
+    args.insert(args.end(), job.begin(), job.end());
+    return args;
+  };
+  // At the programmed 600 mm/min the slot peaks at about 198 N and at the 2× ceiling at about
+  // 235 N, so 220 N binds inside the bounds (a limit below the edge forces alone, ~165 N, cannot
+  // be met at any feed: tested below).
+  const double limit = 220.0;
+  const Result s =
+      run_cwe(with({"schedule", "--path", (dir / "cut.ngc").string(), "--limit", "force=220N",
+                    "--out", (dir / "scheduled.ngc").string(), "--max-change", "4"}));
+  ASSERT_EQ(s.status, 0) << s.err;
+  EXPECT_NE(s.out.find("feed time"), std::string::npos) << s.out;
+  // The scheduled program reads back and, simulated, stays within the limit at every CL.
+  const Result r = run_cwe(with({"simulate", "--path", (dir / "scheduled.ngc").string(), "--out",
+                                 (dir / "out").string(), "--maps", "none"}));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto rows = read_csv(dir / "out" / "forces.csv");
+  double peak = 0.0;
+  for (std::size_t i = 1; i < rows.size(); ++i) peak = std::max(peak, std::stod(rows[i][9]));
+  EXPECT_LE(peak, limit * (1 + 1e-5));
+  // The slot is the heavy cut: it runs at the limit (within the CL sampling of its entry).
+  EXPECT_GT(peak, 0.95 * limit);
+  // Only F words changed: the text has the same lines apart from them.
+  std::ifstream in(dir / "scheduled.ngc");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("G1 X60 F"), std::string::npos) << text;
+  EXPECT_EQ(text.find("G1 X60 F600\n"), std::string::npos) << text;
+  // Asking for a limit the edge forces alone exceed is reported, not hidden.
+  const Result low = run_cwe(with({"schedule", "--path", (dir / "cut.ngc").string(), "--limit",
+                                   "force=20N", "--out", (dir / "low.ngc").string()}));
+  ASSERT_EQ(low.status, 0) << low.err;
+  EXPECT_NE(low.out.find("exceed the limit even at the lowest feed"), std::string::npos) << low.out;
+  // Errors: no coefficients, a bad limit.
+  EXPECT_EQ(run_cwe({"schedule", "--stock", "box:0,0,-10,50,20,0", "--tool", "flat:10,20", "--path",
+                     (dir / "cut.ngc").string(), "--limit", "force=250N", "--out",
+                     (dir / "x.ngc").string()})
+                .status,
+            2);
+  EXPECT_EQ(run_cwe(with({"schedule", "--path", (dir / "cut.ngc").string(), "--limit", "speed=3",
+                          "--out", (dir / "x.ngc").string()}))
+                .status,
+            2);
 }
 
 }  // namespace
