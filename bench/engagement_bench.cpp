@@ -6,13 +6,17 @@
 //  - Finishing: a 6 mm ball end mill raster (1 mm segments along X, 0.5 mm stepover, five passes)
 //    over a curved surface left 0.5 mm above it (the stock is that surface, read from a closed
 //    mesh), CL every 0.3 mm.
-// Counters: CL per second, engaged share.
+// Counters: CL per second, engaged share, and the cost of the mechanistic force model per CL
+// (1° spindle step, over the job's maps; timed apart from the job): force_us_per_cl against
+// engagement_us_per_cl (the job's wall time per CL, removal included).
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <cmath>
 #include <functional>
 #include <vector>
 
+#include "cwe/process/force_model.hpp"
 #include "cwe/simulation/simulation.hpp"
 #include "cwe/tool/tool_spec.hpp"
 
@@ -75,17 +79,38 @@ void run(benchmark::State& state, const char* tool, const cwe::Toolpath& path, d
   cwe::SamplingOptions sampling;
   sampling.step = cl_step;
   std::size_t cls = 0, engaged = 0;
+  std::vector<std::pair<cwe::EngagementMap, cwe::ToolState>> maps;
+  const auto started = std::chrono::steady_clock::now();
   for (auto _ : state) {
     state.PauseTiming();
     cwe::TriDexel stock = make();
     cls = engaged = 0;
+    maps.clear();
     state.ResumeTiming();
     cwe::simulate_engagement(stock, cutter, path, options, sampling, {},
-                             [&](std::size_t, const cwe::ClPoint&, const cwe::ToolState&,
+                             [&](std::size_t, const cwe::ClPoint&, const cwe::ToolState& tool,
                                  const cwe::EngagementMap& map) {
                                ++cls;
                                engaged += map.engaged ? 1 : 0;
+                               maps.emplace_back(map, tool);
                              });
+  }
+  const double job_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  // The force model over the same maps (Al7075-like coefficients, 0.05 mm per tooth).
+  cwe::CuttingCoefficients k;
+  k.ktc = 796.0, k.krc = 168.8, k.kac = 222.0, k.kte = 27.7, k.kre = 30.8, k.kae = 1.8;
+  const cwe::ForceModel model(cutter, k);
+  const auto forces_started = std::chrono::steady_clock::now();
+  double sink = 0.0;
+  for (const auto& [map, tool] : maps) sink += model.evaluate(map, tool, 0.05, 10000.0).mean_torque;
+  const double force_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - forces_started).count();
+  benchmark::DoNotOptimize(sink);
+  if (cls > 0) {
+    state.counters["force_us_per_cl"] = 1e6 * force_seconds / static_cast<double>(cls);
+    state.counters["engagement_us_per_cl"] =
+        1e6 * job_seconds / static_cast<double>(cls * state.iterations());
   }
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * cls));
   state.counters["cl_points"] = static_cast<double>(cls);
