@@ -108,6 +108,9 @@ void text(cairo_t* cr, double x, double y, const std::string& s, Anchor anchor, 
   const double dx = anchor == Anchor::kStart    ? 0.0
                     : anchor == Anchor::kMiddle ? -0.5 * extents.x_advance
                                                 : -extents.x_advance;
+  // Text leaves the path as it found it: lines queued before a label (tick marks) are still
+  // stroked by the caller afterwards.
+  cairo_path_t* queued = cairo_copy_path(cr);
   cairo_save(cr);
   cairo_translate(cr, x, y);
   cairo_rotate(cr, angle);
@@ -115,6 +118,8 @@ void text(cairo_t* cr, double x, double y, const std::string& s, Anchor anchor, 
   cairo_show_text(cr, s.c_str());
   cairo_new_path(cr);
   cairo_restore(cr);
+  if (queued->status == CAIRO_STATUS_SUCCESS) cairo_append_path(cr, queued);
+  cairo_path_destroy(queued);
 }
 
 double text_width(cairo_t* cr, const std::string& s, double size) {
