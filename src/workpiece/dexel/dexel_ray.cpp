@@ -115,15 +115,28 @@ std::vector<Interval> DexelRay::intervals() const {
   return out;
 }
 
+// Both walk the stored pairs in place: they run for every sample point of an engagement map and
+// every ray of a volume, where a vector per call would cost more than the walk.
 double DexelRay::length() const {
+  if (!on_heap()) {
+    return (slot_[0] <= slot_[1] ? static_cast<double>(slot_[1]) - slot_[0] : 0.0) +
+           (slot_[2] <= slot_[3] ? static_cast<double>(slot_[3]) - slot_[2] : 0.0);
+  }
+  const float* pairs = data();
   double total = 0.0;
-  for (const Interval& i : intervals()) total += i.hi - i.lo;
+  for (int k = 0, n = count(); k < n; ++k) {
+    total += static_cast<double>(pairs[2 * k + 1]) - pairs[2 * k];
+  }
   return total;
 }
 
 bool DexelRay::contains(double t) const {
-  for (const Interval& i : intervals()) {
-    if (i.contains(t)) return true;
+  if (!on_heap()) {
+    return (slot_[0] <= t && t <= slot_[1]) || (slot_[2] <= t && t <= slot_[3]);
+  }
+  const float* pairs = data();
+  for (int k = 0, n = count(); k < n; ++k) {
+    if (pairs[2 * k] <= t && t <= pairs[2 * k + 1]) return true;
   }
   return false;
 }
