@@ -161,6 +161,8 @@ LinearSweep::LinearSweep(const Cutter& cutter, const Vec3& start, const Vec3& en
   // Closed forms for a tool standing along +Z.
   const bool vertical = std::abs(axis.x()) <= tol::kRelative &&
                         std::abs(axis.y()) <= tol::kRelative && axis.z() > 0.0;
+  vertical_axis_ = vertical;
+  plan_radius_ = cutter.profile().max_radius();
   if (vertical) {
     if (start.z() == end.z()) {
       mode_ = Mode::kLevel;
@@ -375,6 +377,17 @@ Interval LinearSweep::chord(const Ray& ray) const {
   const bool vertical = d.x() == 0.0 && d.y() == 0.0 && d.z() != 0.0;
   if (mode_ == Mode::kLevel && (horizontal || vertical)) return level_chord(ray);
   if (mode_ == Mode::kAxial && (horizontal || vertical)) return axial_chord(ray);
+  if (vertical && vertical_axis_) {
+    // Every point of a tool standing along +Z lies within its largest radius of the axis, whose
+    // plan position is the tip's: a vertical ray farther than that from the tip's path in plan
+    // misses the sweep (the box around a climbing move holds many such rays).
+    const Vec2 q = ray.origin.head<2>() - start_.head<2>(), along = (end_ - start_).head<2>();
+    const double length2 = along.squaredNorm();
+    const double u = length2 > 0.0 ? std::clamp(q.dot(along) / length2, 0.0, 1.0) : 0.0;
+    if ((q - u * along).norm() > plan_radius_ * (1.0 + tol::kRelative) + tol::kLength) {
+      return Interval::empty();
+    }
+  }
   return generic_chord(ray);
 }
 

@@ -109,6 +109,8 @@ class LinearSweep {
     double center_r = 0.0, center_z = 0.0, radius = 0.0;
   };
   Mode mode_ = Mode::kGeneric;
+  bool vertical_axis_ = false;  // the tool stands along +Z (any move direction)
+  double plan_radius_ = 0.0;    // the tool's largest radius
   Vec3 start_, end_;
   std::vector<Section> sections_;
   double widest_height_ = 0.0;
