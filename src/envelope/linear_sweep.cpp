@@ -170,7 +170,7 @@ LinearSweep::LinearSweep(const Cutter& cutter, const Vec3& start, const Vec3& en
       mode_ = Mode::kAxial;
     }
   }
-  if (mode_ != Mode::kGeneric) {
+  if (vertical) {  // sections serve the closed forms and the culls of chord()
     for (const auto& s : segments) {
       Section section;
       section.z0 = s.min_z();
@@ -385,6 +385,22 @@ Interval LinearSweep::chord(const Ray& ray) const {
     const double length2 = along.squaredNorm();
     const double u = length2 > 0.0 ? std::clamp(q.dot(along) / length2, 0.0, 1.0) : 0.0;
     if ((q - u * along).norm() > plan_radius_ * (1.0 + tol::kRelative) + tol::kLength) {
+      return Interval::empty();
+    }
+  } else if (horizontal && vertical_axis_ && (d.x() == 0.0 || d.y() == 0.0)) {
+    // A ray along world X or Y passes every axis position at least `gap` away in plan (its
+    // offset across from the tip path's range), so every tool point on it stands at least
+    // h_lo(gap) above its tip, h_lo(r) the lowest height where the tool is r wide (it grows
+    // with r for a convex tool): below min tip z + h_lo(gap) the ray misses the sweep.
+    const int across = d.x() == 0.0 ? 0 : 1;
+    const double a0 = std::min(start_[across], end_[across]);
+    const double a1 = std::max(start_[across], end_[across]);
+    const double o = ray.origin[across];
+    const double gap = o < a0 ? a0 - o : (o > a1 ? o - a1 : 0.0);
+    if (gap > plan_radius_ * (1.0 + tol::kRelative) + tol::kLength) return Interval::empty();
+    const Interval heights = heights_reaching(gap);
+    const double floor = std::min(start_.z(), end_.z()) + (heights.is_empty() ? 0.0 : heights.lo);
+    if (ray.origin.z() < floor - tol::kLength * (1.0 + std::abs(floor) / tol::kModelScale)) {
       return Interval::empty();
     }
   }
