@@ -381,10 +381,7 @@ Interval LinearSweep::chord(const Ray& ray) const {
     // Every point of a tool standing along +Z lies within its largest radius of the axis, whose
     // plan position is the tip's: a vertical ray farther than that from the tip's path in plan
     // misses the sweep (the box around a climbing move holds many such rays).
-    const Vec2 q = ray.origin.head<2>() - start_.head<2>(), along = (end_ - start_).head<2>();
-    const double length2 = along.squaredNorm();
-    const double u = length2 > 0.0 ? std::clamp(q.dot(along) / length2, 0.0, 1.0) : 0.0;
-    if ((q - u * along).norm() > plan_radius_ * (1.0 + tol::kRelative) + tol::kLength) {
+    if (plan_gap(ray.origin) > plan_radius_ * (1.0 + tol::kRelative) + tol::kLength) {
       return Interval::empty();
     }
   } else if (horizontal && vertical_axis_ && (d.x() == 0.0 || d.y() == 0.0)) {
@@ -405,6 +402,26 @@ Interval LinearSweep::chord(const Ray& ray) const {
     }
   }
   return generic_chord(ray);
+}
+
+double LinearSweep::plan_gap(const Vec3& p) const {
+  const Vec2 q = p.head<2>() - start_.head<2>(), along = (end_ - start_).head<2>();
+  const double length2 = along.squaredNorm();
+  const double u = length2 > 0.0 ? std::clamp(q.dot(along) / length2, 0.0, 1.0) : 0.0;
+  return (q - u * along).norm();
+}
+
+Interval LinearSweep::reach(const Ray& ray) const {
+  const Vec3& d = ray.direction;
+  if (!has_reach() || d.x() != 0.0 || d.y() != 0.0 || d.z() == 0.0) return Interval::full();
+  // Every tool point over plan point q stands at least h_lo(gap) above its tip (see chord()).
+  const double gap = plan_gap(ray.origin);
+  if (gap > plan_radius_ * (1.0 + tol::kRelative) + tol::kLength) return Interval::empty();
+  const Interval heights = heights_reaching(gap);
+  const double floor = std::min(start_.z(), end_.z()) + (heights.is_empty() ? 0.0 : heights.lo);
+  const double margin = tol::kLength * (1.0 + std::abs(floor) / tol::kModelScale);
+  const double t = (floor - margin - ray.origin.z()) / d.z();
+  return d.z() > 0.0 ? Interval{t, Interval::full().hi} : Interval{Interval::full().lo, t};
 }
 
 Interval LinearSweep::generic_chord(const Ray& ray) const {

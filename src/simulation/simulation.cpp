@@ -62,6 +62,13 @@ TriDexel make_stock(const StockSpec& spec, const SimulationOptions& options) {
 
 namespace {
 
+// A linear sweep as a dexel cut: its box, its chords and, where it has one, its cheap reach.
+TriDexel::Cut cut_of(const LinearSweep& piece) {
+  TriDexel::Cut cut{piece.bounds(), [&piece](const Ray& ray) { return piece.chord(ray); }, {}};
+  if (piece.has_reach()) cut.reach = [&piece](const Ray& ray) { return piece.reach(ray); };
+  return cut;
+}
+
 // Counts a move and its removal into the summary.
 void record_move(RemovalSummary& summary, const Toolpath& path, std::size_t index, int pieces,
                  double deviation, double volume, double cell) {
@@ -90,7 +97,7 @@ void record_move(RemovalSummary& summary, const Toolpath& path, std::size_t inde
 double remove_sweep(TriDexel& stock, const MoveSweep& sweep) {
   std::vector<TriDexel::Cut> cuts;
   for (const LinearSweep& piece : sweep.pieces()) {
-    cuts.push_back({piece.bounds(), [&piece](const Ray& ray) { return piece.chord(ray); }});
+    cuts.push_back(cut_of(piece));
   }
   double volume = 0.0;
   for (const TriDexel::Removal& r : stock.remove(cuts)) volume += r.volume;
@@ -122,7 +129,7 @@ RemovalSummary remove_toolpath(TriDexel& stock, const Cutter& cutter, const Tool
     owner.clear();
     for (std::size_t m = 0; m < sweeps.size(); ++m) {
       for (const LinearSweep& piece : sweeps[m].pieces()) {
-        cuts.push_back({piece.bounds(), [&piece](const Ray& ray) { return piece.chord(ray); }});
+        cuts.push_back(cut_of(piece));
         owner.push_back(m);
       }
     }

@@ -149,6 +149,12 @@ TEST(LinearSweep, ClosedFormsAgreeWithTheGeneralConstruction) {
         const int axis = k % 3;
         const Ray ray{through, (k % 2 == 0 ? 1.0 : -1.0) * Vec3::Unit(axis)};
         const Interval fast = sweep.chord(ray), general = sweep.generic_chord(ray);
+        // The reach holds the chord (it is all that dexel removal looks at before the chord).
+        const Interval reach = sweep.reach(ray);
+        if (!general.is_empty() && general.length() >= 1e-3) {
+          ASSERT_LE(reach.lo, general.lo + 1e-9) << "move " << m << " ray " << k;
+          ASSERT_GE(reach.hi, general.hi - 1e-9) << "move " << m << " ray " << k;
+        }
         if (fast.is_empty() || general.is_empty()) {
           EXPECT_LT(std::max(fast.length(), general.length()), 1e-3)
               << "move " << m << " ray " << k;

@@ -55,6 +55,13 @@ class LinearSweep {
   // A box containing the swept volume.
   const Aabb& bounds() const { return bounds_; }
 
+  // An interval of ray parameters holding the chord, far cheaper than chord() where has_reach():
+  // for a tool standing along +Z on a climbing or descending move, a vertical ray's chord starts
+  // no lower than the tip path's lowest point plus the height where the tool is as wide as the
+  // ray's plan distance from that path. Elsewhere the whole line.
+  bool has_reach() const { return mode_ == Mode::kGeneric && vertical_axis_; }
+  Interval reach(const Ray& ray) const;
+
  private:
   enum class Mode { kGeneric, kLevel, kAxial };
   static constexpr int kArcSamples = 24;
@@ -79,6 +86,8 @@ class LinearSweep {
   Interval heights_reaching(double r) const;
   // The tool's radius at height h above the tip (h within the profile).
   double section_radius(double h) const;
+  // Plan distance from a point to the tip's path (vertical tools).
+  double plan_gap(const Vec3& p) const;
   // Level mode: the extent along world axis `along` (0 or 1) of the capsule of radius r about
   // the tip's path, on the horizontal line through o parallel to that axis.
   Interval capsule_span(const Vec3& o, int along, double r) const;

@@ -166,7 +166,14 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts) {
                   DexelRay& material = row[i];
                   if (!material.overlaps(r.low, r.high)) continue;
                   origin[b] = domain_.min[b] + (i + 0.5) * spacing_;
-                  const Interval cut = cuts[k].chord(Ray{origin, Vec3::Unit(a)});
+                  const Ray ray{origin, Vec3::Unit(a)};
+                  if (cuts[k].reach) {
+                    const Interval w = cuts[k].reach(ray);
+                    if (!material.overlaps(std::max(r.low, w.lo), std::min(r.high, w.hi))) {
+                      continue;
+                    }
+                  }
+                  const Interval cut = cuts[k].chord(ray);
                   if (cut.is_empty()) continue;
                   const auto before = static_cast<std::ptrdiff_t>(material.heap_bytes());
                   const double removed = material.subtract(cut.lo, cut.hi);

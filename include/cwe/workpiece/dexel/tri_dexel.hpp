@@ -78,6 +78,9 @@ class TriDexel {
   struct Cut {
     Aabb bounds;
     ChordFunction chord;
+    // Optional: an interval of the ray's parameter that holds the chord, cheaper than the chord
+    // itself; a ray whose material misses it is skipped without calling `chord`.
+    ChordFunction reach;
   };
   std::vector<Removal> remove(const std::vector<Cut>& cuts);
 
