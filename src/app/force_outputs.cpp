@@ -27,9 +27,10 @@ ForceSettings force_settings(const std::string& forces, double spindle, int flut
                      fmt::format("{}°: expected a helix angle in [0°, 90°)", helix_deg));
   }
   s.model.helix_angle = helix_deg >= 0.0 ? helix_deg * kPi / 180.0 : -1.0;
-  if (step_deg < 0.0 || step_deg > 90.0 || !std::isfinite(step_deg)) {
+  if (step_deg < 0.0 || (step_deg > 0.0 && step_deg < 0.01) || step_deg > 90.0 ||
+      !std::isfinite(step_deg)) {
     throw InputError(SourceLocation{"--force-step"},
-                     fmt::format("{}°: expected a spindle angle step in (0°, 90°]", step_deg));
+                     fmt::format("{}°: expected a spindle angle step in [0.01°, 90°]", step_deg));
   }
   if (step_deg > 0.0) s.model.angle_step = step_deg * kPi / 180.0;
   if (!runout.empty()) {

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <vector>
@@ -83,7 +84,41 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
                      "feed bounds: expected 0 < --min-scale <= --max-scale, --min-feed <= "
                      "--max-feed (mm/min, positive) and --max-change >= 1");
   }
-  PreparedJob job = prepare_job(sim, true);
+  PreparedJob job = prepare_job(sim, false);
+  // Where each scheduled program goes: --out itself for one program, else --out/<its name>; no
+  // two programs to one file, and never over an input.
+  std::vector<std::filesystem::path> targets;
+  for (const PreparedOperation& op : job.operations) {
+    const Toolpath& path = op.read.toolpath;
+    if (std::any_of(path.moves.begin(), path.moves.end(),
+                    [](const Move& m) { return m.source != 0; })) {
+      throw InputError(SourceLocation{op.path},
+                       "the program includes other files; scheduling rewrites one file only");
+    }
+    const std::filesystem::path target =
+        job.operations.size() == 1
+            ? std::filesystem::path(options.out)
+            : std::filesystem::path(options.out) / std::filesystem::path(op.path).filename();
+    const auto same = [&](const std::filesystem::path& other) {
+      std::error_code ec;
+      return std::filesystem::weakly_canonical(target, ec) ==
+             std::filesystem::weakly_canonical(other, ec);
+    };
+    if (std::any_of(targets.begin(), targets.end(), same)) {
+      throw InputError(SourceLocation{"--out"},
+                       fmt::format("two operations would write {}: give their programs different "
+                                   "names",
+                                   target.string()));
+    }
+    for (const PreparedOperation& other : job.operations) {
+      if (same(other.path)) {
+        throw InputError(
+            SourceLocation{"--out"},
+            fmt::format("{} is an input program: write the schedule elsewhere", target.string()));
+      }
+    }
+    targets.push_back(target);
+  }
   const tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
                                         static_cast<std::size_t>(job.threads));
   TriDexel stock =
@@ -93,13 +128,9 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
   for (const PreparedOperation& op : job.operations) all_moves += op.read.toolpath.moves.size();
 
   std::vector<ScheduledProgram> programs;
-  for (const PreparedOperation& op : job.operations) {
+  for (std::size_t o = 0; o < job.operations.size(); ++o) {
+    const PreparedOperation& op = job.operations[o];
     const Toolpath& path = op.read.toolpath;
-    if (std::any_of(path.moves.begin(), path.moves.end(),
-                    [](const Move& m) { return m.source != 0; })) {
-      throw InputError(SourceLocation{op.path},
-                       "the program includes other files; scheduling rewrites one file only");
-    }
     const ForceModel& model = *op.forces;
     // The largest feed rate each move's cutter locations allow (mm/min); unset: not sampled.
     std::vector<std::optional<double>> allowed(path.moves.size());

@@ -235,6 +235,9 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
                      "forces need the engagement, which --stock-only skips; drop one of them");
   }
   MapChoice maps = parse_maps(options.stock_only ? "none" : options.maps, cl_count);
+  if (!job.forces && !options.force_curves.empty() && options.force_curves != "none") {
+    throw InputError(SourceLocation{"--force-curves"}, "force curves need --forces");
+  }
   MapChoice curves =
       parse_maps(job.forces ? options.force_curves : "none", cl_count, "--force-curves");
   const StockSpec stock_spec = parse_stock_spec(options.stock, SourceLocation{"--stock"});
@@ -385,6 +388,10 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
                    {"moves", per_operation[o].moves},
                    {"cl_points", operations[o].cl_points},
                    {"cl_step_mm", operations[o].sampling.step}});
+    if (operations[o].forces) {
+      ops.back()["flutes"] = operations[o].forces->flutes();
+      ops.back()["helix_deg"] = degrees(operations[o].forces->helix_angle());
+    }
   }
   summary["operations"] = ops;
   summary["feed_moves"] = removal.feed_moves;
@@ -421,8 +428,6 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
     const ForceModel& model = *operations.front().forces;
     summary["forces"] = {{"coefficients", job.forces->coefficients.name},
                          {"coefficients_source", job.forces->coefficients.source},
-                         {"flutes", model.flutes()},
-                         {"helix_deg", degrees(model.helix_angle())},
                          {"angle_step_deg", 360.0 / model.samples()},
                          {"runout_mm", job.forces->model.runout.offset},
                          {"runout_angle_deg", degrees(job.forces->model.runout.angle)},
@@ -489,10 +494,9 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   }
   if (job.forces) {
     fmt::print(out,
-               "  forces      {}, {} flutes: peak {:.0f} N at CL {} ({} line {}), torque up to "
+               "  forces      {}: peak {:.0f} N at CL {} ({} line {}), torque up to "
                "{:.2f} N·m, power up to {:.2f} kW\n",
-               job.forces->coefficients.name, operations.front().forces->flutes(),
-               extremes.force.value, extremes.force.cl,
+               job.forces->coefficients.name, extremes.force.value, extremes.force.cl,
                std::filesystem::path(extremes.force.file).filename().string(), extremes.force.line,
                extremes.torque.value, extremes.power.value / 1000.0);
   }

@@ -22,7 +22,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 template <class V>
 double largest_within(const V& a, const V& b, double limit) {
   const double qa = a.squaredNorm(), qb = 2.0 * a.dot(b), qc = b.squaredNorm() - limit * limit;
-  if (qc > 0.0) return 0.0;
+  if (qc > 0.0 || (qc == 0.0 && qb > 0.0)) return 0.0;  // at or over the limit as c → 0
   if (qa <= 0.0) return qb <= 0.0 ? kInf : -qc / qb;
   const double disc = std::max(0.0, qb * qb - 4.0 * qa * qc);
   // The larger root (qc ≤ 0 makes it ≥ 0), in the form without cancellation.
@@ -190,17 +190,18 @@ Schedule schedule_feeds(const std::vector<MoveFeed>& moves, const ScheduleOption
     const double allowed = m.allowed.value_or(m.programmed);
     feed[i] = std::clamp(allowed, lo, hi);
   }
-  // Consecutive moves within the ratio: lower the faster neighbour, forwards then backwards.
+  // Consecutive moves within the ratio: lower the faster neighbour, forwards then backwards, but
+  // never below a move's minimum (the minimum takes precedence over the ratio, and a neighbour
+  // is then bounded by the minimum, not by a lower value the ratio alone would have asked for).
   for (std::size_t i = 1; i < n; ++i) {
-    feed[i] = std::min(feed[i], feed[i - 1] * options.max_change);
+    feed[i] = std::max(low[i], std::min(feed[i], feed[i - 1] * options.max_change));
   }
   for (std::size_t i = n; i-- > 1;) {
-    feed[i - 1] = std::min(feed[i - 1], feed[i] * options.max_change);
+    feed[i - 1] = std::max(low[i - 1], std::min(feed[i - 1], feed[i] * options.max_change));
   }
   out.moves.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const MoveFeed& m = moves[i];
-    feed[i] = std::max(feed[i], low[i]);  // the minimum takes precedence over the ratio
     ScheduledMove& s = out.moves[i];
     s.feed = feed[i];
     s.limit_exceeded = m.allowed && *m.allowed < feed[i] * (1.0 - 1e-12);

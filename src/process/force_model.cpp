@@ -23,8 +23,9 @@ struct Element {
   // ∫dℓ (chip width db and edge length dS: the helix is left out, see force_model.hpp), ∫sin κ,
   // ∫cos κ, ∫sin²κ, ∫cos²κ, ∫sin κ cos κ, ∫ρ, ∫ρ sin κ, ∫ρ cos κ (all dℓ).
   double l = 0.0, s1 = 0.0, c1 = 0.0, s2 = 0.0, c2 = 0.0, sc = 0.0, r = 0.0, rs = 0.0, rc = 0.0;
-  // κ at the element's ends (outward normal n = sin κ·e_r − cos κ·z): the thickest chip is at an
-  // end or in between where the normal turns most into the feed.
+  // κ at the element's ends (outward normal n = sin κ·e_r − cos κ·z), where the thickest chip is
+  // looked for: where the normal turns most into the feed inside an element the chip can be
+  // thicker by up to 1 − cos(Δκ/2) (0.5% across the first 0.1 mm disc of a ball end).
   double sin_kappa[2] = {1.0, 1.0}, cos_kappa[2] = {0.0, 0.0};
   double mean_sin_kappa() const { return l > 0.0 ? s1 / l : 0.0; }
 
@@ -103,8 +104,8 @@ class Revolution {
       for (const Interval& in : phi) {
         if (in.is_empty()) continue;
         for (int end = 0; end < 2; ++end) {
-          max_chip_ =
-              std::max(max_chip_, chip(j, max_feed_along_normal(e, end, in), e.sin_kappa[end]));
+          max_chip_ = std::max(max_chip_,
+                               chip(j, max_feed_along_normal(e, end, in), e.sin_kappa[end], e.lag));
         }
         if (in.hi - in.lo >= 2.0 * kPi * (1.0 - 1e-12)) {  // a full ring: every step, whole
           for (int k = 0; k < n_; ++k) {
@@ -162,13 +163,15 @@ class Revolution {
 
   // Chip thickness of flute j where the feed along the normal is g: c·g, or with runout the
   // thinnest of the chips left by the m-th tooth before it, m·c·g + (r_j − r_{j−m})·sin κ.
-  double chip(int j, double g, double sin_kappa) const {
+  // The flute's radial offset follows it round the helix: at lag ψ it is e·cos(λ − 2πj/N + ψ).
+  double chip(int j, double g, double sin_kappa, double lag) const {
     const double h1 = c_ * g;
     if (runout_.offset <= 0.0) return h1;
-    const double rj = runout_.offset * std::cos(runout_.angle - 2.0 * kPi * j / flutes_);
+    const double rj = runout_.offset * std::cos(runout_.angle - 2.0 * kPi * j / flutes_ + lag);
     double h = std::numeric_limits<double>::infinity();
     for (int m = 1; m <= flutes_; ++m) {
-      const double rm = runout_.offset * std::cos(runout_.angle - 2.0 * kPi * (j - m) / flutes_);
+      const double rm =
+          runout_.offset * std::cos(runout_.angle - 2.0 * kPi * (j - m) / flutes_ + lag);
       h = std::min(h, m * h1 + (rj - rm) * sin_kappa);
     }
     return h;
@@ -181,7 +184,7 @@ class Revolution {
     if (!(area_per_feed > 0.0)) return;
     // With runout the flute's chip is not c·g: scale the feed by the ratio at the mean g.
     const double g = area_per_feed / e.l;
-    const double feed = runout_.offset > 0.0 ? chip(j, g, e.mean_sin_kappa()) / g : c_;
+    const double feed = runout_.offset > 0.0 ? chip(j, g, e.mean_sin_kappa(), e.lag) / g : c_;
     if (!(feed > 0.0)) return;
     cutting_ = true;
     // ∫dF_t, ∫dF_r sin κ, ∫dF_r cos κ, ∫dF_a sin κ, ∫dF_a cos κ, ∫ρ dF_t.
@@ -222,8 +225,8 @@ double feed_per_tooth(double feed_rate, int flutes, double spindle_speed) {
 ForceModel::ForceModel(const Cutter& cutter, CuttingCoefficients coefficients,
                        ForceModelOptions options)
     : cutter_(cutter), coefficients_(std::move(coefficients)), runout_(options.runout) {
-  if (!(options.angle_step > 0.0) || options.angle_step > kPi / 2.0 + 1e-12) {
-    throw InputError(fmt::format("the spindle angle step must be in (0°, 90°], not {:g}°",
+  if (!(options.angle_step >= kMinAngleStep) || options.angle_step > kPi / 2.0 + 1e-12) {
+    throw InputError(fmt::format("the spindle angle step must be in [0.01°, 90°], not {:g}°",
                                  options.angle_step * 180.0 / kPi));
   }
   flutes_ = options.flutes > 0 ? options.flutes : cutter.flutes();

@@ -486,6 +486,27 @@ TEST(CliForces, SlotForcesMatchTheClosedForm) {
   const nlohmann::json summary = nlohmann::json::parse(std::ifstream(dir / "out" / "summary.json"));
   EXPECT_GT(summary["forces"]["max_peak_resultant_n"]["value"].get<double>(), std::abs(fy));
   EXPECT_NE(r.out.find("forces.csv"), std::string::npos) << r.out;
+  // Curves without forces, and a spindle step finer than 0.01°, are refused.
+  const std::vector<std::string> base = {"simulate",
+                                         "--stock",
+                                         "box:0,0,-10,50,20,0",
+                                         "--tool",
+                                         "flat:10,20",
+                                         "--path",
+                                         (dir / "cut.ngc").string(),
+                                         "--out",
+                                         (dir / "bad").string(),
+                                         "--resolution",
+                                         "0.5"};
+  std::vector<std::string> curves = base;
+  curves.insert(curves.end(), {"--force-curves", "cl:1"});
+  const Result no_forces = run_cwe(curves);
+  EXPECT_EQ(no_forces.status, 2);
+  EXPECT_NE(no_forces.err.find("force curves need --forces"), std::string::npos) << no_forces.err;
+  std::vector<std::string> fine = base;
+  fine.insert(fine.end(), {"--forces", "al7075-t6-carbide", "--force-step", "0.001"});
+  EXPECT_EQ(run_cwe(fine).status, 2);
+  EXPECT_FALSE(std::filesystem::exists(dir / "bad" / "forces.csv"));
 }
 
 TEST(CliSchedule, ScheduledProgramNeverExceedsTheLimit) {
@@ -528,7 +549,11 @@ TEST(CliSchedule, ScheduledProgramNeverExceedsTheLimit) {
                                    "force=20N", "--out", (dir / "low.ngc").string()}));
   ASSERT_EQ(low.status, 0) << low.err;
   EXPECT_NE(low.out.find("exceed the limit even at the lowest feed"), std::string::npos) << low.out;
-  // Errors: no coefficients, a bad limit.
+  // Errors: the schedule over its own input, no coefficients, a bad limit.
+  EXPECT_EQ(run_cwe(with({"schedule", "--path", (dir / "cut.ngc").string(), "--limit", "force=220N",
+                          "--out", (dir / "cut.ngc").string()}))
+                .status,
+            2);
   EXPECT_EQ(run_cwe({"schedule", "--stock", "box:0,0,-10,50,20,0", "--tool", "flat:10,20", "--path",
                      (dir / "cut.ngc").string(), "--limit", "force=250N", "--out",
                      (dir / "x.ngc").string()})

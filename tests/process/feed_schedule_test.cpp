@@ -136,6 +136,19 @@ TEST(Schedule, KeepsBoundsAndLargestChange) {
               1e-12);
   EXPECT_EQ(s.limited, 5);
 
+  // A move held at its minimum bounds its neighbours by that minimum, not by a lower feed the
+  // ratio alone would have given: after a slow plunge the feed climbs 100, 150, 225.
+  const Schedule climb = schedule_feeds({{100, 10.0, 1},
+                                         {1000, std::numeric_limits<double>::infinity(), 1},
+                                         {1000, std::numeric_limits<double>::infinity(), 1},
+                                         {1000, std::numeric_limits<double>::infinity(), 1}},
+                                        options);
+  EXPECT_NEAR(climb.moves[0].feed, 10.0, 1e-12);
+  EXPECT_NEAR(climb.moves[1].feed, 100.0, 1e-12);
+  EXPECT_NEAR(climb.moves[2].feed, 150.0, 1e-12);
+  EXPECT_NEAR(climb.moves[3].feed, 225.0, 1e-12);
+  EXPECT_EQ(climb.exceeded, 0);
+
   options.max_feed = 1500.0;
   options.max_change = 10.0;
   const Schedule fast =

@@ -82,9 +82,10 @@ struct Schedule {
   int exceeded = 0;  // moves that cannot meet the limit within the minimum feed
 };
 
-// The feeds: each move's allowed feed clipped to its bounds, then lowered (never raised) where
-// needed so that consecutive moves differ by at most max_change (a forward and a backward pass:
-// the largest such sequence below the allowed feeds). Throws std::invalid_argument for bounds
+// The feeds: each move's allowed feed clipped to its bounds, then lowered (never below its
+// minimum) where needed so that consecutive moves differ by at most max_change (a forward and a
+// backward pass: the largest such sequence below the allowed feeds; a move held at its minimum
+// may differ from its neighbours by more). Throws std::invalid_argument for bounds
 // that contradict each other.
 Schedule schedule_feeds(const std::vector<MoveFeed>& moves, const ScheduleOptions& options);
 

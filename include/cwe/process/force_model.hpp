@@ -14,8 +14,9 @@
 // with f̂ the unit feed direction in the tool frame and κ the axial immersion angle of the
 // profile (π/2 on a cylinder, 0 on a flat bottom). For a feed perpendicular to the axis this is
 // the classical h = c·sin φ·sin κ; a plunge loads the bottom with h = c. Radial runout (offset
-// e at angle λ from flute 0) shortens or lengthens each flute's radius by e·cos(λ − 2πj/N) and
-// the chip follows the tooth that cut last (h_j = min over m of m·c·g + (r_j − r_{j−m})·sin κ).
+// e at angle λ from flute 0) shortens or lengthens each flute's radius by e·cos(λ − 2πj/N + ψ)
+// (the flute at height z sits ψ(z) behind its tip) and the chip follows the tooth that cut last
+// (h_j = min over m of m·c·g + (r_j − r_{j−m})·sin κ).
 //
 // Element forces, with chip width db the length of the element along the profile and the edge
 // length dS taken equal to it:
@@ -53,6 +54,9 @@ struct Runout {
   double angle = 0.0;   // direction of the offset from flute 0, radians
 };
 
+// The finest spindle angle step (0.01°: 36,000 samples a revolution).
+inline constexpr double kMinAngleStep = kPi / 18000.0;
+
 struct ForceModelOptions {
   double angle_step = kPi / 180.0;  // spindle angle step, radians (rounded to divide 2π)
   int flutes = 0;                   // 0: the cutter's
@@ -78,13 +82,15 @@ struct ClForces {
   double mean_torque = 0.0;              // N·m
   double peak_torque = 0.0;              // N·m
   double mean_power = 0.0;               // W
-  double max_chip = 0.0;  // thickest chip any flute element cuts anywhere in its engaged arcs, mm
+  // Thickest chip of any flute element over its engaged arcs, at the element's ends along the
+  // profile, mm.
+  double max_chip = 0.0;
   std::vector<ForceSample> curve;  // the revolution, when asked for
 };
 
 class ForceModel {
  public:
-  // Throws cwe::InputError for a step outside (0, 90°], fewer than one flute, a helix angle of
+  // Throws cwe::InputError for a step outside [0.01°, 90°], fewer than one flute, a helix angle of
   // 90° or more, or a negative runout offset.
   ForceModel(const Cutter& cutter, CuttingCoefficients coefficients,
              ForceModelOptions options = {});
