@@ -9,7 +9,7 @@
 
 namespace cwe::app {
 
-ForceSettings force_settings(const std::string& forces, double spindle, int flutes,
+ForceSettings force_settings(const std::string& forces, double spindle, double feed, int flutes,
                              double helix_deg, double step_deg, const std::string& runout) {
   ForceSettings s;
   s.coefficients = load_cutting_coefficients(forces);
@@ -18,6 +18,11 @@ ForceSettings force_settings(const std::string& forces, double spindle, int flut
                      fmt::format("{} rev/min: expected a positive spindle speed", spindle));
   }
   if (spindle > 0.0) s.spindle = spindle;
+  if (feed < 0.0 || !std::isfinite(feed)) {
+    throw InputError(SourceLocation{"--feed"},
+                     fmt::format("{} mm/min: expected a positive feed rate", feed));
+  }
+  if (feed > 0.0) s.feed = feed;
   if (flutes < 0) {
     throw InputError(SourceLocation{"--flutes"}, fmt::format("{}: expected at least 1", flutes));
   }
@@ -72,6 +77,10 @@ double spindle_speed(const Move& move, const ForceSettings& settings) {
   return settings.spindle.value_or(move.spindle_speed);
 }
 
+double feed_rate(const Move& move, const ForceSettings& settings) {
+  return move.is_rapid() ? 0.0 : settings.feed.value_or(move.feed_rate);
+}
+
 void ForceExtremes::add(const ClForces& f, std::size_t cl, const std::string& file, int line) {
   if (f.cutting) ++cutting;
   const auto update = [&](Extreme& e, double value) {
@@ -86,17 +95,19 @@ void ForceExtremes::add(const ClForces& f, std::size_t cl, const std::string& fi
 const char* const kForcesCsvHeader =
     "cl,move,feed_per_tooth_mm,mean_fx_n,mean_fy_n,mean_fz_n,peak_fx_n,peak_fy_n,peak_fz_n,"
     "peak_resultant_n,mean_torque_nm,peak_torque_nm,mean_power_w,line,operation,feed_mm_min,"
-    "spindle_rpm,max_chip_mm,mean_world_fx_n,mean_world_fy_n,mean_world_fz_n\n";
+    "spindle_rpm,max_chip_mm,mean_world_fx_n,mean_world_fy_n,mean_world_fz_n,peak_world_fx_n,"
+    "peak_world_fy_n,peak_world_fz_n\n";
 
 std::string forces_csv_row(std::size_t k, const ClPoint& cl, std::size_t operation,
-                           const Move& move, const ClForces& f) {
+                           double feed_rate, const ClForces& f) {
   return fmt::format(
       "{},{},{:.6f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.5f},{:.5f},{:.3f},{},{},"
-      "{:.3f},{:.1f},{:.6f},{:.3f},{:.3f},{:.3f}\n",
+      "{:.3f},{:.1f},{:.6f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f}\n",
       k, cl.move + 1, f.feed_per_tooth, f.mean_force.x(), f.mean_force.y(), f.mean_force.z(),
       f.peak_force.x(), f.peak_force.y(), f.peak_force.z(), f.peak_resultant, f.mean_torque,
-      f.peak_torque, f.mean_power, cl.line, operation, move.feed_rate, f.spindle_speed, f.max_chip,
-      f.mean_force_world.x(), f.mean_force_world.y(), f.mean_force_world.z());
+      f.peak_torque, f.mean_power, cl.line, operation, feed_rate, f.spindle_speed, f.max_chip,
+      f.mean_force_world.x(), f.mean_force_world.y(), f.mean_force_world.z(),
+      f.peak_force_world.x(), f.peak_force_world.y(), f.peak_force_world.z());
 }
 
 }  // namespace cwe::app

@@ -17,12 +17,13 @@ struct ForceSettings {
   CuttingCoefficients coefficients;
   ForceModelOptions model;        // flutes, helix 0/−1 mean: the cutter's
   std::optional<double> spindle;  // rev/min, overriding the program's
+  std::optional<double> feed;     // mm/min, overriding the program's (feed moves)
 };
 
 // `forces`: a coefficient JSON file or bundled material; the others as on the command line
 // (spindle 0, flutes 0, helix < 0, step 0 and an empty runout mean "not given"). Throws
 // InputError naming the option.
-ForceSettings force_settings(const std::string& forces, double spindle, int flutes,
+ForceSettings force_settings(const std::string& forces, double spindle, double feed, int flutes,
                              double helix_deg, double step_deg, const std::string& runout);
 
 // Checks that every feed move of `path` turns the spindle (or that an override is given):
@@ -31,6 +32,8 @@ void check_spindle(const Toolpath& path, const std::string& file, const ForceSet
 
 // Spindle speed (rev/min) of a move, the override first.
 double spindle_speed(const Move& move, const ForceSettings& settings);
+// Feed rate (mm/min) of a move, the override first (rapids: 0).
+double feed_rate(const Move& move, const ForceSettings& settings);
 
 // The largest force, torque and power of a job, and where they occur.
 struct ForceExtremes {
@@ -50,6 +53,6 @@ extern const char* const kForcesCsvHeader;
 // One forces.csv row (tool frame; the workpiece-frame means, the chip and the feed after the
 // required columns).
 std::string forces_csv_row(std::size_t k, const ClPoint& cl, std::size_t operation,
-                           const Move& move, const ClForces& f);
+                           double feed_rate, const ClForces& f);
 
 }  // namespace cwe::app

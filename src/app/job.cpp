@@ -38,15 +38,17 @@ void read_job(SimulateCommandOptions& options) {
     return SourceLocation{fmt::format("{}: \"{}\"", options.job, key)};
   };
   static const char* const kKeys[] = {
-      "stock",   "tool",    "path",    "operations", "out",        "resolution",  "tolerance",
-      "threads", "ply",     "cl_step", "maps",       "stock_only", "mesh_stride", "comment",
-      "forces",  "spindle", "flutes",  "helix",      "force_step", "runout",      "force_curves"};
+      "stock",       "tool",       "path",   "operations",  "out",  "resolution",
+      "tolerance",   "threads",    "ply",    "cl_step",     "maps", "stock_only",
+      "mesh_stride", "comment",    "forces", "spindle",     "feed", "flutes",
+      "helix",       "force_step", "runout", "force_curves"};
   for (const auto& [key, value] : job.items()) {
     if (std::find(std::begin(kKeys), std::end(kKeys), key) == std::end(kKeys)) {
       throw InputError(where(key),
                        "unknown key; expected stock, tool, path, operations, out, resolution, "
                        "tolerance, threads, mesh_stride, ply, cl_step, maps, stock_only, forces, "
-                       "spindle, flutes, helix, force_step, runout, force_curves or comment");
+                       "spindle, feed, flutes, helix, force_step, runout, force_curves or "
+                       "comment");
     }
   }
   const auto text_of = [&](const char* key, std::string& field, bool is_path) {
@@ -145,6 +147,7 @@ void read_job(SimulateCommandOptions& options) {
     text_of("forces", options.forces, forces.ends_with(".json"));
   }
   number_of("spindle", options.spindle);
+  number_of("feed", options.feed);
   number_of("force_step", options.force_step);
   if (job.contains("flutes") && options.flutes == 0) {
     if (!job["flutes"].is_number_integer() || job["flutes"].get<int>() < 1) {
@@ -164,7 +167,7 @@ void add_job_options(CLI::App* cmd, SimulateCommandOptions& options) {
   cmd->add_option("job", options.job,
                   "JSON job file (keys: stock, tool, path or operations, out, resolution, "
                   "tolerance, threads, cl_step, maps, stock_only, mesh_stride, ply, forces, "
-                  "spindle, flutes, helix, force_step, runout, force_curves); options below "
+                  "spindle, feed, flutes, helix, force_step, runout, force_curves); options below "
                   "override it");
   cmd->add_option("--stock", options.stock,
                   "box:xmin,ymin,zmin,xmax,ymax,zmax (mm) or a closed STL file");
@@ -184,6 +187,9 @@ void add_job_options(CLI::App* cmd, SimulateCommandOptions& options) {
                   "material (cwe materials lists them)");
   cmd->add_option("--spindle", options.spindle,
                   "Spindle speed, rev/min (default: the program's S words or SPINDL records)");
+  cmd->add_option("--feed", options.feed,
+                  "Feed rate of every feed move for the force model, mm/min (default: the "
+                  "program's F words or FEDRAT records)");
   cmd->add_option("--flutes", options.flutes, "Number of flutes (default: the tool's)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--helix", options.helix, "Helix angle, degrees (default: the tool's)");
@@ -217,9 +223,13 @@ PreparedJob prepare_job(SimulateCommandOptions& options, bool sample) {
                      fmt::format("{} mm: expected a positive length", options.cl_step));
   }
   job.threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
+  if (options.forces.empty() && (options.feed != 0.0 || options.spindle != 0.0)) {
+    throw InputError(SourceLocation{options.feed != 0.0 ? "--feed" : "--spindle"},
+                     "spindle speed and feed overrides are for the force model: give --forces");
+  }
   if (!options.forces.empty()) {
-    job.forces = force_settings(options.forces, options.spindle, options.flutes, options.helix,
-                                options.force_step, options.runout);
+    job.forces = force_settings(options.forces, options.spindle, options.feed, options.flutes,
+                                options.helix, options.force_step, options.runout);
   }
 
   // Everything the job needs is read and checked before the long part starts.

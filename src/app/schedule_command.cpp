@@ -138,9 +138,10 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
                           const EngagementMap& map) {
       const Move& move = path.moves[static_cast<std::size_t>(cl.move)];
       std::optional<double>& best = allowed[static_cast<std::size_t>(cl.move)];
-      if (move.is_rapid() || !(move.feed_rate > 0.0)) return;
+      const double programmed = feed_rate(move, *job.forces);
+      if (!(programmed > 0.0)) return;
       const double spindle = spindle_speed(move, *job.forces);
-      double highest = move.feed_rate * bounds.max_scale;
+      double highest = programmed * bounds.max_scale;
       if (bounds.max_feed) highest = std::min(highest, *bounds.max_feed);
       const double c_max = feed_per_tooth(highest, model.flutes(), spindle);
       const Vec3 v = state.tip_velocity_tcs();
@@ -160,8 +161,9 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
     std::vector<std::size_t> index;  // feed moves scheduled, into path.moves
     for (std::size_t i = 0; i < path.moves.size(); ++i) {
       const Move& m = path.moves[i];
-      if (m.is_rapid() || !(m.feed_rate > 0.0)) continue;
-      feeds.push_back({m.feed_rate, allowed[i], m.length()});
+      const double programmed = feed_rate(m, *job.forces);
+      if (!(programmed > 0.0)) continue;
+      feeds.push_back({programmed, allowed[i], m.length()});
       index.push_back(i);
     }
     ScheduledProgram program;

@@ -316,9 +316,10 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
           const bool curve = curves.chosen(k, map.engaged);
           const double spindle = spindle_speed(move, *job.forces);
           const ClForces f = op.forces->evaluate(
-              map, state, feed_per_tooth(move.feed_rate, op.forces->flutes(), spindle), spindle,
+              map, state,
+              feed_per_tooth(feed_rate(move, *job.forces), op.forces->flutes(), spindle), spindle,
               curve);
-          forces_block += forces_csv_row(k, global, o + 1, move, f);
+          forces_block += forces_csv_row(k, global, o + 1, feed_rate(move, *job.forces), f);
           extremes.add(f, k, file, cl.line);
           if (curve) {
             const ForcePlotInfo info{fmt::format("{} · fz {:.4f} mm · {:.0f} rev/min", place,

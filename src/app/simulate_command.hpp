@@ -43,6 +43,7 @@ struct SimulateCommandOptions {
   // Cutting forces (docs/forces.md): a coefficient JSON file or bundled material; empty: none.
   std::string forces;
   double spindle = 0.0;      // rev/min overriding the program's; 0: the program's S / SPINDL
+  double feed = 0.0;         // mm/min overriding the program's F / FEDRAT; 0: the program's
   int flutes = 0;            // 0: the cutter's
   double helix = -1.0;       // degrees; < 0: the cutter's
   double force_step = 0.0;   // spindle angle step, degrees; 0: 1°

@@ -259,13 +259,17 @@ ClForces ForceModel::evaluate(const EngagementMap& map, const ToolState& state,
   const Vec3 v = state.tip_velocity_tcs();
   const double speed = v.norm();
   const Vec3 feed = speed > 0.0 ? Vec3(v / speed) : Vec3::Zero();
-  ClForces out = evaluate(map, feed, feed_per_tooth, spindle_speed, keep_curve);
-  out.mean_force_world = state.tcs.direction_to_world(out.mean_force);
-  return out;
+  return evaluate(map, feed, feed_per_tooth, spindle_speed, keep_curve, &state.tcs);
 }
 
 ClForces ForceModel::evaluate(const EngagementMap& map, const Vec3& feed_direction_tcs,
                               double feed_per_tooth, double spindle_speed, bool keep_curve) const {
+  return evaluate(map, feed_direction_tcs, feed_per_tooth, spindle_speed, keep_curve, nullptr);
+}
+
+ClForces ForceModel::evaluate(const EngagementMap& map, const Vec3& feed_direction_tcs,
+                              double feed_per_tooth, double spindle_speed, bool keep_curve,
+                              const Frame* world) const {
   ClForces out;
   out.feed_per_tooth = feed_per_tooth;
   out.spindle_speed = spindle_speed;
@@ -293,12 +297,17 @@ ClForces ForceModel::evaluate(const EngagementMap& map, const Vec3& feed_directi
     sum += f;
     torque_sum += t;
     out.peak_force = out.peak_force.cwiseMax(f.cwiseAbs());
+    if (world != nullptr) {
+      out.peak_force_world = out.peak_force_world.cwiseMax(world->direction_to_world(f).cwiseAbs());
+    }
     out.peak_resultant = std::max(out.peak_resultant, f.norm());
     out.peak_torque = std::max(out.peak_torque, std::abs(t));
     if (keep_curve) out.curve.push_back({k * step_, f, t});
   }
   out.mean_force = sum / samples_;
-  out.mean_force_world = out.mean_force;
+  out.mean_force_world =
+      world != nullptr ? Vec3(world->direction_to_world(out.mean_force)) : out.mean_force;
+  if (world == nullptr) out.peak_force_world = out.peak_force;
   out.mean_torque = torque_sum / samples_;
   out.mean_power = out.mean_torque * omega;
   return out;

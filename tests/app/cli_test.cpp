@@ -486,6 +486,16 @@ TEST(CliForces, SlotForcesMatchTheClosedForm) {
   const nlohmann::json summary = nlohmann::json::parse(std::ifstream(dir / "out" / "summary.json"));
   EXPECT_GT(summary["forces"]["max_peak_resultant_n"]["value"].get<double>(), std::abs(fy));
   EXPECT_NE(r.out.find("forces.csv"), std::string::npos) << r.out;
+  // A feed override sets the feed per tooth: 1200 / (4 × 10000).
+  const Result fed =
+      run_cwe({"simulate", "--stock", "box:0,0,-10,50,20,0", "--tool", "flat:10,20", "--path",
+               (dir / "cut.ngc").string(), "--out", (dir / "fed").string(), "--resolution", "0.5",
+               "--forces", "al7075-t6-carbide", "--feed", "1200", "--maps", "none"});
+  ASSERT_EQ(fed.status, 0) << fed.err;
+  const auto fed_rows = read_csv(dir / "fed" / "forces.csv");
+  ASSERT_GT(fed_rows.size(), 2u);
+  EXPECT_EQ(fed_rows[1][2], "0.030000");
+  EXPECT_EQ(fed_rows[1][15], "1200.000");
   // Curves without forces, and a spindle step finer than 0.01°, are refused.
   const std::vector<std::string> base = {"simulate",
                                          "--stock",

@@ -243,6 +243,22 @@ TEST(ForceModel, RunoutThickensOneFluteAndThinsTheOther) {
   EXPECT_NEAR(out.mean_torque, nominal.mean_torque, 0.05 * nominal.mean_torque);
 }
 
+// Feeding along world +Y puts the tool frame's x on world Y and y = z × x on world −X: the
+// workpiece-frame figures are the tool frame's turned by that frame.
+TEST(ForceModel, WorkpieceFrameFollowsTheToolFrame) {
+  const Cutter cutter = cutter_from_spec("flat:10,30");
+  const ForceModel model(cutter, test_coefficients());
+  const ToolState state = tool_state(Vec3(1, 2, 3), Vec3::UnitZ(), Vec3(0, 600, 0), Vec3::Zero());
+  const ClForces f = model.evaluate(side_map(2.0, 0.1, {{0.0, kPi / 2}}), state, 0.05, 8000.0);
+  EXPECT_NEAR(f.mean_force_world.x(), -f.mean_force.y(), 1e-12);
+  EXPECT_NEAR(f.mean_force_world.y(), f.mean_force.x(), 1e-12);
+  EXPECT_NEAR(f.mean_force_world.z(), f.mean_force.z(), 1e-12);
+  EXPECT_NEAR(f.peak_force_world.x(), f.peak_force.y(), 1e-12);
+  EXPECT_NEAR(f.peak_force_world.y(), f.peak_force.x(), 1e-12);
+  EXPECT_NEAR(f.peak_force_world.z(), f.peak_force.z(), 1e-12);
+  EXPECT_GT(f.peak_force.norm(), 10.0);
+}
+
 TEST(ForceModel, AirAndStoppedFeedCutNothing) {
   const Cutter cutter = cutter_from_spec("flat:10,30");
   const ForceModel model(cutter, test_coefficients());

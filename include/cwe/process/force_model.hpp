@@ -78,6 +78,7 @@ struct ClForces {
   Vec3 mean_force = Vec3::Zero();        // tool frame, N
   Vec3 peak_force = Vec3::Zero();        // largest |F_x|, |F_y|, |F_z| over the revolution, N
   Vec3 mean_force_world = Vec3::Zero();  // workpiece frame, N
+  Vec3 peak_force_world = Vec3::Zero();  // largest |F_X|, |F_Y|, |F_Z| in the workpiece frame, N
   double peak_resultant = 0.0;           // largest |F|, N
   double mean_torque = 0.0;              // N·m
   double peak_torque = 0.0;              // N·m
@@ -106,11 +107,15 @@ class ForceModel {
   ClForces evaluate(const EngagementMap& map, const ToolState& state, double feed_per_tooth,
                     double spindle_speed, bool keep_curve = false) const;
 
-  // The same with the feed direction given in the tool frame (unit) and no world frame.
+  // The same with the feed direction given in the tool frame (unit) and no world frame (the
+  // world-frame figures are those of the tool frame).
   ClForces evaluate(const EngagementMap& map, const Vec3& feed_direction_tcs, double feed_per_tooth,
                     double spindle_speed, bool keep_curve = false) const;
 
  private:
+  ClForces evaluate(const EngagementMap& map, const Vec3& feed_direction_tcs, double feed_per_tooth,
+                    double spindle_speed, bool keep_curve, const Frame* world) const;
+
   Cutter cutter_;
   CuttingCoefficients coefficients_;
   int flutes_ = 2;
