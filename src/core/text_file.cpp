@@ -15,4 +15,17 @@ std::string read_text_file(const std::string& path, const std::string& what) {
   return text;
 }
 
+SourceLocation location_of(std::string_view text, std::size_t offset, const std::string& source) {
+  int line = 1, column = 1;
+  for (std::size_t i = 0; i < offset && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+  }
+  return {source, line, column};
+}
+
 }  // namespace cwe

@@ -43,20 +43,6 @@ std::string lower_case(std::string_view text) {
   return out;
 }
 
-// Line and column (from 1) of a byte offset in text.
-SourceLocation location_of(std::string_view text, std::size_t offset, const std::string& source) {
-  int line = 1, column = 1;
-  for (std::size_t i = 0; i < offset && i < text.size(); ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      column = 1;
-    } else {
-      ++column;
-    }
-  }
-  return {source, line, column};
-}
-
 // nlohmann's message without its "[json.exception.…] " tag and "parse error at line L, column C: "
 // prefix, which the InputError location already says.
 std::string json_error_detail(const nlohmann::json::exception& e) {

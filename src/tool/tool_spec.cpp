@@ -113,20 +113,6 @@ AptCutter apt_from_spec(std::string_view type, const std::vector<Number>& v,
                    fmt::format("unknown tool type '{}' (expected {})", type, kKnownTypes));
 }
 
-// Line and column of a byte offset in text.
-SourceLocation location_of(std::string_view text, std::size_t offset, const std::string& source) {
-  int line = 1, column = 1;
-  for (std::size_t i = 0; i < offset && i < text.size(); ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      column = 1;
-    } else {
-      ++column;
-    }
-  }
-  return {source, line, column};
-}
-
 double json_number(const nlohmann::json& j, const std::string& what, const std::string& source) {
   if (!j.is_number()) {
     throw InputError(SourceLocation{source},

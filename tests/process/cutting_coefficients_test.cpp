@@ -1,4 +1,5 @@
 #include "cwe/process/cutting_coefficients.hpp"
+#include "input_error.hpp"
 #include "source_dir.hpp"
 
 #include <gtest/gtest.h>
@@ -13,18 +14,6 @@
 
 namespace cwe {
 namespace {
-
-// Asserts that `statement` throws cwe::InputError whose what() contains `fragment`.
-#define EXPECT_INPUT_ERROR(statement, fragment)                                  \
-  do {                                                                           \
-    try {                                                                        \
-      statement;                                                                 \
-      ADD_FAILURE() << "expected cwe::InputError containing: " << (fragment);    \
-    } catch (const ::cwe::InputError& e) {                                       \
-      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos)         \
-          << "message: " << e.what() << "\nexpected to contain: " << (fragment); \
-    }                                                                            \
-  } while (false)
 
 constexpr const char* kGoodSet = R"({
   "name": "test set",

@@ -11,20 +11,12 @@
 
 #include "cwe/core/error.hpp"
 #include "cwe/tool/tool_spec.hpp"
+#include "process_testing.hpp"
 
 namespace cwe {
 namespace {
 
-CuttingCoefficients coefficients() {
-  CuttingCoefficients k;
-  k.ktc = 796.0;
-  k.krc = 168.8;
-  k.kac = 222.0;
-  k.kte = 27.7;
-  k.kre = 30.8;
-  k.kae = 1.8;
-  return k;
-}
+CuttingCoefficients coefficients() { return test::test_coefficients(); }
 
 EngagementMap slot_map(double depth, double phi0, double phi1) {
   EngagementMap map;

@@ -9,22 +9,14 @@
 
 #include "cwe/core/error.hpp"
 #include "cwe/tool/tool_spec.hpp"
+#include "process_testing.hpp"
 
 namespace cwe {
 namespace {
 
 constexpr double kDeg = kPi / 180.0;
 
-CuttingCoefficients test_coefficients() {
-  CuttingCoefficients k;
-  k.ktc = 796.0;
-  k.krc = 168.8;
-  k.kac = 222.0;
-  k.kte = 27.7;
-  k.kre = 30.8;
-  k.kae = 1.8;
-  return k;
-}
+using test::test_coefficients;
 
 // Discs of height dz from the tip to `depth`, each engaged over `phi`.
 EngagementMap side_map(double depth, double dz, std::vector<Interval> phi) {

@@ -7,20 +7,9 @@
 
 #include "cwe/core/error.hpp"
 #include "cwe/tool/profile.hpp"
+#include "input_error.hpp"
 
 namespace cwe::test {
-
-// Asserts that `statement` throws cwe::InputError whose what() contains `fragment`.
-#define EXPECT_INPUT_ERROR(statement, fragment)                                  \
-  do {                                                                           \
-    try {                                                                        \
-      statement;                                                                 \
-      ADD_FAILURE() << "expected cwe::InputError containing: " << (fragment);    \
-    } catch (const ::cwe::InputError& e) {                                       \
-      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos)         \
-          << "message: " << e.what() << "\nexpected to contain: " << (fragment); \
-    }                                                                            \
-  } while (false)
 
 // Two profiles describe the same outline: same pieces, same kind, end points and centres within
 // `tolerance` (mm).
