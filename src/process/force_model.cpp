@@ -23,9 +23,8 @@ struct Element {
   // ∫dℓ (chip width db and edge length dS: the helix is left out, see force_model.hpp), ∫sin κ,
   // ∫cos κ, ∫sin²κ, ∫cos²κ, ∫sin κ cos κ, ∫ρ, ∫ρ sin κ, ∫ρ cos κ (all dℓ).
   double l = 0.0, s1 = 0.0, c1 = 0.0, s2 = 0.0, c2 = 0.0, sc = 0.0, r = 0.0, rs = 0.0, rc = 0.0;
-  // κ at the element's ends (outward normal n = sin κ·e_r − cos κ·z), where the thickest chip is
-  // looked for: where the normal turns most into the feed inside an element the chip can be
-  // thicker by up to 1 − cos(Δκ/2) (0.5% across the first 0.1 mm disc of a ball end).
+  // κ at the element's ends (outward normal n = sin κ·e_r − cos κ·z): the range over which the
+  // thickest chip is looked for (κ turns monotonically along a convex profile).
   double sin_kappa[2] = {1.0, 1.0}, cos_kappa[2] = {0.0, 0.0};
   double mean_sin_kappa() const { return l > 0.0 ? s1 / l : 0.0; }
 
@@ -60,10 +59,16 @@ Element side_element(const Profile& profile, double z0, double z1, double lead) 
     if (length > 0.0) {
       const double sin_k = dz / length, cos_k = (rho - rho_prev) / length;
       e.add(length, 0.5 * (rho + rho_prev), sin_k, cos_k);
-      if (i == 1) e.sin_kappa[0] = sin_k, e.cos_kappa[0] = cos_k;
-      e.sin_kappa[1] = sin_k, e.cos_kappa[1] = cos_k;
     }
     rho_prev = rho;
+  }
+  // κ at the two ends, from the profile's normal there.
+  for (int end = 0; end < 2; ++end) {
+    const double z = end == 0 ? z0 : z1;
+    const Profile::Location at = profile.closest(Vec2(profile.radius_at(z), z));
+    const Vec2 n = profile.segments()[static_cast<std::size_t>(at.segment)].normal_at(at.u);
+    e.sin_kappa[end] = n.x();
+    e.cos_kappa[end] = -n.y();
   }
   return e;
 }
@@ -103,10 +108,7 @@ class Revolution {
       const double so = std::sin(offset), co = std::cos(offset);
       for (const Interval& in : phi) {
         if (in.is_empty()) continue;
-        for (int end = 0; end < 2; ++end) {
-          max_chip_ = std::max(max_chip_,
-                               chip(j, max_feed_along_normal(e, end, in), e.sin_kappa[end], e.lag));
-        }
+        thickest_chip(e, j, in);
         if (in.hi - in.lo >= 2.0 * kPi * (1.0 - 1e-12)) {  // a full ring: every step, whole
           for (int k = 0; k < n_; ++k) {
             accumulate(e, j, sin_[k] * co + cos_[k] * so, cos_[k] * co - sin_[k] * so, 1.0, k);
@@ -148,17 +150,36 @@ class Revolution {
  private:
   // The largest f̂·n = (f_x sin φ + f_y cos φ) sin κ − f_z cos κ for φ in the interval: at an end
   // or where the sinusoid peaks.
-  double max_feed_along_normal(const Element& e, int end, const Interval& in) const {
-    const double alpha = feed_.x() * e.sin_kappa[end], beta = feed_.y() * e.sin_kappa[end];
-    const double gamma = -feed_.z() * e.cos_kappa[end];
-    auto g = [&](double p) { return alpha * std::sin(p) + beta * std::cos(p) + gamma; };
-    double best = std::max(g(in.lo), g(in.hi));
+  // The largest A(φ) = f_x sin φ + f_y cos φ for φ in the interval: at an end or where the
+  // sinusoid peaks.
+  double max_lateral_feed(const Interval& in) const {
+    const double alpha = feed_.x(), beta = feed_.y();
+    auto a = [&](double p) { return alpha * std::sin(p) + beta * std::cos(p); };
+    double best = std::max(a(in.lo), a(in.hi));
     if (alpha != 0.0 || beta != 0.0) {
       double peak = std::atan2(alpha, beta);  // where sin(φ + atan2(β, α)) = 1
       peak += 2.0 * kPi * std::ceil((in.lo - peak) / (2.0 * kPi));
-      if (peak <= in.hi) best = std::max(best, g(peak));
+      if (peak <= in.hi) best = std::max(best, a(peak));
     }
     return best;
+  }
+
+  // The thickest chip flute j cuts on the element over the interval. f̂·n = A(φ) sin κ − f_z cos κ
+  // with sin κ ≥ 0, so φ takes A's largest value A* whatever κ; over the element's κ range the
+  // sinusoid A* sin κ − f_z cos κ peaks at an end or at κ* = atan2(A*, −f_z), where it is
+  // √(A*² + f_z²).
+  void thickest_chip(const Element& e, int j, const Interval& in) {
+    const double a = max_lateral_feed(in), fz = feed_.z();
+    for (int end = 0; end < 2; ++end) {
+      const double g = a * e.sin_kappa[end] - fz * e.cos_kappa[end];
+      max_chip_ = std::max(max_chip_, chip(j, g, e.sin_kappa[end], e.lag));
+    }
+    const double k0 = std::atan2(e.sin_kappa[0], e.cos_kappa[0]);
+    const double k1 = std::atan2(e.sin_kappa[1], e.cos_kappa[1]);
+    const double peak = std::atan2(a, -fz);
+    if (peak > std::min(k0, k1) && peak < std::max(k0, k1)) {
+      max_chip_ = std::max(max_chip_, chip(j, std::hypot(a, fz), std::sin(peak), e.lag));
+    }
   }
 
   // Chip thickness of flute j where the feed along the normal is g: c·g, or with runout the

@@ -214,6 +214,20 @@ TEST(ForceModel, BallEndMatchesABruteForceElementSum) {
   }
 }
 
+// Ramping down at 5°, a ball's normal points straight into the feed at κ = 85° (z = 4.564 mm,
+// inside the disc 4.5–4.6 mm, not at a disc's edge): the thickest chip is the feed per tooth.
+TEST(ForceModel, ThickestChipIsFoundInsideADisc) {
+  const Cutter cutter = cutter_from_spec("ball:10,30");
+  const ForceModel model(cutter, test_coefficients());
+  const Vec3 feed(std::cos(5 * kDeg), 0.0, -std::sin(5 * kDeg));
+  EXPECT_NEAR(model.evaluate(side_map(4.7, 0.1, {{0.0, kPi}}), feed, 0.05, 1e4).max_chip, 0.05,
+              1e-12);
+  // Only up to 2 mm (κ ≤ 53.13°): the largest chip is at the top disc's upper edge.
+  const double top = 0.05 * (std::cos(5 * kDeg) * 0.8 + std::sin(5 * kDeg) * 0.6);
+  EXPECT_NEAR(model.evaluate(side_map(2.0, 0.1, {{0.0, kPi}}), feed, 0.05, 1e4).max_chip, top,
+              1e-12);
+}
+
 // Runout e at angle 0 on two flutes: flute 0 stands out by 2e relative to flute 1 and cuts the
 // chip c·sin φ + 2e, flute 1 cuts c·sin φ − 2e; the mean shear load is unchanged.
 TEST(ForceModel, RunoutThickensOneFluteAndThinsTheOther) {

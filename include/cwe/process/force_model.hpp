@@ -83,8 +83,7 @@ struct ClForces {
   double mean_torque = 0.0;              // N·m
   double peak_torque = 0.0;              // N·m
   double mean_power = 0.0;               // W
-  // Thickest chip of any flute element over its engaged arcs, at the element's ends along the
-  // profile, mm.
+  // Thickest chip of any flute element over its engaged arcs and its stretch of profile, mm.
   double max_chip = 0.0;
   std::vector<ForceSample> curve;  // the revolution, when asked for
 };
