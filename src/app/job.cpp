@@ -116,18 +116,16 @@ void read_job(SimulateCommandOptions& options) {
   }
   number_of("resolution", options.resolution);
   number_of("tolerance", options.tolerance);
-  if (job.contains("threads") && options.threads == 0) {
-    if (!job["threads"].is_number_integer() || job["threads"].get<int>() < 1) {
-      throw InputError(where("threads"), "expected a whole number of threads, at least 1");
+  // A whole number of at least 1 (0 in `field`: not given on the command line).
+  const auto count_of = [&](const char* key, int& field, const char* expected) {
+    if (!job.contains(key) || field != 0) return;
+    if (!job[key].is_number_integer() || job[key].get<int>() < 1) {
+      throw InputError(where(key), expected);
     }
-    options.threads = job["threads"].get<int>();
-  }
-  if (job.contains("mesh_stride") && options.mesh_stride == 0) {
-    if (!job["mesh_stride"].is_number_integer() || job["mesh_stride"].get<int>() < 1) {
-      throw InputError(where("mesh_stride"), "expected a whole number, at least 1");
-    }
-    options.mesh_stride = job["mesh_stride"].get<int>();
-  }
+    field = job[key].get<int>();
+  };
+  count_of("threads", options.threads, "expected a whole number of threads, at least 1");
+  count_of("mesh_stride", options.mesh_stride, "expected a whole number, at least 1");
   if (job.contains("ply") && !options.ply) {
     if (!job["ply"].is_boolean()) throw InputError(where("ply"), "expected true or false");
     options.ply = job["ply"].get<bool>();
@@ -149,12 +147,7 @@ void read_job(SimulateCommandOptions& options) {
   number_of("spindle", options.spindle);
   number_of("feed", options.feed);
   number_of("force_step", options.force_step);
-  if (job.contains("flutes") && options.flutes == 0) {
-    if (!job["flutes"].is_number_integer() || job["flutes"].get<int>() < 1) {
-      throw InputError(where("flutes"), "expected a whole number of flutes, at least 1");
-    }
-    options.flutes = job["flutes"].get<int>();
-  }
+  count_of("flutes", options.flutes, "expected a whole number of flutes, at least 1");
   if (job.contains("helix") && options.helix < 0.0) {
     if (!job["helix"].is_number()) throw InputError(where("helix"), "expected a number");
     options.helix = job["helix"].get<double>();

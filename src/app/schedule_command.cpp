@@ -72,17 +72,15 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
   bounds.min_scale = options.min_scale;
   bounds.max_scale = options.max_scale;
   bounds.max_change = options.max_change;
-  if (options.min_feed > 0.0) bounds.min_feed = options.min_feed;
-  if (options.max_feed > 0.0) bounds.max_feed = options.max_feed;
-  const bool bad_feed = options.min_feed < 0.0 || options.max_feed < 0.0 ||
-                        !std::isfinite(options.min_feed) || !std::isfinite(options.max_feed);
-  if (bad_feed || !(options.min_scale > 0.0) || !(options.max_scale >= options.min_scale) ||
-      !std::isfinite(options.max_scale) || !(options.max_change >= 1.0) ||
-      !std::isfinite(options.max_change) ||
-      (bounds.min_feed && bounds.max_feed && *bounds.min_feed > *bounds.max_feed)) {
+  if (options.min_feed != 0.0) bounds.min_feed = options.min_feed;  // 0: not given
+  if (options.max_feed != 0.0) bounds.max_feed = options.max_feed;
+  try {
+    bounds.check();  // before the long part, not after it
+  } catch (const std::invalid_argument& e) {
     throw InputError(SourceLocation{"cwe schedule"},
-                     "feed bounds: expected 0 < --min-scale <= --max-scale, --min-feed <= "
-                     "--max-feed (mm/min, positive) and --max-change >= 1");
+                     fmt::format("{} (--min-scale, --max-scale, --min-feed, --max-feed, "
+                                 "--max-change)",
+                                 e.what()));
   }
   PreparedJob job = prepare_job(sim, false);
   // Where each scheduled program goes: --out itself for one program, else --out/<its name>; no

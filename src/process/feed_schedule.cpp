@@ -166,17 +166,25 @@ double max_feed_per_tooth(const ForceModel& model, const EngagementMap& map,
   return lo;
 }
 
-Schedule schedule_feeds(const std::vector<MoveFeed>& moves, const ScheduleOptions& options) {
-  if (!(options.min_scale > 0.0) || !(options.max_scale >= options.min_scale) ||
-      !std::isfinite(options.max_scale)) {
+void ScheduleOptions::check() const {
+  if (!(min_scale > 0.0) || !(max_scale >= min_scale) || !std::isfinite(max_scale)) {
     throw std::invalid_argument("feed bounds: need 0 < min scale <= max scale");
   }
-  if (options.min_feed && options.max_feed && *options.min_feed > *options.max_feed) {
+  for (const std::optional<double>& feed : {min_feed, max_feed}) {
+    if (feed && !(*feed > 0.0 && std::isfinite(*feed))) {
+      throw std::invalid_argument("feed bounds: a minimum or maximum feed must be positive");
+    }
+  }
+  if (min_feed && max_feed && *min_feed > *max_feed) {
     throw std::invalid_argument("feed bounds: the minimum feed exceeds the maximum");
   }
-  if (!(options.max_change >= 1.0)) {
+  if (!(max_change >= 1.0) || !std::isfinite(max_change)) {
     throw std::invalid_argument("the largest change between moves must be a ratio >= 1");
   }
+}
+
+Schedule schedule_feeds(const std::vector<MoveFeed>& moves, const ScheduleOptions& options) {
+  options.check();
   Schedule out;
   const std::size_t n = moves.size();
   std::vector<double> low(n), feed(n);

@@ -18,7 +18,6 @@ namespace {
 // any profile however fast κ turns across it (the first disc of a ball end turns κ from 0° to
 // 11°), up to the 16-chord quadrature below.
 struct Element {
-  double rho = 0.0;  // mid-length distance from the axis, mm (helix lag, max-chip bound)
   double lag = 0.0;  // helix lag ψ at the element's height, rad
   // ∫dℓ (chip width db and edge length dS: the helix is left out, see force_model.hpp), ∫sin κ,
   // ∫cos κ, ∫sin²κ, ∫cos²κ, ∫sin κ cos κ, ∫ρ, ∫ρ sin κ, ∫ρ cos κ (all dℓ).
@@ -47,9 +46,7 @@ struct Element {
 Element side_element(const Profile& profile, double z0, double z1, double lead) {
   z1 = std::min(z1, profile.height());
   Element e;
-  const double zm = 0.5 * (z0 + z1);
-  e.rho = profile.radius_at(zm);
-  e.lag = lead * zm;
+  e.lag = lead * 0.5 * (z0 + z1);
   constexpr int kChords = 16;
   double rho_prev = profile.radius_at(z0);
   for (int i = 1; i <= kChords; ++i) {
@@ -76,8 +73,7 @@ Element side_element(const Profile& profile, double z0, double z1, double lead) 
 // The flat-bottom ring r0 < r1: a radial edge, normal −z (κ = 0), no helix lag.
 Element ring_element(double r0, double r1) {
   Element e;
-  e.rho = 0.5 * (r0 + r1);
-  e.add(r1 - r0, e.rho, 0.0, 1.0);
+  e.add(r1 - r0, 0.5 * (r0 + r1), 0.0, 1.0);
   e.sin_kappa[0] = e.sin_kappa[1] = 0.0;
   e.cos_kappa[0] = e.cos_kappa[1] = 1.0;
   return e;
@@ -245,7 +241,7 @@ double feed_per_tooth(double feed_rate, int flutes, double spindle_speed) {
 
 ForceModel::ForceModel(const Cutter& cutter, CuttingCoefficients coefficients,
                        ForceModelOptions options)
-    : cutter_(cutter), coefficients_(std::move(coefficients)), runout_(options.runout) {
+    : profile_(cutter.profile()), coefficients_(std::move(coefficients)), runout_(options.runout) {
   if (!(options.angle_step >= kMinAngleStep) || options.angle_step > kPi / 2.0 + 1e-12) {
     throw InputError(fmt::format("the spindle angle step must be in [0.01°, 90°], not {:g}°",
                                  options.angle_step * 180.0 / kPi));
@@ -297,7 +293,7 @@ ClForces ForceModel::evaluate(const EngagementMap& map, const Vec3& feed_directi
   Revolution revolution(coefficients_, feed_direction_tcs, feed_per_tooth, flutes_, runout_, sin_,
                         cos_);
   if (map.engaged && feed_per_tooth > 0.0 && feed_direction_tcs.squaredNorm() > 0.0) {
-    const Profile& profile = cutter_.profile();
+    const Profile& profile = profile_;
     for (const DiscEngagement& disc : map.discs) {
       if (disc.phi.empty() || disc.z0 >= profile.height()) continue;
       revolution.add(side_element(profile, disc.z0, disc.z1, lead_), disc.phi);

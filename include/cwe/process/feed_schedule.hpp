@@ -55,6 +55,10 @@ struct ScheduleOptions {
   std::optional<double> max_feed;  // mm/min
   // Largest ratio between the feeds of consecutive feed moves (≥ 1).
   double max_change = 1.5;
+
+  // Throws std::invalid_argument, saying which, unless 0 < min_scale ≤ max_scale (finite), the
+  // feeds given are finite and positive with min_feed ≤ max_feed, and max_change is finite ≥ 1.
+  void check() const;
 };
 
 // One feed move's input to the schedule.
@@ -85,8 +89,7 @@ struct Schedule {
 // The feeds: each move's allowed feed clipped to its bounds, then lowered (never below its
 // minimum) where needed so that consecutive moves differ by at most max_change (a forward and a
 // backward pass: the largest such sequence below the allowed feeds; a move held at its minimum
-// may differ from its neighbours by more). Throws std::invalid_argument for bounds
-// that contradict each other.
+// may differ from its neighbours by more). Checks the options first (ScheduleOptions::check).
 Schedule schedule_feeds(const std::vector<MoveFeed>& moves, const ScheduleOptions& options);
 
 }  // namespace cwe

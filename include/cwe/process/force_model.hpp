@@ -115,7 +115,7 @@ class ForceModel {
   ClForces evaluate(const EngagementMap& map, const Vec3& feed_direction_tcs, double feed_per_tooth,
                     double spindle_speed, bool keep_curve, const Frame* world) const;
 
-  Cutter cutter_;
+  Profile profile_;  // the cutter's
   CuttingCoefficients coefficients_;
   int flutes_ = 2;
   double helix_ = 0.0;
