@@ -78,10 +78,13 @@ DexelEngagement::DexelEngagement(const Cutter& cutter, double spacing,
         fmt::format("engagement: ray spacing {} mm, expected a positive length", spacing));
   }
   if (!(options.disc_height >= 0.0) || !(options.phi_step >= 0.0) ||
-      !std::isfinite(options.disc_height) || !std::isfinite(options.phi_step)) {
-    throw InputError("engagement: disc height and φ step must be positive (or 0 for the default)");
+      !(options.contact >= 0.0) || !std::isfinite(options.disc_height) ||
+      !std::isfinite(options.phi_step) || !std::isfinite(options.contact)) {
+    throw InputError(
+        "engagement: disc height, φ step and contact must be positive (or 0 for the default)");
   }
   disc_height_ = options.disc_height > 0.0 ? options.disc_height : spacing;
+  contact_ = options.contact > 0.0 ? options.contact : spacing / 10.0;
   const Profile& profile = cutter.profile();
   const double max_radius = std::max(profile.max_radius(), spacing);
   // Cells of about one ray spacing at the largest radius: interval ends are refined by bisection
@@ -94,7 +97,6 @@ DexelEngagement::DexelEngagement(const Cutter& cutter, double spacing,
     sin_.push_back(std::sin(phi));
     cos_.push_back(std::cos(phi));
   }
-  const double base_gap = spacing / 8.0;
   const double reach = spacing / std::sqrt(2.0);  // how far from a point its ray may pass
 
   // Side discs: every height of the profile's non-horizontal pieces.
@@ -127,7 +129,9 @@ DexelEngagement::DexelEngagement(const Cutter& cutter, double spacing,
     const double kappa =
         std::max(piece.kind == ProfileSegment::Kind::kArc ? 1.0 / piece.radius : 0.0,
                  std::abs(band.normal.x()) / std::max(band.rho, spacing));
-    band.gap = std::min(0.5 * spacing, base_gap + spacing * spacing * kappa);
+    // Q lies within s√(3/2) of P on the tangent plane, where the surface falls behind the plane
+    // by at most κ·(s√(3/2))²/2.
+    band.departure = 0.75 * kappa * spacing * spacing;
     discs_.push_back(band);
   }
 
@@ -145,23 +149,23 @@ DexelEngagement::DexelEngagement(const Cutter& cutter, double spacing,
       band.normal = Vec2(0.0, -1.0);
       band.patch = patch_of_segment(cutter, 0);
       band.area_per_radian = 0.5 * (band.hi * band.hi - band.lo * band.lo);
-      band.gap = base_gap;
+      band.departure = 0.0;
       band.ring = true;
       rings_.push_back(band);
     }
   }
 }
 
-std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const ToolState& state,
-                                            const Band& band, const Vec3& v_tcs,
-                                            const Vec3& w_tcs) const {
+std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const RemovalRecord& step,
+                                            const ToolState& state, const Band& band,
+                                            const Vec3& v_tcs, const Vec3& w_tcs) const {
   const Frame& tcs = state.tcs;
   const Vec3 x = tcs.x(), y = tcs.y(), z = tcs.z();
   const Vec3 centre = tcs.origin + band.z * z;
   // Skip a band whose circle cannot reach the workpiece's domain.
   Aabb reach;
   for (int a = 0; a < 3; ++a) {
-    const double e = band.rho * std::sqrt(std::max(0.0, 1.0 - z[a] * z[a])) + band.gap;
+    const double e = band.rho * std::sqrt(std::max(0.0, 1.0 - z[a] * z[a])) + contact_;
     reach.min[a] = centre[a] - e;
     reach.max[a] = centre[a] + e;
   }
@@ -172,22 +176,38 @@ std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const ToolSta
   // Grazing points (f = 0) are not engaged; f_min absorbs rounding of the coefficients.
   const double f_min = 1e-9 * (std::abs(f.a) + std::abs(f.b) + std::abs(f.c));
   if (!(std::abs(f.a) + std::abs(f.b) + std::abs(f.c) > 0.0)) return {};
-  // The ray read for P meets the surface at Q, within s/√2 of P; a Q beyond the band's own
-  // surface (past the bottom's rim, below the tip or above the flutes) says nothing of it.
+  // The ray read for P meets the tangent plane at Q, within s√(3/2) of P; a Q beyond the band's
+  // own surface (past the bottom's rim, below the tip or above the flutes) says nothing of it.
   const bool bottom = band.ring;
   const double rim = bottom ? rings_.back().hi : 0.0;
   const double top = cutter_->profile().height();
+  // Removed stretches shorter than this are float rounding of ray ends that the step's sweep
+  // and an earlier one share (a wall at the tool's radius, a floor at the tip): two float
+  // spacings of the stock's coordinates.
+  const double rounding = 4.0 * stock.float_rounding();
   const auto engaged = [&](double s, double c) {
     if (!(f.a * s + f.b * c + f.c > f_min)) return false;
     const Vec3 radial = s * x + c * y;
-    Vec3 q = Vec3::Zero();
-    if (!stock.material_outside(centre + band.rho * radial,
-                                band.normal.x() * radial + band.normal.y() * z, band.gap, &q)) {
-      return false;
-    }
+    const std::optional<TriDexel::SurfaceRay> ray = stock.surface_ray(
+        centre + band.rho * radial, band.normal.x() * radial + band.normal.y() * z);
+    if (!ray) return false;
+    Vec3 q = ray->origin;
+    q[ray->axis] += ray->t;
     const Vec3 local = tcs.to_local(q);
-    if (bottom) return local.head<2>().norm() <= rim;
-    return local.z() >= 0.0 && local.z() <= top;
+    if (bottom ? local.head<2>().norm() > rim : local.z() < 0.0 || local.z() > top) return false;
+    // The window along the ray, in outward distance from Q: from where the surface may lie
+    // inside the tangent plane (less the contact tolerance) to `contact` outside it.
+    const double along = std::abs(ray->along);
+    const double inner = -(band.departure + contact_) / along, outer = contact_ / along;
+    const double outward = ray->along > 0.0 ? 1.0 : -1.0;
+    for (const RemovalRecord::Stretch& taken : step.on_ray(ray->axis, ray->index)) {
+      const double u0 = outward * (static_cast<double>(taken.lo) - ray->t);
+      const double u1 = outward * (static_cast<double>(taken.hi) - ray->t);
+      if (std::min(std::max(u0, u1), outer) - std::max(std::min(u0, u1), inner) > rounding) {
+        return true;
+      }
+    }
+    return false;
   };
   const auto engaged_at = [&](double phi) { return engaged(std::sin(phi), std::cos(phi)); };
   // The boundary between an engaged angle and one that is not.
@@ -221,15 +241,19 @@ std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const ToolSta
   return intervals;
 }
 
-EngagementMap DexelEngagement::at(const TriDexel& stock, const ToolState& state) const {
+EngagementMap DexelEngagement::at(const TriDexel& stock, const RemovalRecord& step,
+                                  const ToolState& state) const {
   EngagementMap map;
   const Vec3 v = state.tip_velocity_tcs(), w = state.angular_velocity_tcs();
   // Bands are independent: scanned in parallel, each into its own slot (deterministic).
   std::vector<std::vector<Interval>> found(discs_.size() + rings_.size());
-  tbb::parallel_for(std::size_t{0}, found.size(), [&](std::size_t k) {
-    const Band& band = k < discs_.size() ? discs_[k] : rings_[k - discs_.size()];
-    found[k] = scan(stock, state, band, v, w);
-  });
+  // A step that removes nothing engages nothing: the bands are left empty without a scan.
+  if (!step.empty()) {
+    tbb::parallel_for(std::size_t{0}, found.size(), [&](std::size_t k) {
+      const Band& band = k < discs_.size() ? discs_[k] : rings_[k - discs_.size()];
+      found[k] = scan(stock, step, state, band, v, w);
+    });
+  }
   std::vector<Interval> all;
   for (std::size_t k = 0; k < discs_.size(); ++k) {
     const Band& band = discs_[k];

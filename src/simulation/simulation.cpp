@@ -93,14 +93,14 @@ void record_move(RemovalSummary& summary, const Toolpath& path, std::size_t inde
   }
 }
 
-// Removes one sweep; returns the volume removed.
-double remove_sweep(TriDexel& stock, const MoveSweep& sweep) {
+// Removes one sweep; returns the volume removed. `record`, when given, receives what was taken.
+double remove_sweep(TriDexel& stock, const MoveSweep& sweep, RemovalRecord* record = nullptr) {
   std::vector<TriDexel::Cut> cuts;
   for (const LinearSweep& piece : sweep.pieces()) {
     cuts.push_back(cut_of(piece));
   }
   double volume = 0.0;
-  for (const TriDexel::Removal& r : stock.remove(cuts)) volume += r.volume;
+  for (const TriDexel::Removal& r : stock.remove(cuts, record)) volume += r.volume;
   return volume;
 }
 
@@ -153,7 +153,13 @@ RemovalSummary simulate_engagement(TriDexel& stock, const Cutter& cutter, const 
                                    const Progress& progress) {
   RemovalSummary summary;
   const ConvexParts parts(cutter, options.effective_tolerance());
-  const DexelEngagement engage(cutter, stock.spacing(), engagement);
+  // Removed material within the sweep tolerance of the cutter touches it (5-axis pieces turn
+  // about their mean axis, so a cutter location and the end of the step before it differ by up
+  // to the tolerance).
+  EngagementOptions engagement_options = engagement;
+  if (engagement_options.contact == 0.0) engagement_options.contact = options.effective_tolerance();
+  const DexelEngagement engage(cutter, stock.spacing(), engagement_options);
+  RemovalRecord step;
   SamplingOptions feed_only = sampling;
   feed_only.include_rapids = false;
   const std::vector<ClPoint> cls = sample_cl_points(path, feed_only);
@@ -167,21 +173,23 @@ RemovalSummary simulate_engagement(TriDexel& stock, const Cutter& cutter, const 
     while (end < cls.size() && cls[end].move == static_cast<int>(i)) ++end;
     int pieces = 0;
     double deviation = 0.0, volume = 0.0;
-    const auto remove_part = [&](double u0, double u1) {
+    const auto remove_part = [&](double u0, double u1, RemovalRecord* record = nullptr) {
       const MoveSweep sweep(parts, u0 == 0.0 && u1 == 1.0 ? move : move.part(u0, u1));
       pieces += static_cast<int>(sweep.pieces().size());
       deviation = std::max(deviation, sweep.deviation_bound());
-      volume += remove_sweep(stock, sweep);
+      volume += remove_sweep(stock, sweep, record);
     };
     if (next == end) {
       remove_part(0.0, 1.0);
     } else {
       if (cls[next].u > 0.0) remove_part(0.0, cls[next].u);
       for (std::size_t k = next; k < end; ++k) {
+        // The step from this location to the next is removed first: the engagement here is
+        // where that removal touches the cutter (CWE = FCS ∩ (W ∩ SV)).
         const ToolState state = tool_state(cls[k], previous_x);
         previous_x = state.tcs.x();
-        sink(k, cls[k], state, engage.at(stock, state));
-        remove_part(cls[k].u, k + 1 < end ? cls[k + 1].u : 1.0);
+        remove_part(cls[k].u, k + 1 < end ? cls[k + 1].u : 1.0, &step);
+        sink(k, cls[k], state, engage.at(stock, step, state));
       }
     }
     next = end;

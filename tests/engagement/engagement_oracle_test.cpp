@@ -1,7 +1,9 @@
 // Engagement maps against a brute-force oracle: dense points of the cutter surface tested against
 // the exact workpiece (the block minus the true swept volume of all motion before the cutter
-// location, decided by test::union_side), for a bull-nose ramp beside an earlier slot and a
-// tilted 3+2 pass.
+// location) and the true swept volume of the step that follows it, both decided by
+// test::union_side over densely sampled tool positions, for a bull-nose ramp beside an earlier
+// slot and a tilted 3+2 pass. A point is engaged where the step removes material next to it
+// (CWE = FCS ∩ (W ∩ SV)).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -58,27 +60,37 @@ void check(const Case& c) {
   ClPoint cl;
   ToolState state;
   double nearest = 1e300;
+  std::vector<ClPoint> cls;
+  std::size_t chosen = 0;
   simulate_engagement(
       stock, cutter, path, options, sampling, {},
-      [&](std::size_t, const ClPoint& p, const ToolState& s, const EngagementMap& m) {
+      [&](std::size_t k, const ClPoint& p, const ToolState& s, const EngagementMap& m) {
+        cls.push_back(p);
         const double d = (p.position - probe).norm();
         if (d < nearest) {
           nearest = d;
           map = m;
           cl = p;
           state = s;
+          chosen = k;
         }
       });
   ASSERT_LT(nearest, 0.5);
   ASSERT_TRUE(map.engaged);
+  // The step that follows the CL: to the next sample of the same move, or to the move's end.
+  const double u_next =
+      chosen + 1 < cls.size() && cls[chosen + 1].move == cl.move ? cls[chosen + 1].u : 1.0;
+  const Move step = c.moves[static_cast<std::size_t>(cl.move)].part(cl.u, u_next);
 
   // The motion before the CL: the earlier moves whole and the current one up to u.
   std::vector<Move> before(c.moves.begin(), c.moves.begin() + cl.move);
   if (cl.u > 0.0) before.push_back(c.moves[static_cast<std::size_t>(cl.move)].part(0.0, cl.u));
   const BoundingCylinder b = cutter.bounding_cylinder();
   const double reach = std::hypot(b.radius, b.z_max);
-  // Material within δ outside P; the oracle's band covers the swept volumes' rounding only.
-  const double delta = kSpacing / 2, band = 1e-4;
+  // Material δ outside P that the step removes: δ within the map's contact tolerance (s/10), and
+  // the step's sweep reaches past it wherever f ≥ 0.1|V| (at 6° from grazing a 4 mm radius
+  // sweeps 0.022 mm beyond its surface). The band covers the swept volumes' rounding only.
+  const double delta = kSpacing / 20, band = 1e-4;
   const auto material = [&](const Vec3& p) {  // +1 material, -1 none, 0 undecided
     if (!c.block.contains(p)) return -1;
     int verdict = 1;
@@ -97,7 +109,10 @@ void check(const Case& c) {
     const double f = n.dot(state.point_velocity(p));
     if (std::abs(f) < 0.1 * speed) return 0;  // within ~6° of grazing
     if (f < 0.0) return -1;
-    return material(p + delta * n);
+    const Vec3 q = p + delta * n;
+    const int side = test::union_side(cutter, step, q, band, reach);  // -1 inside the sweep
+    if (side > 0) return -1;  // the step does not reach q: nothing is removed there
+    return side < 0 ? material(q) : 0;
   };
 
   const Profile& profile = cutter.profile();

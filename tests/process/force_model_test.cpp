@@ -16,6 +16,7 @@ namespace {
 
 constexpr double kDeg = kPi / 180.0;
 
+using test::closed_form_mean;
 using test::test_coefficients;
 
 // Discs of height dz from the tip to `depth`, each engaged over `phi`.
@@ -25,27 +26,6 @@ EngagementMap side_map(double depth, double dz, std::vector<Interval> phi) {
   for (int i = 0; i < n; ++i) map.discs.push_back({i * dz, (i + 1) * dz, 0, phi});
   map.engaged = true;
   return map;
-}
-
-// Closed-form mean forces of a flat end mill between φ_st and φ_ex (ALGORITHMS.md §6, derived
-// by integrating the element forces over [φ_st, φ_ex] and dividing by 2π; z with this model's
-// sign, dF_z = −dF_a on a cylinder).
-Vec3 closed_form_mean(const CuttingCoefficients& k, int flutes, double a, double c, double st,
-                      double ex) {
-  auto fx = [&](double p) {
-    return flutes * a * c / (8 * kPi) *
-               (k.ktc * std::cos(2 * p) - k.krc * (2 * p - std::sin(2 * p))) +
-           flutes * a / (2 * kPi) * (-k.kte * std::sin(p) + k.kre * std::cos(p));
-  };
-  auto fy = [&](double p) {
-    return flutes * a * c / (8 * kPi) *
-               (k.ktc * (2 * p - std::sin(2 * p)) + k.krc * std::cos(2 * p)) -
-           flutes * a / (2 * kPi) * (k.kte * std::cos(p) + k.kre * std::sin(p));
-  };
-  auto fz = [&](double p) {
-    return -flutes * a / (2 * kPi) * (-k.kac * c * std::cos(p) + k.kae * p);
-  };
-  return {fx(ex) - fx(st), fy(ex) - fy(st), fz(ex) - fz(st)};
 }
 
 struct Immersion {

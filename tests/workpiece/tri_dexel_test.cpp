@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -122,7 +123,7 @@ TEST(TriDexel, BatchedRemovalEqualsOneByOne) {
   for (const LinearSweep& sweep : sweeps) {
     const auto chord = [&sweep](const Ray& ray) { return sweep.chord(ray); };
     singles.push_back(one.remove(sweep.bounds(), chord));
-    cuts.push_back({sweep.bounds(), chord});
+    cuts.push_back({sweep.bounds(), chord, {}});
   }
   const std::vector<TriDexel::Removal> batched = batch.remove(cuts);
   ASSERT_EQ(batched.size(), singles.size());
@@ -141,6 +142,55 @@ TEST(TriDexel, BatchedRemovalEqualsOneByOne) {
     }
   }
   EXPECT_EQ(batch.memory().heap_bytes, batch.count_heap_bytes());
+}
+
+// The record of a removal is exactly what the rays lost: ray by ray, the material before less
+// the material after, and the same for any order of the tiles (it is sorted).
+TEST(TriDexel, RemovalRecordIsWhatTheRaysLost) {
+  test::Random random(71);
+  const Cutter ball = cutter_from_spec("ball:6,12");
+  TriDexel before = TriDexel::from_box(Aabb{{0, 0, 0}, {30, 20, 8}}, 0.25);
+  // Earlier cuts leave rays of several intervals.
+  for (int k = 0; k < 6; ++k) {
+    const LinearSweep sweep(ball, {random.uniform(0, 30), random.uniform(0, 20), 4},
+                            {random.uniform(0, 30), random.uniform(0, 20), 6}, Vec3::UnitZ());
+    before.remove(sweep.bounds(), [&sweep](const Ray& ray) { return sweep.chord(ray); });
+  }
+  TriDexel after = before;
+  const LinearSweep step(ball, {-4, 10, 3}, {34, 12, 5}, Vec3::UnitZ());
+  RemovalRecord record;
+  const double volume =
+      after.remove({{step.bounds(), [&step](const Ray& ray) { return step.chord(ray); }, {}}},
+                   &record)
+          .front()
+          .volume;
+  ASSERT_FALSE(record.empty());
+  double recorded = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    const auto& family = record.family(a);
+    EXPECT_TRUE(std::is_sorted(family.begin(), family.end(),
+                               [](const RemovalRecord::Stretch& x, const RemovalRecord::Stretch& y) {
+                                 return x.ray != y.ray ? x.ray < y.ray : x.lo < y.lo;
+                               }));
+    for (int j = 0; j < before.grid(a)[1]; ++j) {
+      for (int i = 0; i < before.grid(a)[0]; ++i) {
+        const std::size_t index = static_cast<std::size_t>(j) * before.grid(a)[0] + i;
+        double taken = 0.0;
+        for (const RemovalRecord::Stretch& s : record.on_ray(a, index)) {
+          ASSERT_LT(s.lo, s.hi);
+          // Each stretch was material before and is none after.
+          const double mid = 0.5 * (static_cast<double>(s.lo) + s.hi);
+          EXPECT_TRUE(before.at(a, i, j).contains(mid));
+          EXPECT_FALSE(after.at(a, i, j).contains(mid));
+          taken += static_cast<double>(s.hi) - s.lo;
+        }
+        EXPECT_NEAR(taken, before.at(a, i, j).length() - after.at(a, i, j).length(), 1e-5);
+        recorded += taken;
+      }
+    }
+  }
+  EXPECT_NEAR(recorded * 0.25 * 0.25 / 3.0, volume, 1e-6 * volume);
+  EXPECT_GT(volume, 100.0);
 }
 
 }  // namespace

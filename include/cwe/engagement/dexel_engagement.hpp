@@ -1,26 +1,46 @@
 #pragma once
 // Engagement maps from the tri-dexel workpiece (docs/engagement.md).
 //
-// Method: surface sampling against the rays. The cutter surface is gridded in φ (cells of
-// `phi_step`) × axial discs (side) or rings (flat bottom) of `disc_height`. A cell centre P with
-// outward normal N is engaged when f = N·V > f_min (moving into material; grazing excluded) and
-// TriDexel::material_outside(P, N, gap) holds: the ray most nearly along N, passing within s/√2
-// of P, has material just beyond the point Q where it meets the surface (a surface point near P,
-// read exactly: the workpiece was just cut by this very surface). Runs of engaged cells become φ
+// Definition (Aras 2008 §6.1, eq. 6.1–6.5): CWE = FCS ∩ (W ∩ SV). A point P of the cutter surface
+// at a cutter location is engaged when it moves into the material (f = N·V > 0, grazing points
+// excluded) and the motion from this location on removes material right there: the step that
+// follows the location (its swept volume SV, removed from the workpiece W as it stands) takes
+// material within `contact` of P. The step's removal is read as dexel segments (RemovalRecord),
+// so a wall or floor that earlier passes left exactly where this motion's envelope runs (a step-
+// down along the same path, a pass repeated, a tool edge running along a stock face) is
+// recognised as already cut: nothing is removed there but float rounding of the ray ends, which
+// the test ignores (stretches shorter than two float spacings of the stock's coordinates).
+//
+// Method: the cutter surface is gridded in φ (cells of `phi_step`) × axial discs (side) or
+// rings (flat bottom) of `disc_height`. For a cell centre P with outward normal N and f > 0, the
+// ray most nearly along N that passes within s/√2 of P meets P's tangent plane at Q; P is
+// engaged when the step removed a stretch of that ray overlapping the window from just inside
+// the cutter surface (the surface lies inside its tangent plane by up to ¾κs² within that
+// reach, κ its largest curvature) to `contact` outside it. Runs of engaged cells become φ
 // intervals whose ends are refined by bisection on the same test, so an angle is located to the
-// ray grid's resolution (the Q of a test lies within s/√2 of P), not to the cell size.
+// ray grid's resolution (Q lies within s√(3/2) of P), not to the cell size.
+//
+// The one tolerance, `contact` (default: the sweep tolerance of the simulation, s/10): how far
+// from the cutter surface removed material still counts as touching it. It covers the gap
+// between the tool at a cutter location and the end of the previous step's sweep (zero for
+// linear 3-axis and 3+2 moves and arcs, up to the sweep tolerance for 5-axis moves, whose pieces
+// turn about their mean axis), and is far below any real chip (feeds per tooth are 0.02–0.3 mm),
+// so material the step reaches only later in the step (the cutter approaching a face) is not
+// engaged yet.
 //
 // Accuracy: boundaries of the engaged region are placed within about s/√2 on the cutter surface
-// (an angle error of about s/(√2 ρ) at radius ρ, a depth error within s); regions thinner than
-// `gap` beyond the surface count as engaged (near a grazing line that is a band of width about
-// √(2·gap/ρ) in φ).
+// (an angle error of about s/(√2 ρ) at radius ρ, a depth error within s). At a grazing line of
+// fresh material (φ = 0° or 180° of a slot) the removed layer thins as ρ(1 - cos φ); it is seen
+// down to twice the float rounding, about 0.2° for ρ = 5 mm on a 100 mm stock.
 //
 // Cost: per cutter location, the discs and rings whose ring meets the workpiece's domain are
-// scanned; f is evaluated for every cell of those, the workpiece only where f > 0.
+// scanned; f is evaluated for every cell of those, the removal record (a binary search per ray)
+// only where f > 0.
 
 #include "cwe/engagement/engagement_map.hpp"
 #include "cwe/kinematics/tool_state.hpp"
 #include "cwe/tool/cutter.hpp"
+#include "cwe/workpiece/dexel/removal_record.hpp"
 #include "cwe/workpiece/dexel/tri_dexel.hpp"
 
 namespace cwe {
@@ -28,6 +48,7 @@ namespace cwe {
 struct EngagementOptions {
   double disc_height = 0.0;  // mm; 0: the workpiece's ray spacing s
   double phi_step = 0.0;     // rad; 0: an arc of s at the cutter's largest radius, ≤ 1°
+  double contact = 0.0;      // mm; 0: s/10 (the default sweep tolerance)
 };
 
 class DexelEngagement {
@@ -36,10 +57,13 @@ class DexelEngagement {
   // non-positive spacing or option.
   DexelEngagement(const Cutter& cutter, double spacing, const EngagementOptions& options = {});
 
-  // The engagement of the cutter in `state` (tool frame and velocities) with `stock`.
-  EngagementMap at(const TriDexel& stock, const ToolState& state) const;
+  // The engagement of the cutter in `state` (tool frame and velocities) with `stock`, where
+  // `step` records what the step of motion that starts in `state` removed from `stock`
+  // (TriDexel::remove with a record; the stock may be read before or after that removal).
+  EngagementMap at(const TriDexel& stock, const RemovalRecord& step, const ToolState& state) const;
 
   double disc_height() const { return disc_height_; }
+  double contact() const { return contact_; }
   double phi_step() const { return 2.0 * kPi / phi_cells_; }
   int phi_cells() const { return phi_cells_; }
 
@@ -51,16 +75,18 @@ class DexelEngagement {
     Vec2 normal = Vec2::Zero();  // outward profile normal (n_ρ, n_z) there
     int patch = 0;
     double area_per_radian = 0.0;  // surface area of the band per radian of φ, mm²
-    double gap = 0.0;              // material_outside gap, mm
+    double departure = 0.0;        // how far the surface falls inside its tangent plane, mm
     bool ring = false;             // a ring of the flat bottom (else a side disc)
   };
   // Engaged φ intervals of one band.
-  std::vector<Interval> scan(const TriDexel& stock, const ToolState& state, const Band& band,
-                             const Vec3& v_tcs, const Vec3& w_tcs) const;
+  std::vector<Interval> scan(const TriDexel& stock, const RemovalRecord& step,
+                             const ToolState& state, const Band& band, const Vec3& v_tcs,
+                             const Vec3& w_tcs) const;
 
   const Cutter* cutter_;
   double spacing_;
   double disc_height_;
+  double contact_;
   int phi_cells_;
   std::vector<double> sin_, cos_;  // of the cell centres
   std::vector<Band> discs_, rings_;

@@ -71,9 +71,11 @@ RemovalSummary remove_toolpath(TriDexel& stock, const Cutter& cutter, const Tool
 using EngagementSink =
     std::function<void(std::size_t, const ClPoint&, const ToolState&, const EngagementMap&)>;
 
-// The main job: at each cutter location of the feed moves (sample_cl_points), the engagement
-// with the workpiece as cut by all motion before it, then the removal of the motion up to the
-// next location (DESIGN.md data flow); rapid moves and moves without samples are removed whole.
+// The main job: at each cutter location of the feed moves (sample_cl_points), the removal of the
+// motion up to the next location, and the engagement there: where that step's removal touches
+// the cutter, the workpiece having been cut by all motion before the location (DESIGN.md data
+// flow; DexelEngagement). Rapid moves and moves without samples are removed whole. An
+// `engagement.contact` of 0 takes the sweep tolerance (options.effective_tolerance()).
 // The removal summary is that of remove_toolpath (the same workpiece results).
 RemovalSummary simulate_engagement(TriDexel& stock, const Cutter& cutter, const Toolpath& path,
                                    const SimulationOptions& options,

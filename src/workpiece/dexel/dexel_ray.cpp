@@ -177,7 +177,7 @@ void DexelRay::store(const float* pairs, int n) {
   std::memcpy(&slot_[2], &heap, sizeof heap);
 }
 
-double DexelRay::subtract(double lo, double hi) {
+double DexelRay::subtract(double lo, double hi, std::vector<Interval>* removed_stretches) {
   // Removing a point (or nothing) leaves the material's measure as it is.
   if (!(lo < hi)) return 0.0;
   const Interval span = extent();
@@ -212,7 +212,11 @@ double DexelRay::subtract(double lo, double hi) {
       continue;
     }
     changed = true;
-    removed += static_cast<double>(std::min(b, cut_hi)) - static_cast<double>(std::max(a, cut_lo));
+    const float taken_lo = std::max(a, cut_lo), taken_hi = std::min(b, cut_hi);
+    removed += static_cast<double>(taken_hi) - static_cast<double>(taken_lo);
+    if (removed_stretches != nullptr && taken_lo < taken_hi) {
+      removed_stretches->push_back({taken_lo, taken_hi});
+    }
     if (a < cut_lo) keep(a, cut_lo);
     if (cut_hi < b) keep(cut_hi, b);
   }

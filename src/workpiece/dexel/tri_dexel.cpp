@@ -102,7 +102,9 @@ TriDexel::Removal TriDexel::remove(const Aabb& bounds, const ChordFunction& chor
   return remove(std::vector<Cut>{{bounds, chord}}).front();
 }
 
-std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts) {
+std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
+                                                RemovalRecord* record) {
+  if (record != nullptr) record->clear();
   std::vector<Removal> removals(cuts.size());
   std::vector<double> lengths(cuts.size(), 0.0);
   // What one tile did for one cut.
@@ -142,10 +144,13 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts) {
     const int nti = all_is[1] / kTile - ti0 + 1, ntj = all_js[1] / kTile - tj0 + 1;
     std::vector<std::vector<std::pair<std::size_t, Tally>>> tallies(static_cast<std::size_t>(nti) *
                                                                     static_cast<std::size_t>(ntj));
+    // The stretches each tile took, when they are recorded.
+    std::vector<std::vector<RemovalRecord::Stretch>> taken(record != nullptr ? tallies.size() : 0);
     auto& family = rays_[static_cast<std::size_t>(a)];
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, tallies.size(), 1),
         [&](const tbb::blocked_range<std::size_t>& range) {
+          std::vector<Interval> stretches;
           for (std::size_t t = range.begin(); t < range.end(); ++t) {
             const int ti = ti0 + static_cast<int>(t % static_cast<std::size_t>(nti));
             const int tj = tj0 + static_cast<int>(t / static_cast<std::size_t>(nti));
@@ -176,8 +181,14 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts) {
                   const Interval cut = cuts[k].chord(ray);
                   if (cut.is_empty()) continue;
                   const auto before = static_cast<std::ptrdiff_t>(material.heap_bytes());
-                  const double removed = material.subtract(cut.lo, cut.hi);
+                  stretches.clear();
+                  const double removed =
+                      material.subtract(cut.lo, cut.hi, record != nullptr ? &stretches : nullptr);
                   if (removed == 0.0) continue;
+                  for (const Interval& s : stretches) {
+                    taken[t].push_back({index(a, i, j), static_cast<float>(s.lo),
+                                        static_cast<float>(s.hi)});
+                  }
                   ++sum.changed;
                   sum.length += removed;
                   sum.heap += static_cast<std::ptrdiff_t>(material.heap_bytes()) - before;
@@ -193,6 +204,14 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts) {
         lengths[k] += sum.length;
         heap_bytes_ = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(heap_bytes_) + sum.heap);
       }
+    }
+    if (record != nullptr) {
+      auto& family_record = record->stretches_[static_cast<std::size_t>(a)];
+      for (const auto& tile : taken) family_record.insert(family_record.end(), tile.begin(), tile.end());
+      std::sort(family_record.begin(), family_record.end(),
+                [](const RemovalRecord::Stretch& x, const RemovalRecord::Stretch& y) {
+                  return x.ray != y.ray ? x.ray < y.ray : x.lo < y.lo;
+                });
     }
   }
   peak_heap_bytes_ = std::max(peak_heap_bytes_, heap_bytes_);
@@ -230,29 +249,35 @@ bool TriDexel::contains(const Vec3& p) const {
   return votes >= 2;
 }
 
-bool TriDexel::material_outside(const Vec3& point, const Vec3& normal, double gap,
-                                Vec3* where) const {
+std::optional<TriDexel::SurfaceRay> TriDexel::surface_ray(const Vec3& point,
+                                                          const Vec3& normal) const {
   int a = 0;
   for (int k = 1; k < 3; ++k) {
     if (std::abs(normal[k]) > std::abs(normal[a])) a = k;
   }
-  if (!(std::abs(normal[a]) > 0.0)) return false;
+  if (!(std::abs(normal[a]) > 0.0)) return std::nullopt;
   const int b = cross_b(a), c = cross_c(a);
   const auto& g = grid_[static_cast<std::size_t>(a)];
   const double fi = std::floor((point[b] - domain_.min[b]) / spacing_);
   const double fj = std::floor((point[c] - domain_.min[c]) / spacing_);
-  if (!(fi >= 0.0 && fj >= 0.0 && fi < g[0] && fj < g[1])) return false;
+  if (!(fi >= 0.0 && fj >= 0.0 && fi < g[0] && fj < g[1])) return std::nullopt;
   const int i = static_cast<int>(fi), j = static_cast<int>(fj);
-  // The ray (origin o, direction e_a) meets the tangent plane (q - point)·n = 0 at t*.
-  Vec3 o = domain_.min;
-  o[b] += (i + 0.5) * spacing_;
-  o[c] += (j + 0.5) * spacing_;
-  const double t = (point - o).dot(normal) / normal[a];
-  if (where != nullptr) {
-    *where = o;
-    (*where)[a] += t;
-  }
-  return at(a, i, j).contains(t + gap / normal[a]);
+  SurfaceRay ray;
+  ray.axis = a;
+  ray.index = index(a, i, j);
+  ray.origin = domain_.min;
+  ray.origin[b] += (i + 0.5) * spacing_;
+  ray.origin[c] += (j + 0.5) * spacing_;
+  // The ray (origin o, direction e_a) meets the tangent plane (q - point)·n = 0 at t.
+  ray.along = normal[a];
+  ray.t = (point - ray.origin).dot(normal) / normal[a];
+  return ray;
+}
+
+double TriDexel::float_rounding() const {
+  const auto longest = static_cast<float>(domain_.size().maxCoeff());
+  return 0.5 * (static_cast<double>(std::nextafter(longest, std::numeric_limits<float>::max())) -
+                static_cast<double>(longest));
 }
 
 TriDexel::Memory TriDexel::memory() const {

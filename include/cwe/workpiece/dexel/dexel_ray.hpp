@@ -45,8 +45,10 @@ class alignas(8) DexelRay {
   // Material at coordinate t (closed intervals).
   bool contains(double t) const;
   // Removes [lo, hi]; returns the length of material removed (> 0 exactly when the ray
-  // changed; 0 when [lo, hi] misses the material or is a point). Never adds material.
-  double subtract(double lo, double hi);
+  // changed; 0 when [lo, hi] misses the material or is a point). Never adds material. When
+  // `removed` is given, the stretches of material taken (float ends, ascending, each of positive
+  // length) are appended to it.
+  double subtract(double lo, double hi, std::vector<Interval>* removed = nullptr);
   // Replaces the contents with sorted intervals; those that touch or overlap once rounded to
   // float are merged, and those that round to a point are dropped.
   void assign(const std::vector<Interval>& intervals);

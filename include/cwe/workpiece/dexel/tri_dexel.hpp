@@ -16,6 +16,7 @@
 #include <array>
 #include <cstddef>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,7 @@
 #include "cwe/geometry/ray.hpp"
 #include "cwe/geometry/triangle_mesh.hpp"
 #include "cwe/workpiece/dexel/dexel_ray.hpp"
+#include "cwe/workpiece/dexel/removal_record.hpp"
 
 namespace cwe {
 
@@ -75,6 +77,8 @@ class TriDexel {
   // each tile applies, in order, every cut that reaches it, so its rays stay in cache across the
   // cuts and there is one fork and join per family instead of one per cut. Returns each cut's
   // removal (what it took that the earlier cuts had not). The memory peak is sampled at the end.
+  // When `record` is given it is cleared and receives every stretch of material taken, ray by
+  // ray (the same for any thread count).
   struct Cut {
     Aabb bounds;
     ChordFunction chord;
@@ -82,7 +86,7 @@ class TriDexel {
     // itself; a ray whose material misses it is skipped without calling `chord`.
     ChordFunction reach;
   };
-  std::vector<Removal> remove(const std::vector<Cut>& cuts);
+  std::vector<Removal> remove(const std::vector<Cut>& cuts, RemovalRecord* record = nullptr);
 
   // Material volume as each family measures it (Σ lengths × s²), mm³.
   struct Volume {
@@ -95,18 +99,23 @@ class TriDexel {
   // Material at p: the vote of the three rays nearest p (two of three).
   bool contains(const Vec3& p) const;
 
-  // Material immediately outside a surface (for engagement): is there material within `gap` mm
-  // outside the surface through `point` with unit outward `normal`, as seen along the ray of
-  // the family most nearly along the normal (|n_a| ≥ 1/√3) that passes nearest the point (within
-  // s/√2)? The ray meets the surface's tangent plane at a point Q; the answer is the ray's
-  // material at Q + gap·normal projected on the ray. A surface just cut by a tool is the
-  // material's boundary along every ray, so this reads the workpiece at Q exactly, without the
-  // bias of a point test offset by a ray spacing; `gap` must cover float rounding of ray ends
-  // and the surface's departure from its tangent plane over s/√2 (about s²κ for curvature κ).
-  // `where`, when given, receives Q (also when the answer is false; unchanged when no ray
-  // passes near the point), so that a caller can tell whether Q still lies on its surface.
-  bool material_outside(const Vec3& point, const Vec3& normal, double gap,
-                        Vec3* where = nullptr) const;
+  // The ray that reads a surface through `point` with unit outward `normal`: of the family most
+  // nearly along the normal (|n_a| ≥ 1/√3), the one passing nearest the point (within s/√2).
+  // `t` is the ray coordinate where it meets the surface's tangent plane, `along` the normal's
+  // component n_a along the ray (its sign says which way along the ray is outward). None when
+  // the point's nearest ray would lie outside the grid.
+  struct SurfaceRay {
+    int axis = 0;
+    std::size_t index = 0;  // within the family, as RemovalRecord numbers rays
+    Vec3 origin = Vec3::Zero();
+    double t = 0.0;
+    double along = 1.0;
+  };
+  std::optional<SurfaceRay> surface_ray(const Vec3& point, const Vec3& normal) const;
+
+  // The largest rounding of a stored ray end: half the spacing of floats at the domain's
+  // longest side (about 4e-6 mm for a 100 mm stock). Lengths below a few of these are rounding.
+  double float_rounding() const;
 
   // Bytes held by the rays, kept up to date by every change (no scan needed).
   struct Memory {

@@ -1,0 +1,247 @@
+// Engagement where earlier passes left walls and floors exactly where the cutter runs: step-downs,
+// repeated passes, ring grooves, stepovers, contour finishing, a tool edge along a stock face and
+// ball-end rasters, each against its closed form (CWE = FCS ∩ (W ∩ SV), docs/engagement.md).
+// The programs are G-code, as a user writes them.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "cwe/engagement/dexel_engagement.hpp"
+#include "cwe/process/force_model.hpp"
+#include "cwe/simulation/simulation.hpp"
+#include "cwe/tool/tool_spec.hpp"
+#include "cwe/toolpath/gcode_reader.hpp"
+#include "process/process_testing.hpp"
+
+namespace cwe {
+namespace {
+
+constexpr double kDeg = kPi / 180.0;
+constexpr double kSpacing = 0.1;
+// The stock of the examples: tip coordinates, top face at z = 0.
+const Aabb kBlock{{0, 0, -20}, {100, 60, 0}};
+
+struct Sample {
+  ClPoint cl;
+  ToolState state;
+  EngagementMap map;
+};
+
+// Every cutter location of `program` (G-code) cut by `tool` through `block`.
+std::vector<Sample> simulate(const std::string& program, const char* tool,
+                             const Aabb& block = kBlock) {
+  TriDexel stock = TriDexel::from_box(block, kSpacing);
+  const Toolpath path = read_gcode(program, "test.ngc");
+  const Cutter cutter = cutter_from_spec(tool);
+  SimulationOptions options;
+  options.resolution = kSpacing;
+  SamplingOptions sampling;
+  sampling.step = 0.5;
+  std::vector<Sample> samples;
+  simulate_engagement(stock, cutter, path, options, sampling, {},
+                      [&](std::size_t, const ClPoint& cl, const ToolState& state,
+                          const EngagementMap& map) { samples.push_back({cl, state, map}); });
+  return samples;
+}
+
+// The samples on source line `line` whose tip lies within [x0, x1] (the steady part of a pass).
+std::vector<const Sample*> on_line(const std::vector<Sample>& samples, int line, double x0,
+                                   double x1) {
+  std::vector<const Sample*> found;
+  for (const Sample& s : samples) {
+    if (s.cl.line == line && s.cl.position.x() >= x0 && s.cl.position.x() <= x1) {
+      found.push_back(&s);
+    }
+  }
+  EXPECT_GT(found.size(), 5u) << "line " << line;
+  return found;
+}
+
+// The angular tolerance of a boundary on a radius ρ: Q lies within s/√2 of the cell's point
+// across the ray, s/(√2 ρ) in φ, plus the bisection's cell/64 (docs/engagement.md).
+double angle_tolerance(double rho) { return kSpacing / (std::sqrt(2.0) * rho) + 0.1 * kDeg; }
+
+// Every disc below `depth` engaged over [entry, exit] alone, none above.
+void expect_side(const EngagementMap& map, double depth, double entry, double exit, double rho) {
+  for (const DiscEngagement& disc : map.discs) {
+    SCOPED_TRACE(testing::Message() << "disc " << disc.z0 << "–" << disc.z1);
+    if (disc.z1 <= depth + 1e-9) {
+      ASSERT_EQ(disc.phi.size(), 1u);
+      EXPECT_NEAR(disc.phi[0].lo, entry, angle_tolerance(rho));
+      EXPECT_NEAR(disc.phi[0].hi, exit, angle_tolerance(rho));
+    } else if (disc.z0 >= depth - 1e-9) {
+      EXPECT_TRUE(disc.phi.empty());
+    }
+  }
+}
+
+constexpr const char* kHeader = "G21 G90 G17 G94\nS10000 M3\nG0 Z5\n";
+
+// A slot at Z-3, then the same line at Z-6: the second level cuts 3 mm, not 6; its walls above
+// are the first level's, left at exactly the tool's radius.
+TEST(EngagementFidelity, StepDownSlotCutsOnlyTheNewLevel) {
+  const std::string program = std::string(kHeader) +
+                              "G0 X-10 Y30\n"
+                              "G1 Z-3 F600\n"
+                              "G1 X110\n"  // line 6
+                              "G0 Z5\n"
+                              "G0 X-10\n"
+                              "G1 Z-6\n"
+                              "G1 X110\n";  // line 10
+  const std::vector<Sample> samples = simulate(program, "flat:10,20");
+  for (const int line : {6, 10}) {
+    SCOPED_TRACE(testing::Message() << "level on line " << line);
+    for (const Sample* s : on_line(samples, line, 20, 80)) {
+      ASSERT_TRUE(s->map.engaged);
+      EXPECT_NEAR(s->map.axial_depth, 3.0, kSpacing);
+      // Half the cylinder over 3 mm: π·R·3 = 47.12 mm² (within 2 %).
+      EXPECT_NEAR(s->map.area, kPi * 5.0 * 3.0, 0.02 * kPi * 5.0 * 3.0);
+      expect_side(s->map, 3.0, 0.0, kPi, 5.0);
+      EXPECT_NEAR(s->map.phi_entry, 0.0, angle_tolerance(5.0));
+      EXPECT_NEAR(s->map.phi_exit, kPi, angle_tolerance(5.0));
+    }
+  }
+}
+
+// The same slot twice at Z-5: the second pass cuts air.
+TEST(EngagementFidelity, RepeatedPassIsNotEngaged) {
+  const std::string program = std::string(kHeader) +
+                              "G0 X-10 Y30\n"
+                              "G1 Z-5 F600\n"
+                              "G1 X110\n"  // line 6
+                              "G0 Z5\n"
+                              "G0 X-10\n"
+                              "G1 Z-5\n"
+                              "G1 X110\n";  // line 10
+  const std::vector<Sample> samples = simulate(program, "flat:10,20");
+  for (const Sample* s : on_line(samples, 6, 20, 80)) {
+    EXPECT_NEAR(s->map.axial_depth, 5.0, kSpacing);
+  }
+  for (const Sample& s : samples) {
+    if (s.cl.line < 9) continue;  // the second plunge and pass
+    EXPECT_LT(s.map.area, 0.1) << "x " << s.cl.position.x() << " line " << s.cl.line;
+    EXPECT_FALSE(s.map.engaged) << "x " << s.cl.position.x() << " line " << s.cl.line;
+  }
+}
+
+// A ring groove by two full circles at Z-3 and Z-6: the second circle cuts 3 mm; its walls above
+// are the first circle's.
+TEST(EngagementFidelity, SecondRingLevelCutsOnlyTheNewLevel) {
+  const std::string program = std::string(kHeader) +
+                              "G0 X65 Y30\n"
+                              "G1 Z-3 F600\n"
+                              "G2 X65 Y30 I-15 J0\n"  // line 6
+                              "G1 Z-6\n"
+                              "G2 X65 Y30 I-15 J0\n";  // line 8
+  const std::vector<Sample> samples = simulate(program, "flat:10,20");
+  for (const int line : {6, 8}) {
+    SCOPED_TRACE(testing::Message() << "circle on line " << line);
+    int checked = 0;
+    for (const Sample& s : samples) {
+      // Past the plunge's crater and before the cutter reaches it again (10 mm of 94 mm):
+      // the groove ahead is fresh, the walls beside it are not.
+      if (s.cl.line != line || s.cl.u < 0.1 || s.cl.u > 0.85) continue;
+      ASSERT_TRUE(s.map.engaged);
+      EXPECT_NEAR(s.map.axial_depth, 3.0, kSpacing) << "u " << s.cl.u;
+      // A translating cutter (no spin about the arc's centre): the front half cuts the fresh
+      // groove ahead, whatever the curvature of the path.
+      EXPECT_NEAR(s.map.area, kPi * 5.0 * 3.0, 0.02 * kPi * 5.0 * 3.0) << "u " << s.cl.u;
+      ++checked;
+    }
+    EXPECT_GT(checked, 100);
+  }
+}
+
+// A 2 mm stepover to the left (+Y) of a slot at the same depth: up-milling, φ ∈ [0, acos(1 -
+// 2/5)] = [0, 53.13°], area 5·5·0.9273 = 23.18 mm².
+TEST(EngagementFidelity, StepoverBesideASlot) {
+  const std::string program = std::string(kHeader) +
+                              "G0 X-10 Y30\n"
+                              "G1 Z-5 F600\n"
+                              "G1 X110\n"
+                              "G0 Z5\n"
+                              "G0 X-10 Y32\n"
+                              "G1 Z-5\n"
+                              "G1 X110\n";  // line 10
+  const std::vector<Sample> samples = simulate(program, "flat:10,20");
+  const double exit = std::acos(1.0 - 2.0 / 5.0);
+  for (const Sample* s : on_line(samples, 10, 20, 80)) {
+    EXPECT_NEAR(s->map.axial_depth, 5.0, kSpacing);
+    expect_side(s->map, 5.0, 0.0, exit, 5.0);
+    EXPECT_NEAR(s->map.area, 25.0 * exit, 0.02 * 25.0 * exit);
+  }
+}
+
+// A contour finishing pass along a wall roughed by the same tool in two levels, 0.5 mm left:
+// radial depth 0.5 mm, φ ∈ [0, acos(0.9)] = [0, 25.84°], over the finishing depth only.
+TEST(EngagementFidelity, ContourFinishingTakesTheStockLeftOnTheWall) {
+  const std::string rough = std::string(kHeader) +
+                            "G0 X-10 Y30\n"
+                            "G1 Z-3 F600\n"
+                            "G1 X110\n"
+                            "G0 Z5\n"
+                            "G0 X-10\n"
+                            "G1 Z-6\n"
+                            "G1 X110\n"
+                            "G0 Z5\n"
+                            "G0 X-10 Y30.5\n";  // line 12
+  const double exit = std::acos(1.0 - 0.5 / 5.0);
+  for (const double depth : {6.0, 3.0}) {
+    SCOPED_TRACE(testing::Message() << "finishing at Z-" << depth);
+    const std::vector<Sample> samples =
+        simulate(rough + "G1 Z-" + std::to_string(depth) + "\nG1 X110\n", "flat:10,20");
+    for (const Sample* s : on_line(samples, 14, 20, 80)) {
+      EXPECT_NEAR(s->map.axial_depth, depth, kSpacing);
+      expect_side(s->map, depth, 0.0, exit, 5.0);
+      EXPECT_NEAR(s->map.area, 5.0 * depth * exit, 0.02 * 5.0 * depth * exit);
+    }
+  }
+}
+
+// A 12 mm face mill whose edge runs exactly along the stock's side face (Y = 0): the thin stock
+// between the cutter and the face is engaged up to φ = 180°. Run just outside the face instead,
+// the cutter only touches it and nothing is engaged.
+TEST(EngagementFidelity, ToolEdgeAlongTheStockFace) {
+  const auto run = [](const char* y) {
+    return simulate(std::string(kHeader) + "G0 X-10 Y" + y + "\nG1 Z-2 F600\nG1 X110\n",
+                    "flat:12,10");
+  };
+  const std::vector<Sample> along = run("6");
+  for (const Sample* s : on_line(along, 6, 20, 80)) {
+    expect_side(s->map, 2.0, 0.0, kPi, 6.0);
+    EXPECT_NEAR(s->map.phi_exit, kPi, angle_tolerance(6.0));
+  }
+  for (const Sample& s : run("-6")) EXPECT_FALSE(s.map.engaged) << s.cl.position.x();
+}
+
+// The step-down slot's second level loads the cutter like a 3 mm slot (ALGORITHMS.md §6's
+// closed form), not like a 6 mm one.
+TEST(EngagementFidelity, StepDownForcesAreThoseOfTheNewLevel) {
+  const std::string program = std::string(kHeader) +
+                              "G0 X-10 Y30\n"
+                              "G1 Z-3 F600\n"
+                              "G1 X110\n"
+                              "G0 Z5\n"
+                              "G0 X-10\n"
+                              "G1 Z-6\n"
+                              "G1 X110\n";  // line 10
+  const std::vector<Sample> samples = simulate(program, "flat:10,20");
+  const Cutter cutter = cutter_from_spec("flat:10,20");
+  const CuttingCoefficients k = test::test_coefficients();
+  const ForceModel model(cutter, k);
+  const double c = 0.05;
+  const Vec3 expected = test::closed_form_mean(k, model.flutes(), 3.0, c, 0.0, kPi);
+  for (const Sample* s : on_line(samples, 10, 20, 80)) {
+    const ClForces forces = model.evaluate(s->map, s->state, c, 10000.0);
+    // Within 2 %: the map's ends are within angle_tolerance of 0° and 180° and its depth
+    // within s of 3 mm (3 %, but the top disc's error is a fraction of it).
+    EXPECT_NEAR(forces.mean_force.x(), expected.x(), 0.02 * expected.norm());
+    EXPECT_NEAR(forces.mean_force.y(), expected.y(), 0.02 * expected.norm());
+    EXPECT_NEAR(forces.mean_force.z(), expected.z(), 0.02 * expected.norm());
+  }
+}
+
+}  // namespace
+}  // namespace cwe
