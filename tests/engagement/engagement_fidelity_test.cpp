@@ -243,5 +243,113 @@ TEST(EngagementFidelity, StepDownForcesAreThoseOfTheNewLevel) {
   }
 }
 
+// A ball end mill (D 10) rasters a flat floor with 1 mm stepovers, zig-zag along X, then rasters
+// it again 1 mm deeper. Each pass of the first raster cuts only the crescent its neighbour left:
+// a disc of radius ρ(z) engages the side towards the stepover up to acos(1 - w/ρ) from it (the
+// earlier groove is the cylinder of the ball's radius along the neighbour's path). The second
+// raster's engaged area is the closed-form region of the front hemisphere, below the top and
+// outside every groove cut before it (its own earlier passes and the whole first raster),
+// integrated on the sphere (dA = R² d(cos θ) dφ).
+TEST(EngagementFidelity, BallRastersCutOnlyTheirCrescents) {
+  constexpr double kRadius = 5.0, kStep = 1.0;
+  constexpr int kPasses = 7;
+  std::string program = std::string(kHeader) + "G0 X-10 Y20\n";
+  std::vector<int> pass_lines;  // the line of each pass, first raster then second
+  int line = 4;
+  for (const double depth : {2.0, 3.0}) {
+    program += "G1 Z-" + std::to_string(depth) + " F600\n";
+    ++line;
+    for (int k = 0; k < kPasses; ++k) {
+      if (k > 0) {
+        program += "G1 Y" + std::to_string(20 + k * kStep) + "\n";
+        ++line;
+      }
+      program += k % 2 == 0 ? "G1 X110\n" : "G1 X-10\n";
+      pass_lines.push_back(++line);
+    }
+    program += "G0 Z5\nG0 X-10 Y20\n";
+    line += 2;
+  }
+  const std::vector<Sample> samples = simulate(program, "ball:10,20");
+
+  // Closed-form engagement of pass k of raster r at a surface point of the ball (centre height
+  // c above the tip at z_tip) with unit normal n = (sin φ x + cos φ y) sin θ - cos θ z.
+  const auto engaged = [&](int r, int k, const Vec3& n) {
+    const double direction = k % 2 == 0 ? 1.0 : -1.0;  // +X on even passes
+    const double z_tip = r == 0 ? -2.0 : -3.0;
+    const Vec3 p = Vec3(0, 20 + k * kStep, z_tip + kRadius) + kRadius * n;
+    if (n.x() * direction <= 0.0 || p.z() >= 0.0) return false;
+    for (int rr = 0; rr <= r; ++rr) {
+      const double centre = (rr == 0 ? -2.0 : -3.0) + kRadius;
+      for (int j = 0; j < (rr < r ? kPasses : k); ++j) {
+        const double dy = p.y() - (20 + j * kStep), dz = p.z() - centre;
+        if (dy * dy + dz * dz < kRadius * kRadius) return false;
+      }
+    }
+    return true;
+  };
+  // The engaged area and the height above the tip of its highest point.
+  struct Region {
+    double area = 0.0, depth = 0.0;
+  };
+  const auto closed_form = [&](int r, int k) {
+    constexpr int kU = 600, kPhi = 1200;  // cells of 0.017 mm × 0.026 mm on the ball
+    Region region;
+    for (int a = 0; a < kU; ++a) {
+      const double cos_theta = -1.0 + (a + 0.5) * 2.0 / kU;  // n_z
+      const double sin_theta = std::sqrt(1.0 - cos_theta * cos_theta);
+      for (int b = 0; b < kPhi; ++b) {
+        const double phi = (b + 0.5) * 2 * kPi / kPhi;
+        const Vec3 n(sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta);
+        if (!engaged(r, k, n)) continue;
+        region.area += 1.0;
+        region.depth = std::max(region.depth, kRadius * (1.0 + cos_theta));
+      }
+    }
+    region.area *= kRadius * kRadius * (2.0 / kU) * (2 * kPi / kPhi);
+    return region;
+  };
+
+  for (int r = 0; r < 2; ++r) {
+    for (int k = 1; k < kPasses; ++k) {
+      SCOPED_TRACE(testing::Message() << "raster " << r + 1 << " pass " << k + 1);
+      const std::vector<const Sample*> steady =
+          on_line(samples, pass_lines[static_cast<std::size_t>(r * kPasses + k)], 30, 70);
+      const Region expected = closed_form(r, k);
+      double boundary = 0.0;  // the bound: each engaged disc's two ends within angle_tolerance
+      for (const Sample* s : steady) {
+        boundary = 0.0;
+        for (const DiscEngagement& disc : s->map.discs) {
+          if (disc.phi.empty()) continue;
+          const double rho = std::sqrt(kRadius * kRadius -
+                                       std::pow(kRadius - 0.5 * (disc.z0 + disc.z1), 2));
+          boundary += 2.0 * angle_tolerance(rho) * rho * (disc.z1 - disc.z0);
+        }
+        EXPECT_NEAR(s->map.area, expected.area, boundary) << "x " << s->cl.position.x();
+        // The top of the highest engaged disc: at or above the deepest engaged point, by < s.
+        EXPECT_GE(s->map.axial_depth, expected.depth - 1e-9) << "x " << s->cl.position.x();
+        EXPECT_LT(s->map.axial_depth, expected.depth + kSpacing) << "x " << s->cl.position.x();
+        if (r > 0) continue;
+        // First raster: disc by disc, the crescent on the stepover side (+Y: φ = 0 on passes
+        // along +X, φ = 180° along -X).
+        for (const DiscEngagement& disc : s->map.discs) {
+          const double z = 0.5 * (disc.z0 + disc.z1);
+          if (z > 2.0 || z < 0.5) continue;  // above the top; near the tip the crescent is steep
+          const double rho = std::sqrt(kRadius * kRadius - (kRadius - z) * (kRadius - z));
+          const double width = std::acos(std::max(-1.0, 1.0 - kStep / rho));
+          // The disc's height spread moves its end by up to s·|dφ/dz| as well.
+          const double rho_low = std::sqrt(kRadius * kRadius - std::pow(kRadius - disc.z0, 2));
+          const double spread = std::abs(std::acos(std::max(-1.0, 1.0 - kStep / rho_low)) - width);
+          ASSERT_EQ(disc.phi.size(), 1u) << "z " << z;
+          const Interval expected_phi =
+              k % 2 == 0 ? Interval{0.0, width} : Interval{kPi - width, kPi};
+          EXPECT_NEAR(disc.phi[0].lo, expected_phi.lo, angle_tolerance(rho) + spread) << "z " << z;
+          EXPECT_NEAR(disc.phi[0].hi, expected_phi.hi, angle_tolerance(rho) + spread) << "z " << z;
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace cwe
