@@ -162,14 +162,17 @@ std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const Removal
   const Frame& tcs = state.tcs;
   const Vec3 x = tcs.x(), y = tcs.y(), z = tcs.z();
   const Vec3 centre = tcs.origin + band.z * z;
-  // Skip a band whose circle cannot reach the workpiece's domain.
+  // Skip a band whose circle cannot reach what the step removed: a cell reads a ray within
+  // s√(3/2) of its point, over √3 (departure + contact) along it.
+  const double margin =
+      spacing_ * std::sqrt(1.5) + std::sqrt(3.0) * (band.departure + contact_);
   Aabb reach;
   for (int a = 0; a < 3; ++a) {
-    const double e = band.rho * std::sqrt(std::max(0.0, 1.0 - z[a] * z[a])) + contact_;
+    const double e = band.rho * std::sqrt(std::max(0.0, 1.0 - z[a] * z[a])) + margin;
     reach.min[a] = centre[a] - e;
     reach.max[a] = centre[a] + e;
   }
-  if (!reach.intersects(stock.domain())) return {};
+  if (!reach.intersects(step.bounds())) return {};
 
   const TangencyCoefficients f =
       tangency_coefficients(Vec2(band.rho, band.z), band.normal, v_tcs, w_tcs);
@@ -191,23 +194,26 @@ std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const Removal
     const std::optional<TriDexel::SurfaceRay> ray = stock.surface_ray(
         centre + band.rho * radial, band.normal.x() * radial + band.normal.y() * z);
     if (!ray) return false;
-    Vec3 q = ray->origin;
-    q[ray->axis] += ray->t;
-    const Vec3 local = tcs.to_local(q);
-    if (bottom ? local.head<2>().norm() > rim : local.z() < 0.0 || local.z() > top) return false;
     // The window along the ray, in outward distance from Q: from where the surface may lie
     // inside the tangent plane (less the contact tolerance) to `contact` outside it.
     const double along = std::abs(ray->along);
     const double inner = -(band.departure + contact_) / along, outer = contact_ / along;
     const double outward = ray->along > 0.0 ? 1.0 : -1.0;
-    for (const RemovalRecord::Stretch& taken : step.on_ray(ray->axis, ray->index)) {
+    bool touched = false;
+    for (const RemovalRecord::Stretch& taken : step.on_ray(ray->axis, ray->i, ray->j)) {
       const double u0 = outward * (static_cast<double>(taken.lo) - ray->t);
       const double u1 = outward * (static_cast<double>(taken.hi) - ray->t);
       if (std::min(std::max(u0, u1), outer) - std::max(std::min(u0, u1), inner) > rounding) {
-        return true;
+        touched = true;
+        break;
       }
     }
-    return false;
+    if (!touched) return false;
+    Vec3 q = ray->origin;
+    q[ray->axis] += ray->t;
+    const Vec3 d = q - tcs.origin;
+    const double height = d.dot(z);
+    return bottom ? d.squaredNorm() - height * height <= rim * rim : height >= 0.0 && height <= top;
   };
   const auto engaged_at = [&](double phi) { return engaged(std::sin(phi), std::cos(phi)); };
   // The boundary between an engaged angle and one that is not.

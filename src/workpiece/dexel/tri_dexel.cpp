@@ -21,6 +21,24 @@ int cross_c(int axis) { return (axis + 2) % 3; }
 
 }  // namespace
 
+// Orders a tile's recorded stretches by ray (needed when several cuts appended theirs one after
+// the other) and notes where each row of rays starts.
+void TriDexel::index_tile(RemovalRecord::Tile& tile, int first_j, bool sort) {
+  auto& stretches = tile.stretches;
+  if (sort) {
+    std::sort(stretches.begin(), stretches.end(),
+              [](const RemovalRecord::Stretch& x, const RemovalRecord::Stretch& y) {
+                return x.j != y.j ? x.j < y.j : x.i != y.i ? x.i < y.i : x.lo < y.lo;
+              });
+  }
+  std::size_t k = 0;
+  for (int row = 0; row <= kTile; ++row) {
+    while (k < stretches.size() && stretches[k].j < first_j + row) ++k;
+    tile.rows[static_cast<std::size_t>(row)] = static_cast<std::uint32_t>(k);
+  }
+}
+
+
 TriDexel TriDexel::empty_grid(const Aabb& box, double spacing) {
   if (box.is_empty() || !(box.size().minCoeff() > 0.0) || !box.size().allFinite()) {
     throw InputError("stock box: expected min < max on every axis");
@@ -144,8 +162,16 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
     const int nti = all_is[1] / kTile - ti0 + 1, ntj = all_js[1] / kTile - tj0 + 1;
     std::vector<std::vector<std::pair<std::size_t, Tally>>> tallies(static_cast<std::size_t>(nti) *
                                                                     static_cast<std::size_t>(ntj));
-    // The stretches each tile took, when they are recorded.
-    std::vector<std::vector<RemovalRecord::Stretch>> taken(record != nullptr ? tallies.size() : 0);
+    // The stretches each tile takes go straight to the record's tile of the same number.
+    RemovalRecord::Family* taken = nullptr;
+    if (record != nullptr) {
+      taken = &record->families_[static_cast<std::size_t>(a)];
+      taken->first_i = ti0;
+      taken->first_j = tj0;
+      taken->tiles_i = nti;
+      taken->tiles_j = ntj;
+      if (taken->tiles.size() < tallies.size()) taken->tiles.resize(tallies.size());
+    }
     auto& family = rays_[static_cast<std::size_t>(a)];
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, tallies.size(), 1),
@@ -186,8 +212,8 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
                       material.subtract(cut.lo, cut.hi, record != nullptr ? &stretches : nullptr);
                   if (removed == 0.0) continue;
                   for (const Interval& s : stretches) {
-                    taken[t].push_back({index(a, i, j), static_cast<float>(s.lo),
-                                        static_cast<float>(s.hi)});
+                    taken->tiles[t].stretches.push_back(
+                        {i, j, static_cast<float>(s.lo), static_cast<float>(s.hi)});
                   }
                   ++sum.changed;
                   sum.length += removed;
@@ -196,6 +222,7 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
               }
               if (sum.changed > 0) tallies[t].emplace_back(k, sum);
             }
+            if (taken != nullptr) index_tile(taken->tiles[t], tj * kTile, cuts.size() > 1);
           }
         });
     for (const auto& tile : tallies) {
@@ -205,13 +232,29 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
         heap_bytes_ = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(heap_bytes_) + sum.heap);
       }
     }
-    if (record != nullptr) {
-      auto& family_record = record->stretches_[static_cast<std::size_t>(a)];
-      for (const auto& tile : taken) family_record.insert(family_record.end(), tile.begin(), tile.end());
-      std::sort(family_record.begin(), family_record.end(),
-                [](const RemovalRecord::Stretch& x, const RemovalRecord::Stretch& y) {
-                  return x.ray != y.ray ? x.ray < y.ray : x.lo < y.lo;
-                });
+    if (taken != nullptr) {
+      for (std::size_t t = 0; t < tallies.size(); ++t) {
+        const RemovalRecord::Tile& tile = taken->tiles[t];
+        if (tile.stretches.empty()) continue;
+        record->stretches_ += tile.stretches.size();
+        // The tile's box: its rays' extent across the family, its stretches' along it.
+        float lo = tile.stretches.front().lo, hi = tile.stretches.front().hi;
+        int i0 = tile.stretches.front().i, i1 = i0;
+        for (const RemovalRecord::Stretch& s : tile.stretches) {
+          lo = std::min(lo, s.lo);
+          hi = std::max(hi, s.hi);
+          i0 = std::min(i0, s.i);
+          i1 = std::max(i1, s.i);
+        }
+        Aabb box;
+        box.min[a] = domain_.min[a] + lo;
+        box.max[a] = domain_.min[a] + hi;
+        box.min[b] = domain_.min[b] + (i0 + 0.5) * spacing_;
+        box.max[b] = domain_.min[b] + (i1 + 0.5) * spacing_;
+        box.min[c] = domain_.min[c] + (tile.stretches.front().j + 0.5) * spacing_;
+        box.max[c] = domain_.min[c] + (tile.stretches.back().j + 0.5) * spacing_;
+        record->bounds_.extend(box);
+      }
     }
   }
   peak_heap_bytes_ = std::max(peak_heap_bytes_, heap_bytes_);
@@ -247,31 +290,6 @@ bool TriDexel::contains(const Vec3& p) const {
     if (at(a, i, j).contains(p[a] - domain_.min[a])) ++votes;
   }
   return votes >= 2;
-}
-
-std::optional<TriDexel::SurfaceRay> TriDexel::surface_ray(const Vec3& point,
-                                                          const Vec3& normal) const {
-  int a = 0;
-  for (int k = 1; k < 3; ++k) {
-    if (std::abs(normal[k]) > std::abs(normal[a])) a = k;
-  }
-  if (!(std::abs(normal[a]) > 0.0)) return std::nullopt;
-  const int b = cross_b(a), c = cross_c(a);
-  const auto& g = grid_[static_cast<std::size_t>(a)];
-  const double fi = std::floor((point[b] - domain_.min[b]) / spacing_);
-  const double fj = std::floor((point[c] - domain_.min[c]) / spacing_);
-  if (!(fi >= 0.0 && fj >= 0.0 && fi < g[0] && fj < g[1])) return std::nullopt;
-  const int i = static_cast<int>(fi), j = static_cast<int>(fj);
-  SurfaceRay ray;
-  ray.axis = a;
-  ray.index = index(a, i, j);
-  ray.origin = domain_.min;
-  ray.origin[b] += (i + 0.5) * spacing_;
-  ray.origin[c] += (j + 0.5) * spacing_;
-  // The ray (origin o, direction e_a) meets the tangent plane (q - point)·n = 0 at t.
-  ray.along = normal[a];
-  ray.t = (point - ray.origin).dot(normal) / normal[a];
-  return ray;
 }
 
 double TriDexel::float_rounding() const {

@@ -4,33 +4,54 @@
 // the ray stored them (float ends). For the removal of one step of a move this is the step's
 // removal volume W ∩ SV (Aras 2008 eq. 6.3) as dexel segments, which is what engagement reads:
 // a cutter point is engaged where the step removes material next to it.
+//
+// Storage follows the removal's parallel tiles (TriDexel::kTile × kTile rays), each tile's
+// stretches sorted by ray, so that recording costs no sort of the whole step and a look-up is a
+// binary search within one tile. A record reused for step after step keeps its buffers.
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <span>
 #include <vector>
+
+#include "cwe/geometry/aabb.hpp"
 
 namespace cwe {
 
 class RemovalRecord {
  public:
   struct Stretch {
-    std::size_t ray = 0;  // index of the ray within its family (TriDexel::SurfaceRay::index)
+    int i = 0, j = 0;  // the ray's indices across its family (TriDexel::at(axis, i, j))
     float lo = 0.0f, hi = 0.0f;
   };
 
   void clear();
-  bool empty() const;
-  // The stretches removed from ray `ray` of family `axis` (0 x, 1 y, 2 z), ascending.
-  std::span<const Stretch> on_ray(int axis, std::size_t ray) const;
-  // Every stretch of a family, sorted by ray and then by position.
-  const std::vector<Stretch>& family(int axis) const {
-    return stretches_[static_cast<std::size_t>(axis)];
-  }
+  bool empty() const { return stretches_ == 0; }
+  std::size_t size() const { return stretches_; }
+  // A box holding every stretch (empty when nothing was removed).
+  const Aabb& bounds() const { return bounds_; }
+  // The stretches removed from ray (i, j) of family `axis` (0 x, 1 y, 2 z), ascending.
+  std::span<const Stretch> on_ray(int axis, int i, int j) const;
+  // Every stretch of a family, sorted by ray (j, then i) and then by position.
+  std::vector<Stretch> family(int axis) const;
 
  private:
   friend class TriDexel;
-  std::array<std::vector<Stretch>, 3> stretches_;
+  static constexpr int kTileRows = 32;  // TriDexel::kTile
+  // One tile's stretches, sorted by ray, and where each of its rows of rays (j) starts.
+  struct Tile {
+    std::vector<Stretch> stretches;
+    std::array<std::uint32_t, kTileRows + 1> rows{};
+  };
+  struct Family {
+    int first_i = 0, first_j = 0;  // the first tile's indices (tile units)
+    int tiles_i = 0, tiles_j = 0;  // tiles along i and j
+    std::vector<Tile> tiles;
+  };
+  std::array<Family, 3> families_;
+  std::size_t stretches_ = 0;
+  Aabb bounds_;
 };
 
 }  // namespace cwe

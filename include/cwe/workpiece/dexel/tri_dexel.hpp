@@ -14,6 +14,7 @@
 // are visited.
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <functional>
 #include <optional>
@@ -106,12 +107,35 @@ class TriDexel {
   // the point's nearest ray would lie outside the grid.
   struct SurfaceRay {
     int axis = 0;
-    std::size_t index = 0;  // within the family, as RemovalRecord numbers rays
+    int i = 0, j = 0;  // the ray's indices across its family, as at(axis, i, j)
     Vec3 origin = Vec3::Zero();
     double t = 0.0;
     double along = 1.0;
   };
-  std::optional<SurfaceRay> surface_ray(const Vec3& point, const Vec3& normal) const;
+  // Inline: engagement asks it for every cell of the cutter surface that moves into material.
+  std::optional<SurfaceRay> surface_ray(const Vec3& point, const Vec3& normal) const {
+    int a = 0;
+    for (int k = 1; k < 3; ++k) {
+      if (std::abs(normal[k]) > std::abs(normal[a])) a = k;
+    }
+    if (!(std::abs(normal[a]) > 0.0)) return std::nullopt;
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    const auto& g = grid_[static_cast<std::size_t>(a)];
+    const double fi = std::floor((point[b] - domain_.min[b]) / spacing_);
+    const double fj = std::floor((point[c] - domain_.min[c]) / spacing_);
+    if (!(fi >= 0.0 && fj >= 0.0 && fi < g[0] && fj < g[1])) return std::nullopt;
+    SurfaceRay ray;
+    ray.axis = a;
+    ray.i = static_cast<int>(fi);
+    ray.j = static_cast<int>(fj);
+    ray.origin = domain_.min;
+    ray.origin[b] += (fi + 0.5) * spacing_;
+    ray.origin[c] += (fj + 0.5) * spacing_;
+    // The ray (origin o, direction e_a) meets the tangent plane (q - point)·n = 0 at t.
+    ray.along = normal[a];
+    ray.t = (point - ray.origin).dot(normal) / normal[a];
+    return ray;
+  }
 
   // The largest rounding of a stored ray end: half the spacing of floats at the domain's
   // longest side (about 4e-6 mm for a 100 mm stock). Lengths below a few of these are rounding.
@@ -133,6 +157,7 @@ class TriDexel {
   // The grid for stock in `box` (domain grown to whole cells), with empty rays.
   static TriDexel empty_grid(const Aabb& box, double spacing);
   std::size_t index(int axis, int i, int j) const;
+  static void index_tile(RemovalRecord::Tile& tile, int first_j, bool sort);
   // Range of ray indices along one cross axis whose lines come within [lo, hi].
   std::array<int, 2> index_range(int axis, int cross, double lo, double hi) const;
 
