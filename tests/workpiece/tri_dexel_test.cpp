@@ -144,6 +144,30 @@ TEST(TriDexel, BatchedRemovalEqualsOneByOne) {
   EXPECT_EQ(batch.memory().heap_bytes, batch.count_heap_bytes());
 }
 
+// A box whose sides are not whole multiples of the spacing is still represented exactly: its
+// cells tile it (each side cut into the fewest cells no wider than s), so its volume and a
+// through slot's are exact up to float rounding of the ray ends (1e-7 relative).
+TEST(TriDexel, BoxOfAnySizeIsExact) {
+  const Aabb box{{0, 0, -30}, {100.0013, 60, 0}};
+  TriDexel d = TriDexel::from_box(box, 0.1);
+  EXPECT_EQ(d.domain().min, box.min);
+  EXPECT_EQ(d.domain().max, box.max);
+  EXPECT_EQ(d.grid(1)[1], 1001);  // Y rays across X: 100.0013 / 0.1 rounded up
+  EXPECT_NEAR(d.spacing(0), 100.0013 / 1001, 1e-15);
+  EXPECT_NEAR(d.spacing(), 0.1, 1e-15);
+  const double exact = 100.0013 * 60 * 30;
+  for (const double v : d.volume().by_family) EXPECT_NEAR(v, exact, 1e-7 * exact);
+  // A 10 mm flat end mill slotting 3 mm deep along X through the whole block.
+  const Cutter flat = cutter_from_spec("flat:10,20");
+  const LinearSweep slot(flat, {-10, 30, -3}, {110.0013, 30, -3}, Vec3::UnitZ());
+  const double removed =
+      d.remove(slot.bounds(), [&slot](const Ray& ray) { return slot.chord(ray); }).volume;
+  EXPECT_NEAR(removed, 10 * 3 * 100.0013, 1e-7 * exact);
+  for (const double v : d.volume().by_family) {
+    EXPECT_NEAR(v, exact - 10 * 3 * 100.0013, 1e-7 * exact);
+  }
+}
+
 // The record of a removal is exactly what the rays lost: ray by ray, the material before less
 // the material after, and the same for any order of the tiles (it is sorted).
 TEST(TriDexel, RemovalRecordIsWhatTheRaysLost) {

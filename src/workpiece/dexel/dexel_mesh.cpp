@@ -155,7 +155,7 @@ class LatticeMesher {
  public:
   LatticeMesher(const TriDexel& stock, int stride)
       : stock_(stock),
-        s_(stock.spacing()),
+        s_(stock.spacing(0), stock.spacing(1), stock.spacing(2)),
         origin_(stock.domain().min),
         stride_(stride),
         offset_{centring(stock.grid(2)[0], stride), centring(stock.grid(2)[1], stride),
@@ -263,7 +263,7 @@ class LatticeMesher {
     return offset_[static_cast<std::size_t>(axis)] + stride_ * index;
   }
   // The ray coordinate of lattice index `index` along `axis`.
-  double lattice_t(int axis, int index) const { return (fine(axis, index) + 0.5) * s_; }
+  double lattice_t(int axis, int index) const { return (fine(axis, index) + 0.5) * s_[axis]; }
   int count(int axis) const { return axis == 0 ? nx_ : (axis == 1 ? ny_ : nz_); }
 
   std::size_t point(int i, int j) const {
@@ -279,10 +279,10 @@ class LatticeMesher {
     const auto guess = [n](double m) {
       return static_cast<int>(std::clamp(m, 0.0, static_cast<double>(n)));
     };
-    int first = guess(std::ceil((interval.lo / s_ - 0.5 - offset) / stride_));
+    int first = guess(std::ceil((interval.lo / s_[axis] - 0.5 - offset) / stride_));
     while (first > 0 && lattice_t(axis, first - 1) >= interval.lo) --first;
     while (first < n && lattice_t(axis, first) < interval.lo) ++first;
-    int end = guess(std::floor((interval.hi / s_ - 0.5 - offset) / stride_) + 1);
+    int end = guess(std::floor((interval.hi / s_[axis] - 0.5 - offset) / stride_) + 1);
     while (end > 0 && lattice_t(axis, end - 1) > interval.hi) --end;
     while (end < n && lattice_t(axis, end) <= interval.hi) ++end;
     return {first, std::max(first, end)};
@@ -431,7 +431,7 @@ class LatticeMesher {
   }
 
   const TriDexel& stock_;
-  double s_;
+  Vec3 s_;  // the stock's cell side per axis
   Vec3 origin_;
   int stride_;                              // lattice spacing in ray spacings
   std::array<int, 3> offset_;               // ray position of lattice index 0 per axis

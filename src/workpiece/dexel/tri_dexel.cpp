@@ -47,10 +47,8 @@ TriDexel TriDexel::empty_grid(const Aabb& box, double spacing) {
     throw InputError(fmt::format("dexel spacing {} mm: expected a positive length", spacing));
   }
   TriDexel d;
-  d.spacing_ = spacing;
-  // Whole cells: grow the box symmetrically to multiples of the spacing.
+  // Whole cells that tile the box: along each axis the fewest cells no wider than the spacing.
   std::array<int, 3> cells{};
-  Vec3 size;
   for (int a = 0; a < 3; ++a) {
     const double n = std::ceil(box.size()[a] / spacing - tol::kRelative);
     if (n > 1e7) {
@@ -58,9 +56,9 @@ TriDexel TriDexel::empty_grid(const Aabb& box, double spacing) {
           fmt::format("dexel spacing {} mm is too fine for a {} mm stock", spacing, box.size()[a]));
     }
     cells[static_cast<std::size_t>(a)] = static_cast<int>(n);
-    size[a] = n * spacing;
+    d.spacing_[a] = box.size()[a] / n;
   }
-  d.domain_ = {box.center() - size / 2.0, box.center() + size / 2.0};
+  d.domain_ = box;
   for (int a = 0; a < 3; ++a) {
     const int nb = cells[static_cast<std::size_t>(cross_b(a))];
     const int nc = cells[static_cast<std::size_t>(cross_c(a))];
@@ -98,8 +96,8 @@ std::size_t TriDexel::index(int axis, int i, int j) const {
 
 Ray TriDexel::ray(int axis, int i, int j) const {
   Vec3 origin = domain_.min;
-  origin[cross_b(axis)] += (i + 0.5) * spacing_;
-  origin[cross_c(axis)] += (j + 0.5) * spacing_;
+  origin[cross_b(axis)] += (i + 0.5) * spacing_[cross_b(axis)];
+  origin[cross_c(axis)] += (j + 0.5) * spacing_[cross_c(axis)];
   return {origin, Vec3::Unit(axis)};
 }
 
@@ -110,8 +108,8 @@ const DexelRay& TriDexel::at(int axis, int i, int j) const {
 std::array<int, 2> TriDexel::index_range(int axis, int cross, double lo, double hi) const {
   const int n = grid_[static_cast<std::size_t>(axis)][cross == cross_b(axis) ? 0 : 1];
   // Ray k sits at min + (k + ½)s: it lies within [lo, hi] for k in [lo'/s - ½, hi'/s - ½].
-  const double first = std::ceil((lo - domain_.min[cross]) / spacing_ - 0.5);
-  const double last = std::floor((hi - domain_.min[cross]) / spacing_ - 0.5);
+  const double first = std::ceil((lo - domain_.min[cross]) / spacing_[cross] - 0.5);
+  const double last = std::floor((hi - domain_.min[cross]) / spacing_[cross] - 0.5);
   return {static_cast<int>(std::clamp(first, 0.0, static_cast<double>(n))),
           static_cast<int>(std::clamp(last, -1.0, static_cast<double>(n - 1)))};
 }
@@ -124,7 +122,7 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
                                                 RemovalRecord* record) {
   if (record != nullptr) record->clear();
   std::vector<Removal> removals(cuts.size());
-  std::vector<double> lengths(cuts.size(), 0.0);
+  std::vector<double> lengths(cuts.size(), 0.0);  // volumes summed over the three families
   // What one tile did for one cut.
   struct Tally {
     std::size_t changed = 0;
@@ -192,11 +190,11 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
                 DexelRay* row = &family[index(a, 0, j)];
                 // The ray's origin as ray(a, i, j) makes it, without the index checks.
                 Vec3 origin = domain_.min;
-                origin[c] += (j + 0.5) * spacing_;
+                origin[c] += (j + 0.5) * spacing_[c];
                 for (int i = i0; i <= i1; ++i) {
                   DexelRay& material = row[i];
                   if (!material.overlaps(r.low, r.high)) continue;
-                  origin[b] = domain_.min[b] + (i + 0.5) * spacing_;
+                  origin[b] = domain_.min[b] + (i + 0.5) * spacing_[b];
                   const Ray ray{origin, Vec3::Unit(a)};
                   if (cuts[k].reach) {
                     const Interval w = cuts[k].reach(ray);
@@ -228,7 +226,7 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
     for (const auto& tile : tallies) {
       for (const auto& [k, sum] : tile) {
         removals[k].rays += sum.changed;
-        lengths[k] += sum.length;
+        lengths[k] += sum.length * spacing_[b] * spacing_[c];  // the family's volume
         heap_bytes_ = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(heap_bytes_) + sum.heap);
       }
     }
@@ -249,17 +247,17 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
         Aabb box;
         box.min[a] = domain_.min[a] + lo;
         box.max[a] = domain_.min[a] + hi;
-        box.min[b] = domain_.min[b] + (i0 + 0.5) * spacing_;
-        box.max[b] = domain_.min[b] + (i1 + 0.5) * spacing_;
-        box.min[c] = domain_.min[c] + (tile.stretches.front().j + 0.5) * spacing_;
-        box.max[c] = domain_.min[c] + (tile.stretches.back().j + 0.5) * spacing_;
+        box.min[b] = domain_.min[b] + (i0 + 0.5) * spacing_[b];
+        box.max[b] = domain_.min[b] + (i1 + 0.5) * spacing_[b];
+        box.min[c] = domain_.min[c] + (tile.stretches.front().j + 0.5) * spacing_[c];
+        box.max[c] = domain_.min[c] + (tile.stretches.back().j + 0.5) * spacing_[c];
         record->bounds_.extend(box);
       }
     }
   }
   peak_heap_bytes_ = std::max(peak_heap_bytes_, heap_bytes_);
   for (std::size_t k = 0; k < cuts.size(); ++k) {
-    removals[k].volume = lengths[k] * spacing_ * spacing_ / 3.0;
+    removals[k].volume = lengths[k] / 3.0;
   }
   return removals;
 }
@@ -274,7 +272,8 @@ TriDexel::Volume TriDexel::volume() const {
   for (std::size_t a = 0; a < 3; ++a) {
     double length = 0.0;
     for (const DexelRay& r : rays_[a]) length += r.length();
-    v.by_family[a] = length * spacing_ * spacing_;
+    v.by_family[a] = length * spacing_[cross_b(static_cast<int>(a))] *
+                     spacing_[cross_c(static_cast<int>(a))];
   }
   return v;
 }
@@ -284,8 +283,8 @@ bool TriDexel::contains(const Vec3& p) const {
   for (int a = 0; a < 3; ++a) {
     const auto& g = grid_[static_cast<std::size_t>(a)];
     const int b = cross_b(a), c = cross_c(a);
-    const auto i = static_cast<int>(std::floor((p[b] - domain_.min[b]) / spacing_));
-    const auto j = static_cast<int>(std::floor((p[c] - domain_.min[c]) / spacing_));
+    const auto i = static_cast<int>(std::floor((p[b] - domain_.min[b]) / spacing_[b]));
+    const auto j = static_cast<int>(std::floor((p[c] - domain_.min[c]) / spacing_[c]));
     if (i < 0 || j < 0 || i >= g[0] || j >= g[1]) continue;
     if (at(a, i, j).contains(p[a] - domain_.min[a])) ++votes;
   }

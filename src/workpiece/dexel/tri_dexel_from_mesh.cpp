@@ -19,8 +19,10 @@ namespace {
 
 __extension__ using Wide = __int128;  // products of two snapped coordinates (< 2^90)
 
-// Snapped coordinates are multiples of s / 2^kSnapBits from the domain's lower corner; ray k of
-// a family then sits exactly at k·2^kSnapBits + 2^(kSnapBits-1).
+// Snapped coordinates are multiples of s_a / 2^kSnapBits (the cell side along each axis a) from
+// the domain's lower corner; ray k of a family then sits exactly at k·2^kSnapBits +
+// 2^(kSnapBits-1). Inside-triangle tests and interpolation are affine, so scaling the axes apart
+// changes nothing.
 constexpr int kSnapBits = 20;
 constexpr std::int64_t kCell = std::int64_t{1} << kSnapBits;
 
@@ -108,7 +110,8 @@ TriDexel TriDexel::from_mesh(const TriangleMesh& mesh, double spacing, const std
     const auto& g = d.grid_[static_cast<std::size_t>(a)];
     std::vector<Snapped> snapped(mesh.vertices.size());
     for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
-      const Vec3 rel = (mesh.vertices[v] - d.domain_.min) / spacing * static_cast<double>(kCell);
+      const Vec3 rel = (mesh.vertices[v] - d.domain_.min).cwiseQuotient(d.spacing_) *
+                       static_cast<double>(kCell);
       snapped[v] = {std::llround(rel[b]), std::llround(rel[c])};
     }
     tbb::enumerable_thread_specific<std::vector<Crossing>> found;

@@ -2,11 +2,13 @@
 // The tri-dexel in-process workpiece (Aras 2008 ch. 4): three orthogonal families of rays at
 // spacing s, each ray holding the material along it as sorted, disjoint intervals (DexelRay).
 //
-// Geometry of the grid: the domain is an axis-aligned box. The family along axis a (its rays
-// parallel to a) has one ray through the centre of every s × s cell of the domain's face across
-// a: with (b, c) the two other axes in cyclic order, ray (i, j) starts on the domain's lower face
-// at min + (i + ½)s·e_b + (j + ½)s·e_c and runs along +e_a; its coordinate t is the distance from
-// that face (mm). The domain is grown so that its sides are whole multiples of s.
+// Geometry of the grid: the domain is the stock's box, cut along each axis a into a whole number
+// of cells of side s_a = (box side) / ⌈(box side) / s⌉ ≤ s, so that the cells tile the box
+// exactly whatever its size. The family along axis a (its rays parallel to a) has one ray
+// through the centre of every s_b × s_c cell of the domain's face across a: with (b, c) the two
+// other axes in cyclic order, ray (i, j) starts on the domain's lower face at
+// min + (i + ½)s_b·e_b + (j + ½)s_c·e_c and runs along +e_a; its coordinate t is the distance
+// from that face (mm), and it stands for the material of its cell's prism (length × s_b × s_c).
 //
 // Material removal takes the solid to remove as a chord function: for a ray (origin, unit
 // direction), the interval of t inside the solid (one interval: every swept volume of a convex
@@ -39,7 +41,7 @@ class TriDexel {
   // `spacing` mm, by exact scan conversion: every ray collects its crossings with the triangles
   // and keeps the stretches of non-zero winding number (so an inside-out mesh is read as its
   // solid, and a void inside a part stays empty).
-  // Robustness: vertices are snapped to a fixed grid of spacing s/2²⁰ (shifts ≤ 5e-8 mm at
+  // Robustness: vertices are snapped to a fixed grid of spacing s_a/2²⁰ (shifts ≤ 5e-8 mm at
   // s = 0.1) on which the ray centres lie exactly, the inside-triangle tests are exact integer
   // arithmetic, and a ray through an edge or vertex is decided by symbolic perturbation of the
   // ray's position: it crosses exactly one of the triangles sharing the edge or vertex, so no ray
@@ -53,7 +55,10 @@ class TriDexel {
 
   static constexpr std::size_t kMaxRaysPerFamily = std::size_t{1} << 31;
 
-  double spacing() const { return spacing_; }
+  // The ray spacing: the largest cell side (at most the spacing asked for).
+  double spacing() const { return spacing_.maxCoeff(); }
+  // The cell side along `axis` (the spacing of the rays across it).
+  double spacing(int axis) const { return spacing_[axis]; }
   const Aabb& domain() const { return domain_; }
   // Rays of family `axis` along its two cross axes (b, c) in cyclic order.
   std::array<int, 2> grid(int axis) const { return grid_[static_cast<std::size_t>(axis)]; }
@@ -121,16 +126,16 @@ class TriDexel {
     if (!(std::abs(normal[a]) > 0.0)) return std::nullopt;
     const int b = (a + 1) % 3, c = (a + 2) % 3;
     const auto& g = grid_[static_cast<std::size_t>(a)];
-    const double fi = std::floor((point[b] - domain_.min[b]) / spacing_);
-    const double fj = std::floor((point[c] - domain_.min[c]) / spacing_);
+    const double fi = std::floor((point[b] - domain_.min[b]) / spacing_[b]);
+    const double fj = std::floor((point[c] - domain_.min[c]) / spacing_[c]);
     if (!(fi >= 0.0 && fj >= 0.0 && fi < g[0] && fj < g[1])) return std::nullopt;
     SurfaceRay ray;
     ray.axis = a;
     ray.i = static_cast<int>(fi);
     ray.j = static_cast<int>(fj);
     ray.origin = domain_.min;
-    ray.origin[b] += (fi + 0.5) * spacing_;
-    ray.origin[c] += (fj + 0.5) * spacing_;
+    ray.origin[b] += (fi + 0.5) * spacing_[b];
+    ray.origin[c] += (fj + 0.5) * spacing_[c];
     // The ray (origin o, direction e_a) meets the tangent plane (q - point)·n = 0 at t.
     ray.along = normal[a];
     ray.t = (point - ray.origin).dot(normal) / normal[a];
@@ -154,7 +159,7 @@ class TriDexel {
   std::size_t count_heap_bytes() const;
 
  private:
-  // The grid for stock in `box` (domain grown to whole cells), with empty rays.
+  // The grid for stock in `box` (whole cells that tile it), with empty rays.
   static TriDexel empty_grid(const Aabb& box, double spacing);
   std::size_t index(int axis, int i, int j) const;
   static void index_tile(RemovalRecord::Tile& tile, int first_j, bool sort);
@@ -162,7 +167,7 @@ class TriDexel {
   std::array<int, 2> index_range(int axis, int cross, double lo, double hi) const;
 
   Aabb domain_;
-  double spacing_ = 1.0;
+  Vec3 spacing_ = Vec3::Ones();  // cell side per axis
   std::array<std::array<int, 2>, 3> grid_{};
   std::array<std::vector<DexelRay>, 3> rays_;
   std::size_t heap_bytes_ = 0;
