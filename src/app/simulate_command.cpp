@@ -412,11 +412,14 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
                            {"volume_mm3", mesh.volume()}};
   if (options.ply) summary["stock_mesh"]["ply"] = "stock.ply";
   if (!options.stock_only) {
-    const DexelEngagement grid(operations.front().cutter, simulation.resolution);
+    EngagementOptions engagement;
+    engagement.contact = simulation.effective_tolerance();  // as simulate_engagement takes it
+    const DexelEngagement grid(operations.front().cutter, simulation.resolution, engagement);
     summary["engagement"] = {{"cl_points", along.size()},
                              {"engaged_cl_points", engaged_cls},
                              {"disc_height_mm", grid.disc_height()},
                              {"phi_step_deg", degrees(grid.phi_step())},
+                             {"contact_mm", grid.contact()},
                              {"max_axial_depth_mm", deepest},
                              {"max_area_mm2", largest_area},
                              {"maps", maps_written},
