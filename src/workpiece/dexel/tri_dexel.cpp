@@ -205,14 +205,18 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
                   const Interval cut = cuts[k].chord(ray);
                   if (cut.is_empty()) continue;
                   const auto before = static_cast<std::ptrdiff_t>(material.heap_bytes());
-                  stretches.clear();
-                  const double removed =
-                      material.subtract(cut.lo, cut.hi, record != nullptr ? &stretches : nullptr);
-                  if (removed == 0.0) continue;
-                  for (const Interval& s : stretches) {
-                    taken->tiles[t].stretches.push_back(
-                        {i, j, static_cast<float>(s.lo), static_cast<float>(s.hi)});
+                  double removed = 0.0;
+                  if (taken == nullptr) {
+                    removed = material.subtract(cut.lo, cut.hi);
+                  } else {
+                    stretches.clear();
+                    removed = material.subtract(cut.lo, cut.hi, &stretches);
+                    for (const Interval& s : stretches) {
+                      taken->tiles[t].stretches.push_back(
+                          {i, j, static_cast<float>(s.lo), static_cast<float>(s.hi)});
+                    }
                   }
+                  if (removed == 0.0) continue;
                   ++sum.changed;
                   sum.length += removed;
                   sum.heap += static_cast<std::ptrdiff_t>(material.heap_bytes()) - before;
