@@ -4,6 +4,7 @@
 // The programs are G-code, as a user writes them.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -12,8 +13,10 @@
 #include "cwe/process/force_model.hpp"
 #include "cwe/simulation/simulation.hpp"
 #include "cwe/tool/tool_spec.hpp"
+#include "cwe/toolpath/cldata_reader.hpp"
 #include "cwe/toolpath/gcode_reader.hpp"
 #include "process/process_testing.hpp"
+#include "source_dir.hpp"
 
 namespace cwe {
 namespace {
@@ -29,11 +32,9 @@ struct Sample {
   EngagementMap map;
 };
 
-// Every cutter location of `program` (G-code) cut by `tool` through `block`.
-std::vector<Sample> simulate(const std::string& program, const char* tool,
-                             const Aabb& block = kBlock) {
+// Every cutter location of `path` cut by `tool` through `block`.
+std::vector<Sample> simulate(const Toolpath& path, const char* tool, const Aabb& block = kBlock) {
   TriDexel stock = TriDexel::from_box(block, kSpacing);
-  const Toolpath path = read_gcode(program, "test.ngc");
   const Cutter cutter = cutter_from_spec(tool);
   SimulationOptions options;
   options.resolution = kSpacing;
@@ -44,6 +45,12 @@ std::vector<Sample> simulate(const std::string& program, const char* tool,
                       [&](std::size_t, const ClPoint& cl, const ToolState& state,
                           const EngagementMap& map) { samples.push_back({cl, state, map}); });
   return samples;
+}
+
+// The same for a G-code program.
+std::vector<Sample> simulate(const std::string& program, const char* tool,
+                             const Aabb& block = kBlock) {
+  return simulate(read_gcode(program, "test.ngc"), tool, block);
 }
 
 // The samples on source line `line` whose tip lies within [x0, x1] (the steady part of a pass).
@@ -63,15 +70,17 @@ std::vector<const Sample*> on_line(const std::vector<Sample>& samples, int line,
 // across the ray, s/(√2 ρ) in φ, plus the bisection's cell/64 (docs/engagement.md).
 double angle_tolerance(double rho) { return kSpacing / (std::sqrt(2.0) * rho) + 0.1 * kDeg; }
 
-// Every disc below `depth` engaged over [entry, exit] alone, none above.
-void expect_side(const EngagementMap& map, double depth, double entry, double exit, double rho) {
+// Every disc below `depth` engaged over [entry, exit] alone, none above; `margin` leaves out the
+// discs that close to the depth.
+void expect_side(const EngagementMap& map, double depth, double entry, double exit, double rho,
+                 double margin = 0.0) {
   for (const DiscEngagement& disc : map.discs) {
     SCOPED_TRACE(testing::Message() << "disc " << disc.z0 << "–" << disc.z1);
-    if (disc.z1 <= depth + 1e-9) {
+    if (disc.z1 <= depth - margin + 1e-9) {
       ASSERT_EQ(disc.phi.size(), 1u);
       EXPECT_NEAR(disc.phi[0].lo, entry, angle_tolerance(rho));
       EXPECT_NEAR(disc.phi[0].hi, exit, angle_tolerance(rho));
-    } else if (disc.z0 >= depth - 1e-9) {
+    } else if (disc.z0 >= depth + margin - 1e-9) {
       EXPECT_TRUE(disc.phi.empty());
     }
   }
@@ -152,6 +161,78 @@ TEST(EngagementFidelity, SecondRingLevelCutsOnlyTheNewLevel) {
     }
     EXPECT_GT(checked, 100);
   }
+}
+
+// A ring groove by two helical turns, 3 mm each: the second turn cuts the 3 mm between the first
+// turn's floor and its own; the groove's walls beside it are the first turn's.
+TEST(EngagementFidelity, SecondHelicalTurnCutsOnePitch) {
+  const std::string program = std::string(kHeader) +
+                              "G0 X65 Y30\n"
+                              "G1 Z0 F600\n"
+                              "G2 X65 Y30 Z-3 I-15 J0\n"  // line 6
+                              "G2 X65 Y30 Z-6 I-15 J0\n";  // line 7
+  const std::vector<Sample> samples = simulate(program, "flat:10,20");
+  int checked = 0;
+  for (const Sample& s : samples) {
+    if (s.cl.line != 7 || s.cl.u < 0.1 || s.cl.u > 0.85) continue;
+    ASSERT_TRUE(s.map.engaged);
+    EXPECT_NEAR(s.map.axial_depth, 3.0, kSpacing) << "u " << s.cl.u;
+    ++checked;
+  }
+  EXPECT_GT(checked, 100);
+}
+
+// A flat end mill tilted 20° (3+2) slots along Y, then again 3 mm further along its own axis: the
+// second pass cuts the 3 mm between the first pass's bottom and its own, beside the first pass's
+// walls (planes through the axis and the feed, the same for both passes). The rays cross the tilted
+// cutter obliquely: the point Q a cell reads lies within s√(3/2) of the cell's point, up to 0.12 mm
+// along the axis, so the disc at the new level's top may read either level (depth within s).
+TEST(EngagementFidelity, TiltedStepDownCutsOnlyTheNewLevel) {
+  const Vec3 axis(std::sin(20 * kDeg), 0.0, std::cos(20 * kDeg));
+  const auto pass = [&](double along_axis) {
+    Move m;
+    m.start = Vec3(50, -10, -4) - along_axis * axis;
+    m.end = Vec3(50, 70, -4) - along_axis * axis;
+    m.start_axis = m.end_axis = axis;
+    m.feed_rate = 600.0;
+    return m;
+  };
+  Toolpath path;
+  path.sources = {"test"};
+  path.moves = {pass(0.0), pass(3.0)};
+  path.moves[1].line = 2;
+  const std::vector<Sample> samples = simulate(path, "flat:8,20");
+  int checked = 0;
+  for (const Sample& s : samples) {
+    if (s.cl.move != 1 || s.cl.position.y() < 15 || s.cl.position.y() > 45) continue;
+    ASSERT_TRUE(s.map.engaged);
+    EXPECT_GE(s.map.axial_depth, 3.0 - 1e-9) << "y " << s.cl.position.y();
+    EXPECT_LE(s.map.axial_depth, 3.0 + kSpacing + 1e-9) << "y " << s.cl.position.y();
+    expect_side(s.map, 3.0, 0.0, kPi, 4.0, kSpacing);
+    ++checked;
+  }
+  EXPECT_GT(checked, 50);
+}
+
+// The bundled simultaneous 5-axis pass (a ball end tilting through 30° and back), run twice: the
+// second run's pieces are the first run's, so it removes nothing and engages nothing.
+TEST(EngagementFidelity, RepeatedFiveAxisPassIsNotEngaged) {
+  Toolpath path = read_cldata_file(
+      (test::source_dir() / "examples/programs/five_axis_pass.cls").string());
+  const std::size_t once = path.moves.size();
+  for (std::size_t k = 0; k < once; ++k) path.moves.push_back(path.moves[k]);
+  // A short ball and a thin block keep the test quick: each step of a turning move is swept in
+  // pieces that turn by at most 2·tolerance/reach.
+  const std::vector<Sample> samples = simulate(path, "ball:6,8", Aabb{{0, 0, -6}, {100, 60, 0}});
+  double first = 0.0;
+  for (const Sample& s : samples) {
+    if (static_cast<std::size_t>(s.cl.move) < once) {
+      first = std::max(first, s.map.area);
+    } else {
+      EXPECT_LT(s.map.area, 0.1) << "move " << s.cl.move << " u " << s.cl.u;
+    }
+  }
+  EXPECT_GT(first, 5.0);  // the first run does cut
 }
 
 // A 2 mm stepover to the left (+Y) of a slot at the same depth: up-milling, φ ∈ [0, acos(1 -
