@@ -575,5 +575,28 @@ TEST(CliSchedule, ScheduledProgramNeverExceedsTheLimit) {
             2);
 }
 
+// A slot in two 3 mm levels: the second level cuts no deeper than the first, so the schedule
+// gives both the same feed (the walls the first level left beside the second are not engagement).
+TEST(CliSchedule, StepDownLevelsOfEqualDepthGetEqualFeeds) {
+  const auto dir = scratch_dir("schedule_levels");
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "levels.ngc")
+      << "G21 G90\nS10000 M3\nG0 X-10 Y10 Z1\nG1 Z-3 F200\nG1 X60 F600\nG0 Z5\nG0 X-10\n"
+         "G1 Z-6 F200\nG1 X60 F600\nG0 Z5\nM2\n";
+  const Result s = run_cwe({"schedule", "--stock", "box:0,0,-10,50,20,0", "--tool", "flat:10,20",
+                            "--resolution", "0.25", "--forces", "al7075-t6-carbide", "--quiet",
+                            "--path", (dir / "levels.ngc").string(), "--limit", "force=220N",
+                            "--max-change", "4", "--out", (dir / "scheduled.ngc").string()});
+  ASSERT_EQ(s.status, 0) << s.err;
+  std::ifstream in(dir / "scheduled.ngc");
+  std::vector<std::string> feeds;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("G1 X60 F", 0) == 0) feeds.push_back(line.substr(8));
+  }
+  ASSERT_EQ(feeds.size(), 2u);
+  EXPECT_EQ(feeds[0], feeds[1]);
+  EXPECT_NE(feeds[0], "600");  // the limit binds: the feed was rescheduled
+}
+
 }  // namespace
 }  // namespace cwe::app

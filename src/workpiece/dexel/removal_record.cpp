@@ -25,24 +25,7 @@ void RemovalRecord::clear() {
   bounds_ = Aabb();
 }
 
-std::span<const RemovalRecord::Stretch> RemovalRecord::on_ray(int axis, int i, int j) const {
-  const Family& family = families_[static_cast<std::size_t>(axis)];
-  const int ti = i / TriDexel::kTile - family.first_i, tj = j / TriDexel::kTile - family.first_j;
-  if (i < 0 || j < 0 || ti < 0 || tj < 0 || ti >= family.tiles_i || tj >= family.tiles_j) {
-    return {};
-  }
-  const Tile& tile =
-      family.tiles[static_cast<std::size_t>(tj) * static_cast<std::size_t>(family.tiles_i) +
-                   static_cast<std::size_t>(ti)];
-  // The ray's row of the tile, then the ray within the row.
-  const int row = j - (family.first_j + tj) * TriDexel::kTile;
-  const Stretch* first = tile.stretches.data() + tile.rows[static_cast<std::size_t>(row)];
-  const Stretch* const end = tile.stretches.data() + tile.rows[static_cast<std::size_t>(row) + 1];
-  first = std::lower_bound(first, end, i, [](const Stretch& s, int ray) { return s.i < ray; });
-  const Stretch* last = first;
-  while (last != end && last->i == i) ++last;
-  return {first, last};
-}
+static_assert(RemovalRecord::kTileRows == TriDexel::kTile, "a record's tiles are the removal's");
 
 std::vector<RemovalRecord::Stretch> RemovalRecord::family(int axis) const {
   const Family& family = families_[static_cast<std::size_t>(axis)];

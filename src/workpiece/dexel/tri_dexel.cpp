@@ -115,7 +115,7 @@ std::array<int, 2> TriDexel::index_range(int axis, int cross, double lo, double 
 }
 
 TriDexel::Removal TriDexel::remove(const Aabb& bounds, const ChordFunction& chord) {
-  return remove(std::vector<Cut>{{bounds, chord}}).front();
+  return remove(std::vector<Cut>{{bounds, chord, {}}}).front();
 }
 
 std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,

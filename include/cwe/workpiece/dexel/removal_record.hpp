@@ -9,6 +9,7 @@
 // stretches sorted by ray, so that recording costs no sort of the whole step and a look-up is a
 // binary search within one tile. A record reused for step after step keeps its buffers.
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -25,20 +26,38 @@ class RemovalRecord {
     int i = 0, j = 0;  // the ray's indices across its family (TriDexel::at(axis, i, j))
     float lo = 0.0f, hi = 0.0f;
   };
+  static constexpr int kTileRows = 32;  // rays along a tile's side: TriDexel::kTile
 
   void clear();
   bool empty() const { return stretches_ == 0; }
   std::size_t size() const { return stretches_; }
   // A box holding every stretch (empty when nothing was removed).
   const Aabb& bounds() const { return bounds_; }
-  // The stretches removed from ray (i, j) of family `axis` (0 x, 1 y, 2 z), ascending.
-  std::span<const Stretch> on_ray(int axis, int i, int j) const;
+  // The stretches removed from ray (i, j) of family `axis` (0 x, 1 y, 2 z), ascending. Inline:
+  // engagement asks it for every cell of the cutter surface that moves into material.
+  std::span<const Stretch> on_ray(int axis, int i, int j) const {
+    const Family& family = families_[static_cast<std::size_t>(axis)];
+    const int ti = i / kTileRows - family.first_i, tj = j / kTileRows - family.first_j;
+    if (i < 0 || j < 0 || ti < 0 || tj < 0 || ti >= family.tiles_i || tj >= family.tiles_j) {
+      return {};
+    }
+    const Tile& tile =
+        family.tiles[static_cast<std::size_t>(tj) * static_cast<std::size_t>(family.tiles_i) +
+                     static_cast<std::size_t>(ti)];
+    // The ray's row of the tile, then the ray within the row.
+    const auto row = static_cast<std::size_t>(j - (family.first_j + tj) * kTileRows);
+    const Stretch* first = tile.stretches.data() + tile.rows[row];
+    const Stretch* const end = tile.stretches.data() + tile.rows[row + 1];
+    first = std::lower_bound(first, end, i, [](const Stretch& s, int ray) { return s.i < ray; });
+    const Stretch* last = first;
+    while (last != end && last->i == i) ++last;
+    return {first, last};
+  }
   // Every stretch of a family, sorted by ray (j, then i) and then by position.
   std::vector<Stretch> family(int axis) const;
 
  private:
   friend class TriDexel;
-  static constexpr int kTileRows = 32;  // TriDexel::kTile
   // One tile's stretches, sorted by ray, and where each of its rows of rays (j) starts.
   struct Tile {
     std::vector<Stretch> stretches;
