@@ -96,18 +96,18 @@ const char* const kForcesCsvHeader =
     "cl,move,feed_per_tooth_mm,mean_fx_n,mean_fy_n,mean_fz_n,peak_fx_n,peak_fy_n,peak_fz_n,"
     "peak_resultant_n,mean_torque_nm,peak_torque_nm,mean_power_w,line,operation,feed_mm_min,"
     "spindle_rpm,max_chip_mm,mean_world_fx_n,mean_world_fy_n,mean_world_fz_n,peak_world_fx_n,"
-    "peak_world_fy_n,peak_world_fz_n\n";
+    "peak_world_fy_n,peak_world_fz_n,tool\n";
 
-std::string forces_csv_row(std::size_t k, const ClPoint& cl, std::size_t operation,
+std::string forces_csv_row(std::size_t k, const ClPoint& cl, std::size_t operation, int tool,
                            double feed_rate, const ClForces& f) {
   return fmt::format(
       "{},{},{:.6f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.5f},{:.5f},{:.3f},{},{},"
-      "{:.3f},{:.1f},{:.6f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f}\n",
+      "{:.3f},{:.1f},{:.6f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{}\n",
       k, cl.move + 1, f.feed_per_tooth, f.mean_force.x(), f.mean_force.y(), f.mean_force.z(),
       f.peak_force.x(), f.peak_force.y(), f.peak_force.z(), f.peak_resultant, f.mean_torque,
       f.peak_torque, f.mean_power, cl.line, operation, feed_rate, f.spindle_speed, f.max_chip,
       f.mean_force_world.x(), f.mean_force_world.y(), f.mean_force_world.z(),
-      f.peak_force_world.x(), f.peak_force_world.y(), f.peak_force_world.z());
+      f.peak_force_world.x(), f.peak_force_world.y(), f.peak_force_world.z(), tool);
 }
 
 }  // namespace cwe::app

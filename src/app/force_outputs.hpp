@@ -52,7 +52,7 @@ extern const char* const kForcesCsvHeader;
 
 // One forces.csv row (tool frame; the workpiece-frame means, the chip and the feed after the
 // required columns).
-std::string forces_csv_row(std::size_t k, const ClPoint& cl, std::size_t operation,
+std::string forces_csv_row(std::size_t k, const ClPoint& cl, std::size_t operation, int tool,
                            double feed_rate, const ClForces& f);
 
 }  // namespace cwe::app

@@ -11,7 +11,9 @@
 #include "cwe/core/error.hpp"
 #include "cwe/core/text_file.hpp"
 #include "cwe/toolpath/cl_sampling.hpp"
+#include "cwe/tool/apt.hpp"
 #include "tool_choice.hpp"
+#include "tool_table.hpp"
 
 namespace cwe::app {
 
@@ -41,14 +43,14 @@ void read_job(SimulateCommandOptions& options) {
       "stock",       "tool",       "path",   "operations",  "out",  "resolution",
       "tolerance",   "threads",    "ply",    "cl_step",     "maps", "stock_only",
       "mesh_stride", "comment",    "forces", "spindle",     "feed", "flutes",
-      "helix",       "force_step", "runout", "force_curves"};
+      "helix",       "force_step", "runout", "force_curves", "tools", "tool_for_all"};
   for (const auto& [key, value] : job.items()) {
     if (std::find(std::begin(kKeys), std::end(kKeys), key) == std::end(kKeys)) {
       throw InputError(where(key),
-                       "unknown key; expected stock, tool, path, operations, out, resolution, "
-                       "tolerance, threads, mesh_stride, ply, cl_step, maps, stock_only, forces, "
-                       "spindle, feed, flutes, helix, force_step, runout, force_curves or "
-                       "comment");
+                       "unknown key; expected stock, tool, tools, tool_for_all, path, operations, "
+                       "out, resolution, tolerance, threads, mesh_stride, ply, cl_step, maps, "
+                       "stock_only, forces, spindle, feed, flutes, helix, force_step, runout, "
+                       "force_curves or comment");
     }
   }
   const auto text_of = [&](const char* key, std::string& field, bool is_path) {
@@ -79,6 +81,20 @@ void read_job(SimulateCommandOptions& options) {
   }
   text_of("path", options.path, true);
   text_of("out", options.out, true);
+  // A tool table: a file (relative to the job) or the table itself.
+  if (job.contains("tools") && options.tools.empty()) {
+    if (job["tools"].is_string()) {
+      text_of("tools", options.tools, true);
+    } else {
+      options.tool_table = tool_table_from_json(job["tools"], where("tools").source, folder);
+    }
+  }
+  if (job.contains("tool_for_all") && !options.tool_for_all) {
+    if (!job["tool_for_all"].is_boolean()) {
+      throw InputError(where("tool_for_all"), "expected true or false");
+    }
+    options.tool_for_all = job["tool_for_all"].get<bool>();
+  }
   // Operations: toolpaths run one after the other on the same stock, each with its tool.
   if (job.contains("operations") && options.operations.empty() && options.path.empty()) {
     const nlohmann::json& list = job["operations"];
@@ -158,7 +174,8 @@ void read_job(SimulateCommandOptions& options) {
 
 void add_job_options(CLI::App* cmd, SimulateCommandOptions& options) {
   cmd->add_option("job", options.job,
-                  "JSON job file (keys: stock, tool, path or operations, out, resolution, "
+                  "JSON job file (keys: stock, tool, tools, tool_for_all, path or operations, out, "
+                  "resolution, "
                   "tolerance, threads, cl_step, maps, stock_only, mesh_stride, ply, forces, "
                   "spindle, feed, flutes, helix, force_step, runout, force_curves); options below "
                   "override it");
@@ -166,6 +183,11 @@ void add_job_options(CLI::App* cmd, SimulateCommandOptions& options) {
                   "box:xmin,ymin,zmin,xmax,ymax,zmax (mm) or a closed STL file");
   cmd->add_option("--tool", options.tool,
                   "Tool specification or JSON tool file (default: the program's own CUTTER)");
+  cmd->add_option("--tools", options.tools,
+                  "Tool table (JSON: {\"1\": \"flat:10,30\", …}): the cutter of each tool number "
+                  "the program loads (T… M6, LOADTL)");
+  cmd->add_flag("--tool-for-all", options.tool_for_all,
+                "Cut every move of a program that changes tools with the one --tool");
   cmd->add_option("--path", options.path, "Toolpath file (G-code or APT CLDATA)");
   cmd->add_option("--resolution", options.resolution, "Ray spacing s, mm (default 0.1)");
   cmd->add_option("--tolerance", options.tolerance,
@@ -192,6 +214,112 @@ void add_job_options(CLI::App* cmd, SimulateCommandOptions& options) {
                   "Radial runout offset_mm[,angle_deg] of the cutter (default none)");
   cmd->add_flag("--quiet", options.quiet, "No progress bar");
 }
+
+namespace {
+
+// A stretch of a program cut by one tool.
+struct ToolRun {
+  ReadToolpath read;  // the program with only the stretch's moves
+  Cutter cutter;
+  int tool = 0;
+};
+
+// Where a program loads `tool` (its first tool change to it), for errors.
+SourceLocation loading(const Toolpath& path, int tool, const std::string& file) {
+  for (const ToolChange& change : path.tool_changes) {
+    if (change.tool == tool) return change.location;
+  }
+  return SourceLocation{file};
+}
+
+// The program cut into stretches of one tool each, with their cutters: from the tool table, else
+// the program's own definition of that tool (CLDATA CUTTER/). A program that loads one tool (or
+// none) is one stretch with the operation's --tool (or its one definition). Moves before the
+// first tool change go with the first tool loaded.
+std::vector<ToolRun> split_by_tool(const ReadToolpath& read, const Operation& op,
+                                   const SimulateCommandOptions& options) {
+  const Toolpath& path = read.toolpath;
+  std::vector<int> tools;  // the tool of each move, moves before any change taking the first
+  int first = 0;
+  for (const Move& m : path.moves) {
+    if (m.tool != 0) {
+      first = m.tool;
+      break;
+    }
+  }
+  std::vector<int> used;
+  for (const Move& m : path.moves) {
+    tools.push_back(m.tool != 0 ? m.tool : (tools.empty() ? first : tools.back()));
+    if (std::find(used.begin(), used.end(), tools.back()) == used.end()) {
+      used.push_back(tools.back());
+    }
+  }
+  const bool table = options.tool_table.has_value();
+  // At most one tool: --tool when given (it names the cutter of this operation), else the table's
+  // entry for it, else the program's own cutter.
+  if (used.size() <= 1 && (!table || !op.tool.empty() || used.empty() || used.front() == 0)) {
+    return {{read, choose_cutter(op.tool, path, op.path), used.empty() ? 0 : used.front()}};
+  }
+  if (!table) {
+    if (!op.tool.empty() && options.tool_for_all) {
+      return {{read, choose_cutter(op.tool, path, op.path), 0}};
+    }
+    const bool defined = std::all_of(used.begin(), used.end(), [&](int t) {
+      return path.tool_definitions.count(t) > 0;
+    });
+    if (op.tool.empty() && !defined) {
+      throw InputError(loading(path, used[1], op.path),
+                       fmt::format("the program loads tool {} here after tool {}: give a tool "
+                                   "table (--tools) that names the cutter of each",
+                                   used[1], used[0]));
+    }
+    if (!op.tool.empty()) {
+      throw InputError(loading(path, used[1], op.path),
+                       fmt::format("the program loads tool {} here after tool {}, but --tool names "
+                                   "one cutter: give a tool table (--tools), or --tool-for-all to "
+                                   "cut every move with {}",
+                                   used[1], used[0], op.tool));
+    }
+  }
+  // The cutter of each tool the program uses.
+  std::map<int, Cutter> cutters;
+  for (const int t : used) {
+    if (table) {
+      const auto entry = options.tool_table->tools.find(t);
+      if (entry != options.tool_table->tools.end()) {
+        cutters.emplace(t, cutter_of(entry->second));
+        continue;
+      }
+    }
+    const auto defined = path.tool_definitions.find(t);
+    if (defined == path.tool_definitions.end()) {
+      throw InputError(loading(path, t, op.path),
+                       fmt::format("tool {} is not in the tool table {}", t,
+                                   options.tool_table->source));
+    }
+    CutterOptions named;
+    named.name = fmt::format("{} T{} {}", op.path, t, to_string(defined->second));
+    named.apt = defined->second;
+    cutters.emplace(t, Cutter(apt_profile(defined->second, SourceLocation{op.path}), named));
+  }
+  std::vector<ToolRun> runs;
+  for (std::size_t m = 0; m < path.moves.size();) {
+    std::size_t end = m;
+    while (end < path.moves.size() && tools[end] == tools[m]) ++end;
+    // The program's warnings go with its first stretch only.
+    ReadToolpath part{Toolpath{path.sources, {}, path.tool_definitions, path.tool_changes,
+                               runs.empty() ? path.warnings : std::vector<Diagnostic>{},
+                               path.units},
+                      read.format};
+    part.toolpath.moves.assign(path.moves.begin() + static_cast<std::ptrdiff_t>(m),
+                               path.moves.begin() + static_cast<std::ptrdiff_t>(end));
+    runs.push_back({std::move(part), cutters.at(tools[m]), tools[m]});
+    m = end;
+  }
+  return runs;
+}
+
+}  // namespace
 
 PreparedJob prepare_job(SimulateCommandOptions& options, bool sample) {
   require(options.stock, "stock", "--stock");
@@ -225,21 +353,26 @@ PreparedJob prepare_job(SimulateCommandOptions& options, bool sample) {
                                 options.helix, options.force_step, options.runout);
   }
 
+  if (!options.tools.empty()) options.tool_table = read_tool_table(options.tools);
+
   // Everything the job needs is read and checked before the long part starts.
-  for (const Operation& op : options.operations) {
+  for (std::size_t o = 0; o < options.operations.size(); ++o) {
+    const Operation& op = options.operations[o];
     ReadToolpath read = read_toolpath_file(op.path);
-    Cutter cutter = choose_cutter(op.tool, read.toolpath, op.path);
-    SamplingOptions sampling;
-    sampling.step = options.cl_step > 0.0 ? options.cl_step : default_cl_step(cutter.diameter());
-    const std::size_t cls = sample ? sample_cl_points(read.toolpath, sampling).size() : 0;
-    job.cl_count += cls;
-    std::optional<ForceModel> forces;
-    if (job.forces) {
-      check_spindle(read.toolpath, op.path, *job.forces);
-      forces.emplace(cutter, job.forces->coefficients, job.forces->model);
+    for (ToolRun& run : split_by_tool(read, op, options)) {
+      SamplingOptions sampling;
+      sampling.step =
+          options.cl_step > 0.0 ? options.cl_step : default_cl_step(run.cutter.diameter());
+      const std::size_t cls = sample ? sample_cl_points(run.read.toolpath, sampling).size() : 0;
+      job.cl_count += cls;
+      std::optional<ForceModel> forces;
+      if (job.forces) {
+        check_spindle(run.read.toolpath, op.path, *job.forces);
+        forces.emplace(run.cutter, job.forces->coefficients, job.forces->model);
+      }
+      job.operations.push_back({op.path, std::move(run.read), std::move(run.cutter), sampling, cls,
+                                std::move(forces), run.tool, o});
     }
-    job.operations.push_back(
-        {op.path, std::move(read), std::move(cutter), sampling, cls, std::move(forces)});
   }
   return job;
 }

@@ -21,7 +21,7 @@
 namespace cwe::app {
 
 // An operation ready to run: its program read, its cutter chosen, its force model (with
-// --forces).
+// --forces). A program that changes tools becomes one operation per stretch of one tool.
 struct PreparedOperation {
   std::string path;
   ReadToolpath read;
@@ -29,6 +29,8 @@ struct PreparedOperation {
   SamplingOptions sampling;
   std::size_t cl_points = 0;
   std::optional<ForceModel> forces;
+  int tool = 0;  // the tool number whose moves these are (0: the program loads no tool)
+  std::size_t operation = 0;  // the job's operation (program) this comes from, from 0
 };
 
 struct PreparedJob {

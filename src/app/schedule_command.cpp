@@ -29,9 +29,8 @@ namespace {
 constexpr double kSafety = 1e-5;
 
 // One operation's result: the program text and what changed.
+// One operation's schedule.
 struct ScheduledProgram {
-  std::filesystem::path target;
-  std::string text;
   Schedule schedule;
   int first_exceeded_line = 0;
 };
@@ -84,9 +83,30 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
   }
   PreparedJob job = prepare_job(sim, false);
   // Where each scheduled program goes: --out itself for one program, else --out/<its name>; no
-  // two programs to one file, and never over an input.
-  std::vector<std::filesystem::path> targets;
+  // two programs to one file, and never over an input. A program that changes tools runs as
+  // several operations (one per tool) and is written once, with the feeds of all of them.
+  struct ScheduledFile {
+    std::string path;
+    ToolpathFormat format = ToolpathFormat::kGcode;
+    std::filesystem::path target;
+    LineFeeds lines;
+  };
+  std::vector<ScheduledFile> files;
+  std::vector<std::size_t> file_of;  // per operation
   for (const PreparedOperation& op : job.operations) {
+    const auto known = std::find_if(files.begin(), files.end(),
+                                    [&](const ScheduledFile& f) { return f.path == op.path; });
+    if (known != files.end()) {
+      file_of.push_back(static_cast<std::size_t>(known - files.begin()));
+      continue;
+    }
+    file_of.push_back(files.size());
+    files.push_back({op.path, op.read.format, {}, {}});
+  }
+  for (ScheduledFile& file : files) {
+    const PreparedOperation& op = *std::find_if(
+        job.operations.begin(), job.operations.end(),
+        [&](const PreparedOperation& o) { return o.path == file.path; });
     const Toolpath& path = op.read.toolpath;
     if (std::any_of(path.moves.begin(), path.moves.end(),
                     [](const Move& m) { return m.source != 0; })) {
@@ -94,7 +114,7 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
                        "the program includes other files; scheduling rewrites one file only");
     }
     const std::filesystem::path target =
-        job.operations.size() == 1
+        files.size() == 1
             ? std::filesystem::path(options.out)
             : std::filesystem::path(options.out) / std::filesystem::path(op.path).filename();
     const auto same = [&](const std::filesystem::path& other) {
@@ -102,7 +122,8 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
       return std::filesystem::weakly_canonical(target, ec) ==
              std::filesystem::weakly_canonical(other, ec);
     };
-    if (std::any_of(targets.begin(), targets.end(), same)) {
+    if (std::any_of(files.begin(), files.end(),
+                    [&](const ScheduledFile& f) { return !f.target.empty() && same(f.target); })) {
       throw InputError(SourceLocation{"--out"},
                        fmt::format("two operations would write {}: give their programs different "
                                    "names",
@@ -115,7 +136,7 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
             fmt::format("{} is an input program: write the schedule elsewhere", target.string()));
       }
     }
-    targets.push_back(target);
+    file.target = target;
   }
   const tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
                                         static_cast<std::size_t>(job.threads));
@@ -166,7 +187,7 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
     }
     ScheduledProgram program;
     program.schedule = schedule_feeds(feeds, bounds);
-    LineFeeds lines;
+    LineFeeds& lines = files[file_of[o]].lines;
     for (std::size_t f = 0; f < index.size(); ++f) {
       const Move& m = path.moves[index[f]];
       const ScheduledMove& s = program.schedule.moves[f];
@@ -176,21 +197,21 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
         program.first_exceeded_line = m.line;
       }
     }
-    const std::string text = read_text_file(op.path, "toolpath");
-    try {
-      program.text = rewrite_feeds(text, op.read.format, lines, op.path);
-    } catch (const std::invalid_argument& e) {
-      throw InputError(SourceLocation{op.path}, e.what());
-    }
-    program.target = job.operations.size() == 1 ? std::filesystem::path(options.out)
-                                                : std::filesystem::path(options.out) /
-                                                      std::filesystem::path(op.path).filename();
     programs.push_back(std::move(program));
+  }
+  std::vector<std::string> texts;
+  for (const ScheduledFile& file : files) {
+    const std::string text = read_text_file(file.path, "toolpath");
+    try {
+      texts.push_back(rewrite_feeds(text, file.format, file.lines, file.path));
+    } catch (const std::invalid_argument& e) {
+      throw InputError(SourceLocation{file.path}, e.what());
+    }
   }
 
   // Everything is computed: write the programs, each whole.
-  if (programs.size() > 1) std::filesystem::create_directories(options.out);
-  for (const ScheduledProgram& p : programs) write_file_atomically(p.target, p.text);
+  if (files.size() > 1) std::filesystem::create_directories(options.out);
+  for (std::size_t f = 0; f < files.size(); ++f) write_file_atomically(files[f].target, texts[f]);
 
   const char* unit = limit.quantity == FeedLimit::Quantity::kForce    ? "N"
                      : limit.quantity == FeedLimit::Quantity::kTorque ? "N·m"
@@ -204,18 +225,22 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
     const double change = s.programmed_minutes > 0.0
                               ? 100.0 * (s.scheduled_minutes / s.programmed_minutes - 1.0)
                               : 0.0;
+    const PreparedOperation& op = job.operations[o];
     fmt::print(out,
-               "  {}: {} feed moves, {} slowed, {} sped up; feed time {:.2f} min -> {:.2f} min "
+               "  {}{}: {} feed moves, {} slowed, {} sped up; feed time {:.2f} min -> {:.2f} min "
                "({:+.1f}%)\n",
-               job.operations[o].path, s.moves.size(), s.limited, s.raised, s.programmed_minutes,
-               s.scheduled_minutes, change);
+               op.path, op.tool != 0 ? fmt::format(" (tool {})", op.tool) : std::string(),
+               s.moves.size(), s.limited, s.raised, s.programmed_minutes, s.scheduled_minutes,
+               change);
     if (s.exceeded > 0) {
       fmt::print(out,
                  "  warning: {} moves exceed the limit even at the lowest feed (first: line {}); "
                  "lower --min-feed/--min-scale or the depth of cut\n",
                  s.exceeded, p.first_exceeded_line);
     }
-    fmt::print(out, "  scheduled program: {}\n", p.target.string());
+  }
+  for (const ScheduledFile& file : files) {
+    fmt::print(out, "  scheduled program: {}\n", file.target.string());
   }
   return 0;
 }

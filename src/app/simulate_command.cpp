@@ -158,17 +158,17 @@ std::string jsonl_line(std::size_t k, const ClPoint& cl, const EngagementMap& ma
 
 constexpr const char* kCsvHeader =
     "cl,move,line,x,y,z,i,j,k,feed_x,feed_y,feed_z,engaged,phi_entry_deg,phi_exit_deg,"
-    "axial_depth_mm,area_mm2,u,path_mm,motion,operation\n";
+    "axial_depth_mm,area_mm2,u,path_mm,motion,operation,tool\n";
 
 std::string csv_row(std::size_t k, const ClPoint& cl, const ToolState& state,
-                    const EngagementMap& map, std::size_t operation) {
+                    const EngagementMap& map, std::size_t operation, int tool) {
   return fmt::format(
       "{},{},{},{:.4f},{:.4f},{:.4f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{},"
-      "{:.3f},{:.3f},{:.4f},{:.4f},{:.6f},{:.4f},{},{}\n",
+      "{:.3f},{:.3f},{:.4f},{:.4f},{:.6f},{:.4f},{},{},{}\n",
       k, cl.move + 1, cl.line, cl.position.x(), cl.position.y(), cl.position.z(), cl.axis.x(),
       cl.axis.y(), cl.axis.z(), cl.feed_direction.x(), cl.feed_direction.y(), cl.feed_direction.z(),
       map.engaged ? 1 : 0, degrees(map.phi_entry), degrees(map.phi_exit), map.axial_depth, map.area,
-      cl.u, cl.path_length, to_string(state.motion), operation);
+      cl.u, cl.path_length, to_string(state.motion), operation, tool);
 }
 
 }  // namespace
@@ -296,7 +296,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
         const std::size_t k = cls_before + index;
         ClPoint global = cl;
         global.move += static_cast<int>(moves_before);
-        csv_block += csv_row(k, global, state, map, o + 1);
+        csv_block += csv_row(k, global, state, map, op.operation + 1, op.tool);
         jsonl_block += jsonl_line(k, global, map);
         along.push_back({static_cast<int>(k), map.engaged, degrees(map.phi_entry),
                          degrees(map.phi_exit), map.axial_depth});
@@ -319,7 +319,8 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
               map, state,
               feed_per_tooth(feed_rate(move, *job.forces), op.forces->flutes(), spindle), spindle,
               curve);
-          forces_block += forces_csv_row(k, global, o + 1, feed_rate(move, *job.forces), f);
+          forces_block +=
+              forces_csv_row(k, global, op.operation + 1, op.tool, feed_rate(move, *job.forces), f);
           extremes.add(f, k, file, cl.line);
           if (curve) {
             const ForcePlotInfo info{fmt::format("{} · fz {:.4f} mm · {:.0f} rev/min", place,
@@ -385,6 +386,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   nlohmann::json ops = nlohmann::json::array();
   for (std::size_t o = 0; o < operations.size(); ++o) {
     ops.push_back({{"tool", operations[o].cutter.name()},
+                   {"tool_number", operations[o].tool},
                    {"path", operations[o].path},
                    {"moves", per_operation[o].moves},
                    {"cl_points", operations[o].cl_points},

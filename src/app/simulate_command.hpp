@@ -8,9 +8,12 @@
 #include <CLI/CLI.hpp>
 
 #include <cstddef>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
+
+#include "tool_table.hpp"
 
 namespace cwe::app {
 
@@ -30,6 +33,11 @@ struct SimulateCommandOptions {
   std::string tool;
   std::string path;
   std::vector<Operation> operations;  // from a job file; else the one --tool/--path
+  // Tool table (docs/simulate.md, src/app/tool_table.hpp): --tools FILE, or the job's "tools"
+  // (a file or the table itself), read by read_job or prepare_job.
+  std::string tools;
+  std::optional<ToolTable> tool_table;
+  bool tool_for_all = false;  // one --tool cuts every move of a program that changes tools
   std::string out;
   double resolution = 0.0;  // 0: from the job, else 0.1 mm
   double tolerance = 0.0;   // 0: from the job, else resolution / 10

@@ -688,6 +688,7 @@ class Reader {
     }
     tool_ =
         whole_number(record.fields[index], 0, static_cast<int>(kLargestInputValue), "tool number");
+    path_.tool_changes.push_back({tool_, at(record.where)});
     if (pending_cutter_) {
       define_tool(tool_, pending_cutter_->apt, pending_cutter_->where);
       pending_cutter_.reset();

@@ -682,6 +682,7 @@ bool Interpreter::execute(const Block& block) {
   if (block.m[kMGroupToolChange] == 6) {
     // M6 loads the selected tool and stops the spindle (LinuxCNC's convert_tool_change).
     loaded_tool_ = selected_tool_;
+    result_.tool_changes.push_back({loaded_tool_, SourceLocation{source_, line_, 1}});
     spindle_ = SpindleDirection::kStopped;
   }
   switch (block.m[kMGroupSpindle]) {

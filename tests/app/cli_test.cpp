@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -596,6 +597,125 @@ TEST(CliSchedule, StepDownLevelsOfEqualDepthGetEqualFeeds) {
   ASSERT_EQ(feeds.size(), 2u);
   EXPECT_EQ(feeds[0], feeds[1]);
   EXPECT_NE(feeds[0], "600");  // the limit binds: the feed was rescheduled
+}
+
+// A program that changes tools, G-code as posts write it: a flat end mill slots, a ball end
+// mill follows in the slot's floor.
+constexpr const char* kTwoToolHeader = "G21 G90 G17\n";
+constexpr const char* kFlatPart = "T1 M6\nS10000 M3\nG0 X-10 Y10 Z1\nG1 Z-3 F300\nG1 X60 F600\nG0 Z5\n";
+constexpr const char* kBallPart = "T2 M6\nS12000 M3\nG0 X-10 Y13 Z1\nG1 Z-4 F300\nG1 X60 F600\nG0 Z5\n";
+
+// Every move is cut by the tool loaded at it, from a tool table: the same removal and the same
+// engagement as the two programs run as two operations, and a tool column in the outputs.
+TEST(CliTools, AProgramThatChangesToolsIsCutByEachTool) {
+  const auto dir = scratch_dir("tools");
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "both.ngc") << kTwoToolHeader << kFlatPart << kBallPart << "M2\n";
+  std::ofstream(dir / "flat.ngc") << kTwoToolHeader << kFlatPart << "M2\n";
+  std::ofstream(dir / "ball.ngc") << kTwoToolHeader << kBallPart << "M2\n";
+  std::ofstream(dir / "table.json")
+      << R"({"tools": {"1": "flat:10,20", "2": {"spec": "ball:6,20", "flutes": 2}}})";
+  const std::vector<std::string> common = {"--stock", "box:0,0,-10,50,20,0", "--resolution",
+                                           "0.25", "--maps", "none", "--quiet"};
+  auto with = [&](std::vector<std::string> args) {
+    args.insert(args.end(), common.begin(), common.end());
+    return args;
+  };
+  const Result both =
+      run_cwe(with({"simulate", "--path", (dir / "both.ngc").string(), "--tools",
+                    (dir / "table.json").string(), "--out", (dir / "both").string()}));
+  ASSERT_EQ(both.status, 0) << both.err;
+  std::ofstream(dir / "split.json") << R"({"operations": [{"tool": "flat:10,20", "path": "flat.ngc"},
+                                                          {"tool": "ball:6,20", "path": "ball.ngc"}]})";
+  const Result split = run_cwe(with({"simulate", (dir / "split.json").string(), "--out",
+                                     (dir / "split").string()}));
+  ASSERT_EQ(split.status, 0) << split.err;
+  const auto summary = [](const std::filesystem::path& file) {
+    std::ifstream in(file);
+    return nlohmann::json::parse(in);
+  };
+  const double removed = summary(dir / "both" / "summary.json")["removed_volume_mm3"];
+  const double reference = summary(dir / "split" / "summary.json")["removed_volume_mm3"];
+  EXPECT_NEAR(removed, reference, 1e-4 * reference);
+  EXPECT_GT(removed, 1000.0);
+  // The same cutter locations, each with its tool, engaged alike.
+  const auto a = read_csv(dir / "both" / "engagement.csv");
+  const auto b = read_csv(dir / "split" / "engagement.csv");
+  ASSERT_EQ(a.size(), b.size());
+  ASSERT_EQ(a[0].back(), "tool");
+  std::set<std::string> tools;
+  for (std::size_t i = 1; i < a.size(); ++i) {
+    tools.insert(a[i].back());
+    EXPECT_EQ(a[i].back(), std::stoi(a[i][2]) <= 9 ? "1" : "2") << "line " << a[i][2];
+    for (const std::size_t column : {13u, 14u, 15u, 16u}) EXPECT_EQ(a[i][column], b[i][column]);
+  }
+  EXPECT_EQ(tools, (std::set<std::string>{"1", "2"}));
+  EXPECT_EQ(summary(dir / "both" / "summary.json")["operations"][1]["tool_number"], 2);
+}
+
+// Never a silent reuse: a tool the table lacks, or one --tool for a program that changes tools,
+// is an error at the tool change; --tool-for-all asks for the reuse.
+TEST(CliTools, MissingToolsAreErrorsAtTheToolChange) {
+  const auto dir = scratch_dir("tools_errors");
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "both.ngc") << kTwoToolHeader << kFlatPart << kBallPart << "M2\n";
+  std::ofstream(dir / "one.json") << R"({"1": "flat:10,20"})";
+  const std::vector<std::string> common = {"simulate", "--path", (dir / "both.ngc").string(),
+                                           "--stock", "box:0,0,-10,50,20,0", "--resolution", "0.5",
+                                           "--out", (dir / "out").string(), "--maps", "none",
+                                           "--quiet"};
+  auto with = [&](std::vector<std::string> args) {
+    args.insert(args.begin(), common.begin(), common.end());
+    return args;
+  };
+  // The ball's T2 M6 is line 8.
+  const std::string at = (dir / "both.ngc").string() + ":8:1: error: ";
+  const Result missing = run_cwe(with({"--tools", (dir / "one.json").string()}));
+  EXPECT_EQ(missing.status, 2);
+  EXPECT_NE(missing.err.find(at + "tool 2 is not in the tool table"), std::string::npos)
+      << missing.err;
+  const Result single = run_cwe(with({"--tool", "flat:10,20"}));
+  EXPECT_EQ(single.status, 2);
+  EXPECT_NE(single.err.find(at), std::string::npos) << single.err;
+  EXPECT_NE(single.err.find("--tool-for-all"), std::string::npos) << single.err;
+  const Result none = run_cwe(with({}));
+  EXPECT_EQ(none.status, 2);
+  EXPECT_NE(none.err.find(at), std::string::npos) << none.err;
+  EXPECT_EQ(run_cwe(with({"--tool", "flat:10,20", "--tool-for-all"})).status, 0);
+  // A table that is not one.
+  for (const char* bad : {R"({"one": "flat:10"})", R"({"1": "flat:-3"})", R"({"1": 7})",
+                          R"({"1": {"spec": "ball:6", "flutes": 0}})", R"([1, 2])", "{1:"}) {
+    std::ofstream(dir / "bad.json") << bad;
+    const Result r = run_cwe(with({"--tools", (dir / "bad.json").string()}));
+    EXPECT_EQ(r.status, 2) << bad;
+    EXPECT_NE(r.err.find("bad.json"), std::string::npos) << bad << ": " << r.err;
+  }
+}
+
+// The schedule of a program that changes tools follows each tool and writes the program once.
+TEST(CliTools, ScheduleFollowsEachTool) {
+  const auto dir = scratch_dir("tools_schedule");
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "both.ngc") << kTwoToolHeader << kFlatPart << kBallPart << "M2\n";
+  std::ofstream(dir / "table.json") << R"({"1": "flat:10,20", "2": "ball:6,20"})";
+  const Result s = run_cwe({"schedule", "--path", (dir / "both.ngc").string(), "--tools",
+                            (dir / "table.json").string(), "--stock", "box:0,0,-10,50,20,0",
+                            "--resolution", "0.25", "--forces", "al7075-t6-carbide", "--quiet",
+                            "--limit", "force=220N", "--max-change", "4", "--out",
+                            (dir / "scheduled.ngc").string()});
+  ASSERT_EQ(s.status, 0) << s.err;
+  EXPECT_NE(s.out.find("(tool 1)"), std::string::npos) << s.out;
+  EXPECT_NE(s.out.find("(tool 2)"), std::string::npos) << s.out;
+  std::ifstream in(dir / "scheduled.ngc");
+  std::vector<std::string> slots;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("G1 X60 F", 0) == 0) slots.push_back(line);
+  }
+  // Both slots rescheduled, each for its own tool, cutter and spindle speed.
+  ASSERT_EQ(slots.size(), 2u);
+  EXPECT_NE(slots[0], "G1 X60 F600");
+  EXPECT_NE(slots[1], "G1 X60 F600");
+  EXPECT_NE(slots[0], slots[1]);
 }
 
 }  // namespace

@@ -22,12 +22,19 @@ struct Diagnostic {
   std::string message;
 };
 
+// A tool loaded by the program (G-code M6 after T, CLDATA LOADTL/), where the program loads it.
+struct ToolChange {
+  int tool = 0;
+  SourceLocation location;
+};
+
 struct Toolpath {
   std::vector<std::string> sources;  // file names; Move::source indexes this
   std::vector<Move> moves;
   // Tools defined in the program (CLDATA CUTTER/ records), by tool number (LOADTL; 0 when the
   // program never numbers its tools).
   std::map<int, AptCutter> tool_definitions;
+  std::vector<ToolChange> tool_changes;  // in program order
   std::vector<Diagnostic> warnings;
   ProgramUnits units = ProgramUnits::kMillimetres;  // the units the program was written in
 };

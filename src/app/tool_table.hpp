@@ -1,0 +1,46 @@
+#pragma once
+// Tool tables: which cutter cuts the moves of each tool number a program loads (G-code T… M6,
+// CLDATA LOADTL/). The cwe table is JSON, a file given with --tools or the job key "tools":
+//
+//   {"tools": {"1": "flat:10,30", "2": {"spec": "ball:6,25", "flutes": 2, "helix": 30},
+//              "3": "tools/bull.json"}}
+//
+// (the outer {"tools": …} may be left out in a file). A value is a tool specification (or a JSON
+// tool file, relative to the table's folder), or an object with "spec" and optional "flutes"
+// and "helix" (degrees) that override the specification's.
+
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "cwe/core/error.hpp"
+#include "cwe/tool/cutter.hpp"
+
+namespace cwe::app {
+
+struct ToolEntry {
+  std::string spec;  // a tool specification or a JSON tool file (absolute or as written)
+  std::optional<int> flutes;
+  std::optional<double> helix_deg;
+  SourceLocation where;  // the entry, for errors
+};
+
+struct ToolTable {
+  std::string source;  // where the table came from
+  std::map<int, ToolEntry> tools;
+};
+
+// A table from its JSON value (an object of entries, or {"tools": {…}}); relative tool files are
+// taken from `folder`. Throws InputError naming `source` and the entry.
+ToolTable tool_table_from_json(const nlohmann::json& value, const std::string& source,
+                               const std::filesystem::path& folder);
+// A table read from a JSON file.
+ToolTable read_tool_table(const std::string& path);
+
+// The cutter of one entry (the specification with the entry's flutes and helix).
+Cutter cutter_of(const ToolEntry& entry);
+
+}  // namespace cwe::app
