@@ -287,7 +287,11 @@ std::vector<ToolRun> split_by_tool(const ReadToolpath& read, const Operation& op
     if (table) {
       const auto entry = options.tool_table->tools.find(t);
       if (entry != options.tool_table->tools.end()) {
-        cutters.emplace(t, cutter_of(entry->second));
+        try {
+          cutters.emplace(t, cutter_of(entry->second));
+        } catch (const InputError& e) {
+          throw InputError(loading(path, t, op.path), fmt::format("tool {}: {}", t, e.what()));
+        }
         continue;
       }
     }

@@ -1,6 +1,7 @@
 #include "tool_table.hpp"
 
 #include <cmath>
+#include <optional>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -88,18 +89,164 @@ ToolTable tool_table_from_json(const nlohmann::json& value, const std::string& s
   return table;
 }
 
-ToolTable read_tool_table(const std::string& path) {
-  const std::string text = read_text_file(path, "tool table");
-  nlohmann::json value;
+namespace {
+
+nlohmann::json read_json(const std::string& path, const char* what) {
+  const std::string text = read_text_file(path, what);
   try {
-    value = nlohmann::json::parse(text);
+    return nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {
     throw InputError(SourceLocation{path}, fmt::format("not valid JSON: {}", e.what()));
   }
-  return tool_table_from_json(value, path, std::filesystem::path(path).parent_path());
+}
+
+// A FreeCAD quantity, "6.0000 mm", "0.2500 in", "119.0000 °" or a bare number, in mm or degrees.
+double quantity(const nlohmann::json& value, const SourceLocation& where, bool angle) {
+  if (value.is_number()) return value.get<double>();
+  if (!value.is_string()) throw InputError(where, "expected a quantity such as \"6.0000 mm\"");
+  const std::string text = value.get<std::string>();
+  std::size_t used = 0;
+  double number = 0.0;
+  try {
+    number = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  std::string unit = text.substr(used);
+  unit.erase(0, unit.find_first_not_of(' '));
+  unit.erase(unit.find_last_not_of(' ') + 1);
+  double scale = 0.0;
+  if (angle && (unit == "\u00b0" || unit == "deg" || unit.empty())) scale = 1.0;
+  if (!angle && (unit == "mm" || unit.empty())) scale = 1.0;
+  if (!angle && (unit == "in" || unit == "\"")) scale = 25.4;
+  if (!angle && unit == "cm") scale = 10.0;
+  if (!angle && unit == "m") scale = 1000.0;
+  if (used == 0 || scale == 0.0 || !std::isfinite(number) || number < 0.0) {
+    throw InputError(where, fmt::format("\"{}\" is not a {}", text,
+                                        angle ? "angle in degrees (\"60.0000 °\")"
+                                              : "length (\"6.0000 mm\", \"0.2500 in\")"));
+  }
+  return number * scale;
+}
+
+// The cwe entry of a FreeCAD tool bit (.fctb): the shape's parameters as a tool specification.
+ToolEntry freecad_bit(const std::string& path) {
+  const nlohmann::json bit = read_json(path, "FreeCAD tool bit");
+  const SourceLocation where{path};
+  if (!bit.is_object() || !bit.contains("shape") || !bit["shape"].is_string() ||
+      !bit.contains("parameter") || !bit["parameter"].is_object()) {
+    throw InputError(where, "expected a FreeCAD tool bit: {\"shape\": …, \"parameter\": {…}}");
+  }
+  std::string shape = std::filesystem::path(bit["shape"].get<std::string>()).stem().string();
+  const nlohmann::json& p = bit["parameter"];
+  const auto length = [&](const char* key) -> std::optional<double> {
+    if (!p.contains(key)) return std::nullopt;
+    return quantity(p[key], SourceLocation{fmt::format("{}: \"{}\"", path, key)}, false);
+  };
+  const auto angle = [&](const char* key) -> std::optional<double> {
+    if (!p.contains(key)) return std::nullopt;
+    return quantity(p[key], SourceLocation{fmt::format("{}: \"{}\"", path, key)}, true);
+  };
+  const std::optional<double> diameter = length("Diameter");
+  if (!diameter || !(*diameter > 0.0)) {
+    throw InputError(where, fmt::format("the {} bit has no positive \"Diameter\"", shape));
+  }
+  // The cutting length: the cutting edge's height, else (drills) the whole length.
+  std::optional<double> height = length("CuttingEdgeHeight");
+  const auto suffix = [&] { return height ? fmt::format(",{:.6g}", *height) : std::string(); };
+  ToolEntry entry;
+  entry.where = where;
+  if (shape == "endmill") {
+    entry.spec = fmt::format("flat:{:.6g}{}", *diameter, suffix());
+  } else if (shape == "ballend") {
+    entry.spec = fmt::format("ball:{:.6g}{}", *diameter, suffix());
+  } else if (shape == "bullnose" || shape == "torus") {
+    std::optional<double> corner = length("CornerRadius");
+    if (!corner) corner = length("TorusRadius");
+    if (!corner) {
+      const std::optional<double> flat = length("FlatRadius");
+      if (flat) corner = 0.5 * *diameter - *flat;
+    }
+    if (!corner) throw InputError(where, "the bull nose bit has no \"FlatRadius\"");
+    entry.spec = fmt::format("bull:{:.6g},{:.6g}{}", *diameter, *corner, suffix());
+  } else if (shape == "drill") {
+    const std::optional<double> tip = angle("TipAngle");
+    if (!tip) throw InputError(where, "the drill bit has no \"TipAngle\"");
+    if (!height) height = length("Length");
+    entry.spec = fmt::format("chamfer:{:.6g},{:.6g}{}", *diameter, *tip, suffix());
+  } else {
+    throw InputError(where,
+                     fmt::format("a FreeCAD \"{}\" bit: cwe reads endmill, ballend, bullnose, "
+                                 "torus and drill bits; give this tool as a specification or a "
+                                 "profile tool file (cwe tool --help) in a cwe tool table",
+                                 shape));
+  }
+  // Flutes, where FreeCAD 1.0 keeps them.
+  for (const char* group : {"parameter", "attribute"}) {
+    if (bit.contains(group) && bit[group].is_object() && bit[group].contains("Flutes")) {
+      const nlohmann::json& f = bit[group]["Flutes"];
+      const double flutes = f.is_number() ? f.get<double>() : quantity(f, where, true);
+      if (flutes >= 1.0 && flutes <= 64.0 && flutes == std::floor(flutes)) {
+        entry.flutes = static_cast<int>(flutes);
+      }
+    }
+  }
+  return entry;
+}
+
+// A FreeCAD tool library (.fctl): {"tools": [{"nr": 1, "path": "5mm_Endmill.fctb"}, …]}. Bits
+// are found beside the library or in the Bit folder next to it (FreeCAD's Tools/ layout).
+ToolTable freecad_library(const std::string& path) {
+  const nlohmann::json library = read_json(path, "FreeCAD tool library");
+  if (!library.is_object() || !library.contains("tools") || !library["tools"].is_array()) {
+    throw InputError(SourceLocation{path},
+                     "expected a FreeCAD tool library: {\"tools\": [{\"nr\": 1, \"path\": …}]}");
+  }
+  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  ToolTable table;
+  table.source = path;
+  for (std::size_t k = 0; k < library["tools"].size(); ++k) {
+    const nlohmann::json& tool = library["tools"][k];
+    const SourceLocation where{fmt::format("{}: \"tools\"[{}]", path, k)};
+    if (!tool.is_object() || !tool.contains("nr") || !tool["nr"].is_number_integer() ||
+        tool["nr"].get<long long>() < 0 || !tool.contains("path") || !tool["path"].is_string()) {
+      throw InputError(where, "expected {\"nr\": a tool number, \"path\": a .fctb file}");
+    }
+    const std::filesystem::path bit(tool["path"].get<std::string>());
+    std::filesystem::path found = bit.is_absolute() ? bit : folder / bit;
+    if (!std::filesystem::exists(found) && !bit.is_absolute()) {
+      found = folder / ".." / "Bit" / bit;
+    }
+    if (!std::filesystem::exists(found)) {
+      throw InputError(where, fmt::format("tool bit {} not found beside the library or in ../Bit",
+                                          bit.string()));
+    }
+    // A bit cwe cannot read or model (FreeCAD's default library has a probe and a slitting saw)
+    // is an error only for a program that loads it.
+    ToolEntry entry;
+    try {
+      entry = freecad_bit(found.lexically_normal().string());
+      (void)cutter_of(entry);
+    } catch (const InputError& e) {
+      entry.where = SourceLocation{found.lexically_normal().string()};
+      entry.refused = e.message();
+    }
+    table.tools.emplace(tool["nr"].get<int>(), std::move(entry));
+  }
+  if (table.tools.empty()) throw InputError(SourceLocation{path}, "the library holds no tools");
+  return table;
+}
+
+}  // namespace
+
+ToolTable read_tool_table(const std::string& path) {
+  if (path.ends_with(".fctl")) return freecad_library(path);
+  return tool_table_from_json(read_json(path, "tool table"), path,
+                              std::filesystem::path(path).parent_path());
 }
 
 Cutter cutter_of(const ToolEntry& entry) {
+  if (!entry.refused.empty()) throw InputError(entry.where, entry.refused);
   Cutter base = cutter_from_spec(entry.spec, entry.where);
   if (!entry.flutes && !entry.helix_deg) return base;
   CutterOptions options;

@@ -26,6 +26,9 @@ struct ToolEntry {
   std::optional<int> flutes;
   std::optional<double> helix_deg;
   SourceLocation where;  // the entry, for errors
+  // Non-empty: why cwe cannot cut with this entry (a FreeCAD probe or slitting saw in a library);
+  // an error only for a program that loads it.
+  std::string refused;
 };
 
 struct ToolTable {
@@ -37,10 +40,13 @@ struct ToolTable {
 // taken from `folder`. Throws InputError naming `source` and the entry.
 ToolTable tool_table_from_json(const nlohmann::json& value, const std::string& source,
                                const std::filesystem::path& folder);
-// A table read from a JSON file.
+// A table read from a file: a FreeCAD tool library (.fctl, its .fctb bits mapped to cwe's
+// cutters: endmill → flat, ballend → ball, bullnose/torus → bull, drill → chamfer at its tip
+// angle; other shapes are errors), else a cwe JSON table.
 ToolTable read_tool_table(const std::string& path);
 
-// The cutter of one entry (the specification with the entry's flutes and helix).
+// The cutter of one entry (the specification with the entry's flutes and helix). Throws
+// InputError for a refused entry.
 Cutter cutter_of(const ToolEntry& entry);
 
 }  // namespace cwe::app

@@ -718,5 +718,40 @@ TEST(CliTools, ScheduleFollowsEachTool) {
   EXPECT_NE(slots[0], slots[1]);
 }
 
+// FreeCAD 0.20's own tool library and bits (tests/app/data/freecad, as FreeCAD ships them): the
+// tool numbers a program loads map to cwe's cutters; a bit cwe cannot model (the library's
+// slitting saw) is an error only for a program that loads it, at that line.
+TEST(CliTools, FreeCadLibraryAndBits) {
+  const auto dir = scratch_dir("tools_freecad");
+  std::filesystem::create_directories(dir);
+  const std::string library =
+      (test::source_dir() / "tests/app/data/freecad/Library/Default.fctl").string();
+  std::ofstream(dir / "prog.ngc") << kTwoToolHeader << kFlatPart
+                                  << "T3 M6\nS12000 M3\nG0 X-10 Y13 Z1\nG1 Z-4 F300\n"
+                                     "G1 X60 F600\nG0 Z5\nT4 M6\nG0 X-10 Y8 Z1\nG1 Z-2 F300\n"
+                                     "G1 X60 F600\nG0 Z5\nM2\n";
+  const Result r = run_cwe({"simulate", "--path", (dir / "prog.ngc").string(), "--tools", library,
+                            "--stock", "box:0,0,-10,50,20,0", "--resolution", "0.5", "--out",
+                            (dir / "out").string(), "--maps", "none", "--quiet"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::ifstream in(dir / "out" / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  ASSERT_EQ(summary["operations"].size(), 3u);
+  // 5mm_Endmill.fctb, 6mm_Ball_End.fctb and 6mm_Bullnose.fctb (FlatRadius 1.5: corner 1.5).
+  EXPECT_EQ(summary["operations"][0]["tool"], "flat:5,30");
+  EXPECT_EQ(summary["operations"][1]["tool"], "ball:6,40");
+  EXPECT_EQ(summary["operations"][2]["tool"], "bull:6,1.5,40");
+  EXPECT_EQ(summary["operations"][2]["tool_number"], 4);
+  // T7, the slitting saw.
+  std::ofstream(dir / "saw.ngc") << kTwoToolHeader << kFlatPart << "T7 M6\nG0 X-10 Y8 Z1\nM2\n";
+  const Result saw = run_cwe({"simulate", "--path", (dir / "saw.ngc").string(), "--tools",
+                              library, "--stock", "box:0,0,-10,50,20,0", "--out",
+                              (dir / "out2").string(), "--quiet"});
+  EXPECT_EQ(saw.status, 2);
+  EXPECT_NE(saw.err.find((dir / "saw.ngc").string() + ":8:1: error: tool 7"), std::string::npos)
+      << saw.err;
+  EXPECT_NE(saw.err.find("slittingsaw"), std::string::npos) << saw.err;
+}
+
 }  // namespace
 }  // namespace cwe::app
