@@ -43,11 +43,13 @@ void read_job(SimulateCommandOptions& options) {
       "stock",       "tool",       "path",   "operations",  "out",  "resolution",
       "tolerance",   "threads",    "ply",    "cl_step",     "maps", "stock_only",
       "mesh_stride", "comment",    "forces", "spindle",     "feed", "flutes",
-      "helix",       "force_step", "runout", "force_curves", "tools", "tool_for_all"};
+      "helix",       "force_step", "runout", "force_curves", "tools", "tool_for_all",
+      "tool_units"};
   for (const auto& [key, value] : job.items()) {
     if (std::find(std::begin(kKeys), std::end(kKeys), key) == std::end(kKeys)) {
       throw InputError(where(key),
-                       "unknown key; expected stock, tool, tools, tool_for_all, path, operations, "
+                       "unknown key; expected stock, tool, tools, tool_units, tool_for_all, path, "
+                       "operations, "
                        "out, resolution, tolerance, threads, mesh_stride, ply, cl_step, maps, "
                        "stock_only, forces, spindle, feed, flutes, helix, force_step, runout, "
                        "force_curves or comment");
@@ -89,6 +91,7 @@ void read_job(SimulateCommandOptions& options) {
       options.tool_table = tool_table_from_json(job["tools"], where("tools").source, folder);
     }
   }
+  text_of("tool_units", options.tool_units, false);
   if (job.contains("tool_for_all") && !options.tool_for_all) {
     if (!job["tool_for_all"].is_boolean()) {
       throw InputError(where("tool_for_all"), "expected true or false");
@@ -186,6 +189,8 @@ void add_job_options(CLI::App* cmd, SimulateCommandOptions& options) {
   cmd->add_option("--tools", options.tools,
                   "Tool table (JSON: {\"1\": \"flat:10,30\", …}): the cutter of each tool number "
                   "the program loads (T… M6, LOADTL)");
+  cmd->add_option("--tool-units", options.tool_units,
+                  "Units of a LinuxCNC tool table's lengths: mm or in (default mm)");
   cmd->add_flag("--tool-for-all", options.tool_for_all,
                 "Cut every move of a program that changes tools with the one --tool");
   cmd->add_option("--path", options.path, "Toolpath file (G-code or APT CLDATA)");
@@ -357,7 +362,13 @@ PreparedJob prepare_job(SimulateCommandOptions& options, bool sample) {
                                 options.helix, options.force_step, options.runout);
   }
 
-  if (!options.tools.empty()) options.tool_table = read_tool_table(options.tools);
+  if (!options.tool_units.empty() && options.tool_units != "mm" && options.tool_units != "in") {
+    throw InputError(SourceLocation{"--tool-units"},
+                     fmt::format("'{}': expected mm or in", options.tool_units));
+  }
+  if (!options.tools.empty()) {
+    options.tool_table = read_tool_table(options.tools, options.tool_units == "in");
+  }
 
   // Everything the job needs is read and checked before the long part starts.
   for (std::size_t o = 0; o < options.operations.size(); ++o) {

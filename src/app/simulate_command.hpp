@@ -38,6 +38,7 @@ struct SimulateCommandOptions {
   std::string tools;
   std::optional<ToolTable> tool_table;
   bool tool_for_all = false;  // one --tool cuts every move of a program that changes tools
+  std::string tool_units;     // "mm" or "in": lengths of a LinuxCNC tool table (default mm)
   std::string out;
   double resolution = 0.0;  // 0: from the job, else 0.1 mm
   double tolerance = 0.0;   // 0: from the job, else resolution / 10

@@ -1,6 +1,8 @@
 #include "tool_table.hpp"
 
+#include <cctype>
 #include <cmath>
+#include <string_view>
 #include <optional>
 
 #include <fmt/format.h>
@@ -237,10 +239,90 @@ ToolTable freecad_library(const std::string& path) {
   return table;
 }
 
+// A LinuxCNC tool table (tool.tbl): one tool a line, "T1 P1 Z+25.0 D6.0 ;comment", lengths in
+// the machine's units. The comment may name the cutter, "cwe:ball:6,25" (a specification in mm);
+// without it a tool is a flat end mill of diameter D.
+ToolTable linuxcnc_table(const std::string& path, bool inches) {
+  const std::string text = read_text_file(path, "LinuxCNC tool table");
+  ToolTable table;
+  table.source = path;
+  std::size_t start = 0;
+  for (int line = 1; start < text.size(); ++line) {
+    const std::size_t end = std::min(text.find('\n', start), text.size());
+    std::string row = text.substr(start, end - start);
+    start = end + 1;
+    if (!row.empty() && row.back() == '\r') row.pop_back();
+    std::string comment;
+    if (const std::size_t semi = row.find(';'); semi != std::string::npos) {
+      comment = row.substr(semi + 1);
+      row.resize(semi);
+    }
+    std::optional<int> number;
+    double diameter = 0.0;
+    for (std::size_t k = 0; k < row.size();) {
+      if (row[k] == ' ' || row[k] == '\t') {
+        ++k;
+        continue;
+      }
+      const SourceLocation at{path, line, static_cast<int>(k) + 1};
+      const char letter = static_cast<char>(std::toupper(static_cast<unsigned char>(row[k])));
+      if (std::string_view("TPXYZABCUVWDIJQ").find(letter) == std::string_view::npos) {
+        throw InputError(at, fmt::format("'{}' is not a tool table word; expected T, P, X, Y, Z, "
+                                         "A, B, C, U, V, W, D, I, J or Q",
+                                         row[k]));
+      }
+      std::size_t used = 0;
+      double value = 0.0;
+      try {
+        value = std::stod(row.substr(k + 1), &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used == 0 || !std::isfinite(value)) {
+        throw InputError(at, fmt::format("{} needs a number", letter));
+      }
+      if (letter == 'T') {
+        if (value < 0.0 || value != std::floor(value) || value > 1e9) {
+          throw InputError(at, "T needs a whole tool number");
+        }
+        number = static_cast<int>(value);
+      }
+      if (letter == 'D') diameter = value * (inches ? 25.4 : 1.0);
+      k += 1 + used;
+    }
+    if (!number) {
+      if (row.find_first_not_of(" \t") != std::string::npos) {
+        throw InputError(SourceLocation{path, line, 1}, "a tool line needs its T number");
+      }
+      continue;  // a blank or comment line
+    }
+    ToolEntry entry;
+    entry.where = SourceLocation{path, line, 1};
+    if (const std::size_t key = comment.find("cwe:"); key != std::string::npos) {
+      const std::size_t from = key + 4;
+      const std::size_t to = comment.find_first_of(" \t", from);
+      entry.spec = comment.substr(from, to == std::string::npos ? std::string::npos : to - from);
+    } else if (diameter > 0.0) {
+      entry.spec = fmt::format("flat:{:.6g}", diameter);
+    } else {
+      entry.refused = fmt::format("tool {} has no diameter (D) and no cwe: key in its comment",
+                                  *number);
+    }
+    if (entry.refused.empty()) (void)cutter_of(entry);
+    if (!table.tools.emplace(*number, std::move(entry)).second) {
+      throw InputError(SourceLocation{path, line, 1},
+                       fmt::format("tool {} is listed twice", *number));
+    }
+  }
+  if (table.tools.empty()) throw InputError(SourceLocation{path}, "the table lists no tools");
+  return table;
+}
+
 }  // namespace
 
-ToolTable read_tool_table(const std::string& path) {
+ToolTable read_tool_table(const std::string& path, bool inches) {
   if (path.ends_with(".fctl")) return freecad_library(path);
+  if (path.ends_with(".tbl")) return linuxcnc_table(path, inches);
   return tool_table_from_json(read_json(path, "tool table"), path,
                               std::filesystem::path(path).parent_path());
 }

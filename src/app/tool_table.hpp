@@ -42,8 +42,9 @@ ToolTable tool_table_from_json(const nlohmann::json& value, const std::string& s
                                const std::filesystem::path& folder);
 // A table read from a file: a FreeCAD tool library (.fctl, its .fctb bits mapped to cwe's
 // cutters: endmill → flat, ballend → ball, bullnose/torus → bull, drill → chamfer at its tip
-// angle; other shapes are errors), else a cwe JSON table.
-ToolTable read_tool_table(const std::string& path);
+// angle; other shapes are errors), a LinuxCNC tool table (.tbl: flat end mills of diameter D,
+// or the cutter a "cwe:spec" comment names; D in inches when `inches`), else a cwe JSON table.
+ToolTable read_tool_table(const std::string& path, bool inches = false);
 
 // The cutter of one entry (the specification with the entry's flutes and helix). Throws
 // InputError for a refused entry.

@@ -753,5 +753,49 @@ TEST(CliTools, FreeCadLibraryAndBits) {
   EXPECT_NE(saw.err.find("slittingsaw"), std::string::npos) << saw.err;
 }
 
+// LinuxCNC tool tables (tests/app/data: sim_mm.tbl and sim.tbl of LinuxCNC's sample
+// configurations): flat end mills of diameter D, in the table's units, unless a "cwe:" comment
+// names the cutter.
+TEST(CliTools, LinuxCncToolTables) {
+  const auto dir = scratch_dir("tools_linuxcnc");
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "both.ngc") << kTwoToolHeader << kFlatPart << kBallPart << "M2\n";
+  const auto run = [&](const std::string& table, std::vector<std::string> extra = {}) {
+    std::vector<std::string> args = {"simulate", "--path", (dir / "both.ngc").string(), "--tools",
+                                     table, "--stock", "box:0,0,-10,50,20,0", "--resolution",
+                                     "0.5", "--out", (dir / "out").string(), "--maps", "none",
+                                     "--quiet"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return run_cwe(args);
+  };
+  const auto tools = [&] {
+    std::ifstream in(dir / "out" / "summary.json");
+    const nlohmann::json summary = nlohmann::json::parse(in);
+    std::vector<std::string> names;
+    for (const auto& op : summary["operations"]) names.push_back(op["tool"]);
+    return names;
+  };
+  const std::string data = (test::source_dir() / "tests/app/data").string();
+  // sim_mm.tbl: "T1 P1 Z0.511 D3 ;3mm end mill", "T2 P4 Z0.1 D1.5 ;1.5mm  end mill".
+  Result r = run(data + "/linuxcnc_sim_mm.tbl");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(tools(), (std::vector<std::string>{"flat:3", "flat:1.5"}));
+  // sim.tbl is in inches: "T1 P1 D0.125 …", "T2 P2 D0.0625 …".
+  r = run(data + "/linuxcnc_sim.tbl", {"--tool-units", "in"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(tools(), (std::vector<std::string>{"flat:3.175", "flat:1.5875"}));
+  // A cwe key in the comment names the cutter.
+  std::ofstream(dir / "own.tbl") << "T1 P1 Z+25.0 D10 ;10 mm flat\nT2 P2 Z+30 D6 ;cwe:ball:6,20 6 mm ball\n";
+  r = run((dir / "own.tbl").string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(tools(), (std::vector<std::string>{"flat:10", "ball:6,20"}));
+  // Errors name the line and column.
+  std::ofstream(dir / "bad.tbl") << "T1 P1 D10\nT2 P2 K6\n";
+  r = run((dir / "bad.tbl").string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find((dir / "bad.tbl").string() + ":2:7: error: 'K'"), std::string::npos) << r.err;
+  EXPECT_EQ(run(data + "/linuxcnc_sim.tbl", {"--tool-units", "ft"}).status, 2);
+}
+
 }  // namespace
 }  // namespace cwe::app
