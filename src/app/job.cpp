@@ -31,7 +31,7 @@ void read_job(SimulateCommandOptions& options) {
   nlohmann::json job;
   try {
     job = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse errors, numbers beyond double range
     throw InputError(SourceLocation{options.job}, fmt::format("not valid JSON: {}", e.what()));
   }
   if (!job.is_object()) throw InputError(SourceLocation{options.job}, "expected a JSON object");

@@ -204,6 +204,8 @@ Cutter cutter_from_json(std::string_view text, const std::string& source) {
   } catch (const nlohmann::json::parse_error& e) {
     throw InputError(location_of(text, e.byte > 0 ? e.byte - 1 : 0, source),
                      "not valid JSON: " + std::string(e.what()));
+  } catch (const nlohmann::json::exception& e) {  // a number beyond double range
+    throw InputError(SourceLocation{source}, "not valid JSON: " + std::string(e.what()));
   }
   if (!j.is_object())
     throw InputError(SourceLocation{source}, "a tool file must hold a JSON object");

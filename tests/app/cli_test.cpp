@@ -797,5 +797,22 @@ TEST(CliTools, LinuxCncToolTables) {
   EXPECT_EQ(run(data + "/linuxcnc_sim.tbl", {"--tool-units", "ft"}).status, 2);
 }
 
+// Job files a fuzzer found (tests/data/fuzz-findings, numbers beyond double range): input
+// errors naming the file, never an internal error.
+TEST(CliSimulate, FuzzFoundJobsAreInputErrors) {
+  int files = 0;
+  for (const auto& entry :
+       std::filesystem::directory_iterator(test::source_dir() / "tests/data/fuzz-findings")) {
+    if (entry.path().filename().string().rfind("job-crash-", 0) != 0) continue;
+    const Result r = run_cwe({"simulate", entry.path().string(), "--out",
+                              scratch_dir("fuzz").string(), "--quiet"});
+    EXPECT_EQ(r.status, 2) << entry.path() << ": " << r.err;
+    EXPECT_NE(r.err.find(entry.path().string() + ": error: "), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
+    ++files;
+  }
+  EXPECT_EQ(files, 4);
+}
+
 }  // namespace
 }  // namespace cwe::app

@@ -1,10 +1,13 @@
 #include "cwe/tool/tool_spec.hpp"
+#include "cwe/core/error.hpp"
 #include "source_dir.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include "tool_testing.hpp"
@@ -101,4 +104,28 @@ TEST(ToolFile, BundledExamplesLoad) {
 }
 
 }  // namespace
+// Inputs a fuzzer found (tests/data/fuzz-findings): the first line of a tool-crash file is a
+// specification, the rest a JSON tool file; each is accepted or refused with an InputError,
+// never another exception.
+TEST(ToolSpec, FuzzFindingsAreInputErrors) {
+  int files = 0;
+  for (const auto& entry :
+       std::filesystem::directory_iterator(test::source_dir() / "tests/data/fuzz-findings")) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("tool-crash-", 0) != 0) continue;
+    std::ifstream in(entry.path(), std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::size_t newline = std::min(text.find('\n'), text.size());
+    const std::string spec = text.substr(0, newline);
+    const std::string json = newline < text.size() ? text.substr(newline + 1) : std::string();
+    try {
+      (void)cutter_from_spec(spec);
+    } catch (const InputError&) {
+    }
+    EXPECT_THROW((void)cutter_from_json(json, name), InputError) << name;
+    ++files;
+  }
+  EXPECT_EQ(files, 3);
+}
+
 }  // namespace cwe
