@@ -15,6 +15,7 @@
 #include "cwe/tool/tool_spec.hpp"
 #include "cwe/toolpath/cldata_reader.hpp"
 #include "cwe/toolpath/gcode_reader.hpp"
+#include "engagement/engagement_testing.hpp"
 #include "process/process_testing.hpp"
 #include "source_dir.hpp"
 
@@ -26,25 +27,11 @@ constexpr double kSpacing = 0.1;
 // The stock of the examples: tip coordinates, top face at z = 0.
 const Aabb kBlock{{0, 0, -20}, {100, 60, 0}};
 
-struct Sample {
-  ClPoint cl;
-  ToolState state;
-  EngagementMap map;
-};
+using test::Sample;
 
 // Every cutter location of `path` cut by `tool` through `block`.
 std::vector<Sample> simulate(const Toolpath& path, const char* tool, const Aabb& block = kBlock) {
-  TriDexel stock = TriDexel::from_box(block, kSpacing);
-  const Cutter cutter = cutter_from_spec(tool);
-  SimulationOptions options;
-  options.resolution = kSpacing;
-  SamplingOptions sampling;
-  sampling.step = 0.5;
-  std::vector<Sample> samples;
-  simulate_engagement(stock, cutter, path, options, sampling, {},
-                      [&](std::size_t, const ClPoint& cl, const ToolState& state,
-                          const EngagementMap& map) { samples.push_back({cl, state, map}); });
-  return samples;
+  return test::simulate_samples(path, tool, block, kSpacing, 0.5);
 }
 
 // The same for a G-code program.
@@ -88,18 +75,20 @@ void expect_side(const EngagementMap& map, double depth, double entry, double ex
 
 constexpr const char* kHeader = "G21 G90 G17 G94\nS10000 M3\nG0 Z5\n";
 
+// A slot along X at Y30, at Z-3 (line 6), then again at Z-6 (line 10).
+const std::string kStepDownSlot = std::string(kHeader) +
+                                  "G0 X-10 Y30\n"
+                                  "G1 Z-3 F600\n"
+                                  "G1 X110\n"
+                                  "G0 Z5\n"
+                                  "G0 X-10\n"
+                                  "G1 Z-6\n"
+                                  "G1 X110\n";
+
 // A slot at Z-3, then the same line at Z-6: the second level cuts 3 mm, not 6; its walls above
 // are the first level's, left at exactly the tool's radius.
 TEST(EngagementFidelity, StepDownSlotCutsOnlyTheNewLevel) {
-  const std::string program = std::string(kHeader) +
-                              "G0 X-10 Y30\n"
-                              "G1 Z-3 F600\n"
-                              "G1 X110\n"  // line 6
-                              "G0 Z5\n"
-                              "G0 X-10\n"
-                              "G1 Z-6\n"
-                              "G1 X110\n";  // line 10
-  const std::vector<Sample> samples = simulate(program, "flat:10,20");
+  const std::vector<Sample> samples = simulate(kStepDownSlot, "flat:10,20");
   for (const int line : {6, 10}) {
     SCOPED_TRACE(testing::Message() << "level on line " << line);
     for (const Sample* s : on_line(samples, line, 20, 80)) {
@@ -258,16 +247,7 @@ TEST(EngagementFidelity, StepoverBesideASlot) {
 // A contour finishing pass along a wall roughed by the same tool in two levels, 0.5 mm left:
 // radial depth 0.5 mm, φ ∈ [0, acos(0.9)] = [0, 25.84°], over the finishing depth only.
 TEST(EngagementFidelity, ContourFinishingTakesTheStockLeftOnTheWall) {
-  const std::string rough = std::string(kHeader) +
-                            "G0 X-10 Y30\n"
-                            "G1 Z-3 F600\n"
-                            "G1 X110\n"
-                            "G0 Z5\n"
-                            "G0 X-10\n"
-                            "G1 Z-6\n"
-                            "G1 X110\n"
-                            "G0 Z5\n"
-                            "G0 X-10 Y30.5\n";  // line 12
+  const std::string rough = kStepDownSlot + "G0 Z5\nG0 X-10 Y30.5\n";  // lines 11, 12
   const double exit = std::acos(1.0 - 0.5 / 5.0);
   for (const double depth : {6.0, 3.0}) {
     SCOPED_TRACE(testing::Message() << "finishing at Z-" << depth);
@@ -300,15 +280,7 @@ TEST(EngagementFidelity, ToolEdgeAlongTheStockFace) {
 // The step-down slot's second level loads the cutter like a 3 mm slot (ALGORITHMS.md §6's
 // closed form), not like a 6 mm one.
 TEST(EngagementFidelity, StepDownForcesAreThoseOfTheNewLevel) {
-  const std::string program = std::string(kHeader) +
-                              "G0 X-10 Y30\n"
-                              "G1 Z-3 F600\n"
-                              "G1 X110\n"
-                              "G0 Z5\n"
-                              "G0 X-10\n"
-                              "G1 Z-6\n"
-                              "G1 X110\n";  // line 10
-  const std::vector<Sample> samples = simulate(program, "flat:10,20");
+  const std::vector<Sample> samples = simulate(kStepDownSlot, "flat:10,20");
   const Cutter cutter = cutter_from_spec("flat:10,20");
   const CuttingCoefficients k = test::test_coefficients();
   const ForceModel model(cutter, k);

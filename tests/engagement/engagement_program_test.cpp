@@ -13,6 +13,7 @@
 #include "cwe/tool/tool_spec.hpp"
 #include "cwe/toolpath/gcode_reader.hpp"
 #include "engagement/engagement_oracle.hpp"
+#include "engagement/engagement_testing.hpp"
 #include "source_dir.hpp"
 
 namespace cwe {
@@ -20,11 +21,7 @@ namespace {
 
 constexpr double kSpacing = 0.1;
 
-struct Sample {
-  ClPoint cl;
-  ToolState state;
-  EngagementMap map;
-};
+using test::Sample;
 
 TEST(EngagementProgram, FreeCadPocketAndProfileLevelsCutTheirOwnStepDown) {
   const std::string file =
@@ -33,15 +30,7 @@ TEST(EngagementProgram, FreeCadPocketAndProfileLevelsCutTheirOwnStepDown) {
   // FreeCAD's stock: the part's box grown by 1 mm; its default 5 mm end mill.
   const Aabb block{{-1, -1, -1}, {81, 51, 21}};
   const Cutter cutter = cutter_from_spec("flat:5,30");
-  TriDexel stock = TriDexel::from_box(block, kSpacing);
-  SimulationOptions options;
-  options.resolution = kSpacing;
-  SamplingOptions sampling;
-  sampling.step = 0.5;
-  std::vector<Sample> samples;
-  simulate_engagement(stock, cutter, path, options, sampling, {},
-                      [&](std::size_t, const ClPoint& cl, const ToolState& state,
-                          const EngagementMap& map) { samples.push_back({cl, state, map}); });
+  const std::vector<Sample> samples = test::simulate_samples(path, "flat:5,30", block, kSpacing, 0.5);
 
   // Horizontal cutter locations by operation (the profile starts at line 156) and tip height.
   std::map<std::pair<bool, double>, double> deepest;
