@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Builds cwe (installing what is missing) and runs the main job on the bundled example
-# (examples/jobs/example.json): a block cut by a 10 mm flat end mill (slot, side milling up and
-# down, ramp, helical entry, plunge, peck drilling), a 6 mm ball end mill finishing pass and a
-# simultaneous 5-axis APT CLDATA pass, with the cutter-workpiece engagement at every cutter
+# (examples/jobs/example.json): a block cut by one program with two tools from a tool table, a
+# 10 mm flat end mill (slot, side milling up and down, ramp, helical entry, plunge, peck
+# drilling) then a 6 mm ball end mill finishing pass, and a simultaneous 5-axis APT CLDATA pass, with the cutter-workpiece engagement at every cutter
 # location and the cutting forces, then schedules the pocketing feeds to a force limit. On the way it also draws the example cutters, dumps the example programs' moves and
 # writes the swept volumes of the first pocketing moves, all into out/example/.
 set -euo pipefail
@@ -17,7 +17,7 @@ for program in examples/programs/*; do
 done
 build/cwe envelope --tool flat:10 --path examples/programs/pocket.ngc --moves 1-25 \
   --out "$out/envelope" > /dev/null
-# The main job: engagement at every cutter location of three operations on one block.
+# The main job: engagement at every cutter location of a two-tool program and a 5-axis pass.
 build/cwe simulate examples/jobs/example.json
 # Feed-rate scheduling: the pocketing program rewritten so that the peak force stays at 600 N.
 build/cwe schedule examples/jobs/pocket.json --forces al7075-t6-carbide --limit force=600N \

@@ -35,8 +35,17 @@ int tool_number(const std::string& key, const SourceLocation& where) {
 
 ToolTable tool_table_from_json(const nlohmann::json& value, const std::string& source,
                                const std::filesystem::path& folder) {
-  const nlohmann::json& entries =
-      value.is_object() && value.contains("tools") && value.size() == 1 ? value["tools"] : value;
+  // {"tools": {…}} (with an optional "comment"), or the entries themselves.
+  const bool wrapped = value.is_object() && value.contains("tools");
+  if (wrapped) {
+    for (const auto& [key, unused] : value.items()) {
+      if (key != "tools" && key != "comment") {
+        throw InputError(SourceLocation{source},
+                         fmt::format("unknown key \"{}\"; expected tools or comment", key));
+      }
+    }
+  }
+  const nlohmann::json& entries = wrapped ? value["tools"] : value;
   if (!entries.is_object() || entries.empty()) {
     throw InputError(SourceLocation{source},
                      "expected a tool table: {\"1\": \"flat:10,30\", \"2\": …} by tool number");

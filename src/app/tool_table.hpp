@@ -5,7 +5,7 @@
 //   {"tools": {"1": "flat:10,30", "2": {"spec": "ball:6,25", "flutes": 2, "helix": 30},
 //              "3": "tools/bull.json"}}
 //
-// (the outer {"tools": …} may be left out in a file). A value is a tool specification (or a JSON
+// (the outer {"tools": …}, which may carry a "comment", may be left out in a file). A value is a tool specification (or a JSON
 // tool file, relative to the table's folder), or an object with "spec" and optional "flutes"
 // and "helix" (degrees) that override the specification's.
 
