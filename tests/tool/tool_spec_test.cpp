@@ -103,7 +103,6 @@ TEST(ToolFile, BundledExamplesLoad) {
   EXPECT_GE(count, 2);
 }
 
-}  // namespace
 // Inputs a fuzzer found (tests/data/fuzz-findings): the first line of a tool-crash file is a
 // specification, the rest a JSON tool file; each is accepted or refused with an InputError,
 // never another exception.
@@ -128,4 +127,5 @@ TEST(ToolSpec, FuzzFindingsAreInputErrors) {
   EXPECT_EQ(files, 3);
 }
 
+}  // namespace
 }  // namespace cwe
