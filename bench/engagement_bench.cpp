@@ -88,11 +88,11 @@ void run(benchmark::State& state, const char* tool, const cwe::Toolpath& path, d
     maps.clear();
     state.ResumeTiming();
     cwe::simulate_engagement(stock, cutter, path, options, sampling, {},
-                             [&](std::size_t, const cwe::ClPoint&, const cwe::ToolState& tool,
+                             [&](std::size_t, const cwe::ClPoint&, const cwe::ToolState& at,
                                  const cwe::EngagementMap& map) {
                                ++cls;
                                engaged += map.engaged ? 1 : 0;
-                               maps.emplace_back(map, tool);
+                               maps.emplace_back(map, at);
                              });
   }
   const double job_seconds =
@@ -103,7 +103,7 @@ void run(benchmark::State& state, const char* tool, const cwe::Toolpath& path, d
   const cwe::ForceModel model(cutter, k);
   const auto forces_started = std::chrono::steady_clock::now();
   double sink = 0.0;
-  for (const auto& [map, tool] : maps) sink += model.evaluate(map, tool, 0.05, 10000.0).mean_torque;
+  for (const auto& [map, at] : maps) sink += model.evaluate(map, at, 0.05, 10000.0).mean_torque;
   const double force_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - forces_started).count();
   benchmark::DoNotOptimize(sink);

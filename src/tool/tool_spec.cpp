@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -19,7 +20,9 @@ constexpr const char* kKnownTypes =
 
 struct Number {
   double value = 0.0;
-  int column = 0;  // 1-based column within the spec
+  int column = 0;       // 1-based column within the spec
+  bool unit = false;    // written with a length unit, "mm" or "in"
+  double scale = 1.0;   // mm per unit of the number as written (25.4 for "in")
 };
 
 // The location of column `column` (from 1) of a specification that starts at `where` (a string
@@ -45,12 +48,23 @@ std::vector<Number> parse_numbers(std::string_view text, int first_column,
     }
     while (!item.empty() && item.back() == ' ') item.remove_suffix(1);
     if (item.empty()) throw InputError(at(where, column), "expected a number");
-    double value = 0.0;
-    const auto [end, ec] = std::from_chars(item.data(), item.data() + item.size(), value);
-    if (ec != std::errc() || end != item.data() + item.size() || !std::isfinite(value)) {
+    // A length may carry its unit: 0.375in, 9.525mm.
+    Number number;
+    number.column = column;
+    for (const auto& [suffix, scale] : {std::pair<std::string_view, double>{"in", 25.4},
+                                        std::pair<std::string_view, double>{"mm", 1.0}}) {
+      if (item.size() > suffix.size() && item.substr(item.size() - suffix.size()) == suffix) {
+        item.remove_suffix(suffix.size());
+        number.unit = true;
+        number.scale = scale;
+        break;
+      }
+    }
+    const auto [end, ec] = std::from_chars(item.data(), item.data() + item.size(), number.value);
+    if (ec != std::errc() || end != item.data() + item.size() || !std::isfinite(number.value)) {
       throw InputError(at(where, column), fmt::format("expected a number, found '{}'", item));
     }
-    out.push_back({value, column});
+    out.push_back(number);
     if (comma == std::string_view::npos) break;
     pos = comma + 1;
   }
@@ -77,8 +91,15 @@ AptCutter apt_from_spec(std::string_view type, const std::vector<Number>& v,
                                    v.size() == 1 ? "" : "s"));
     }
   };
-  const auto value = [&](std::size_t i) { return i < v.size() ? v[i].value : 0.0; };
+  // Lengths in mm unless written in inches; angles in degrees, without a unit.
+  const auto value = [&](std::size_t i) { return i < v.size() ? v[i].value * v[i].scale : 0.0; };
   const auto loc = [&](std::size_t i) { return at(where, v[std::min(i, v.size() - 1)].column); };
+  const auto angle = [&](std::size_t i) {
+    if (i < v.size() && v[i].unit) {
+      throw InputError(at(where, v[i].column), "an angle in degrees takes no length unit");
+    }
+    return i < v.size() ? v[i].value : 0.0;
+  };
   if (type == "flat") {
     arity(1, 2, "D[,h]");
     return flat_end_mill(value(0), value(1), loc(0));
@@ -93,20 +114,20 @@ AptCutter apt_from_spec(std::string_view type, const std::vector<Number>& v,
   }
   if (type == "taper-flat") {
     arity(2, 3, "D,beta_deg[,h]");
-    return taper_flat_end_mill(value(0), value(1), value(2), loc(1));
+    return taper_flat_end_mill(value(0), angle(1), value(2), loc(1));
   }
   if (type == "taper-ball") {
     arity(2, 3, "D,beta_deg[,h]");
-    return taper_ball_end_mill(value(0), value(1), value(2), loc(1));
+    return taper_ball_end_mill(value(0), angle(1), value(2), loc(1));
   }
   if (type == "chamfer") {
     arity(2, 3, "D,tip_angle_deg[,h]");
-    return chamfer_mill(value(0), value(1), value(2), loc(1));
+    return chamfer_mill(value(0), angle(1), value(2), loc(1));
   }
   if (type == "apt") {
     arity(1, 7, "d[,r[,e,f[,alpha_deg,beta_deg[,h]]]]");
     std::vector<double> values(v.size());
-    std::transform(v.begin(), v.end(), values.begin(), [](const Number& n) { return n.value; });
+    for (std::size_t i = 0; i < v.size(); ++i) values[i] = i == 4 || i == 5 ? angle(i) : value(i);
     return apt_from_values(values, loc(0));
   }
   throw InputError(at(where, type_column),

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <utility>
 
 #include "tool_testing.hpp"
 
@@ -101,6 +102,36 @@ TEST(ToolFile, BundledExamplesLoad) {
     ++count;
   }
   EXPECT_GE(count, 2);
+}
+
+// Lengths written in inches are the same cutters as their millimetre equivalents; an angle with
+// a length unit is an error at its column.
+TEST(ToolSpec, InchLengths) {
+  const std::pair<const char*, const char*> same[] = {
+      {"flat:0.375in", "flat:9.525"},
+      {"ball:0.25in,1in", "ball:6.35,25.4"},
+      {"bull:0.5in,0.0625in,1.5in", "bull:12.7,1.5875,38.1"},
+      {"taper-flat:0.25in,5,1in", "taper-flat:6.35,5,25.4"},
+      {"chamfer:0.5in,90", "chamfer:12.7,90"},
+      {"apt:0.25in,0.125in,0,0.125in,0,0,1in", "apt:6.35,3.175,0,3.175,0,0,25.4"},
+      {"flat:10mm,30mm", "flat:10,30"}};
+  for (const auto& [inch, mm] : same) {
+    SCOPED_TRACE(inch);
+    const Cutter a = cutter_from_spec(inch), b = cutter_from_spec(mm);
+    EXPECT_NEAR(a.diameter(), b.diameter(), 1e-12);
+    EXPECT_NEAR(a.flute_length(), b.flute_length(), 1e-12);
+    ASSERT_EQ(a.profile().segments().size(), b.profile().segments().size());
+    for (std::size_t k = 0; k < a.profile().segments().size(); ++k) {
+      EXPECT_LT((a.profile().segments()[k].end - b.profile().segments()[k].end).norm(), 1e-12);
+    }
+  }
+  try {
+    (void)cutter_from_spec("taper-flat:0.25in,5in");
+    ADD_FAILURE() << "an angle in inches was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.location().column, 19) << e.what();
+  }
+  EXPECT_THROW((void)cutter_from_spec("flat:0.375ft"), InputError);
 }
 
 // Inputs a fuzzer found (tests/data/fuzz-findings): the first line of a tool-crash file is a

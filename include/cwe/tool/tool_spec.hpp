@@ -10,7 +10,8 @@
 //   apt:d,r,e,f,alpha,beta,h   the APT 7-parameter form (1 to 7 values, see apt.hpp)
 //   <file>.json            a tool file (below)
 //
-// Lengths in millimetres, angles in degrees, h the cutting length (default 3 D). A tool file is a
+// Lengths in millimetres, or in inches when written so (flat:0.375in,1.5in; 9.525mm is allowed
+// too), angles in degrees, h the cutting length (default 3 D). A tool file is a
 // JSON object with exactly one of "spec" (a string as above), "apt" (array of 1 to 7 numbers) or
 // "profile" (array of pieces, see below), and optionally "name", "flutes", "helix_deg" and
 // "shank": {"diameter": mm, "length": mm}. A profile starts at the tip [0, 0]; each piece is
