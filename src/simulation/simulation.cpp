@@ -19,7 +19,15 @@ StockSpec parse_stock_spec(const std::string& text, const SourceLocation& source
     spec.path = text;
     return spec;
   }
-  const std::string_view body = std::string_view(text).substr(kBox.size());
+  std::string_view body = std::string_view(text).substr(kBox.size());
+  // A trailing ":in" or ":mm" gives the numbers' unit (default mm).
+  double scale = 1.0;
+  if (body.ends_with(":in")) {
+    scale = 25.4;
+    body.remove_suffix(3);
+  } else if (body.ends_with(":mm")) {
+    body.remove_suffix(3);
+  }
   std::vector<double> values;
   std::size_t start = 0;
   while (start <= body.size()) {
@@ -30,10 +38,11 @@ StockSpec parse_stock_spec(const std::string& text, const SourceLocation& source
     if (word.empty() || ec != std::errc() || end != word.data() + word.size() ||
         !std::isfinite(v)) {
       throw InputError(source, fmt::format("stock '{}': '{}' is not a number; expected "
-                                           "box:xmin,ymin,zmin,xmax,ymax,zmax in mm",
+                                           "box:xmin,ymin,zmin,xmax,ymax,zmax in mm (or "
+                                           "…:in)",
                                            text, word));
     }
-    values.push_back(v);
+    values.push_back(v * scale);
     start = comma + 1;
   }
   if (values.size() != 6) {

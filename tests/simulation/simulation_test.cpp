@@ -419,7 +419,14 @@ TEST(StockSpec, ParsesBoxesAndNamesErrors) {
   const StockSpec file = parse_stock_spec("part.stl", SourceLocation{"--stock"});
   EXPECT_FALSE(file.is_box);
   EXPECT_EQ(file.path, "part.stl");
-  for (const char* bad : {"box:0,0,0,1,1", "box:0,0,0,1,1,x", "box:0,0,0,1,0,1", "box:", ""}) {
+  // Inches with a trailing ":in" (":mm" is the default spelled out).
+  const StockSpec inch = parse_stock_spec("box:0,0,-1,4,2.5,0:in", SourceLocation{"--stock"});
+  EXPECT_EQ(inch.box.min, Vec3(0, 0, -25.4));
+  EXPECT_EQ(inch.box.max, Vec3(101.6, 63.5, 0));
+  EXPECT_EQ(parse_stock_spec("box:0,0,-30,100,60,0:mm", SourceLocation{"--stock"}).box.max,
+            Vec3(100, 60, 0));
+  for (const char* bad : {"box:0,0,0,1,1", "box:0,0,0,1,1,x", "box:0,0,0,1,0,1", "box:", "",
+                          "box:0,0,0,1,1,1:ft", "box::in"}) {
     EXPECT_THROW(parse_stock_spec(bad, SourceLocation{"--stock"}), InputError) << bad;
   }
 }

@@ -21,7 +21,8 @@
 
 namespace cwe {
 
-// Where the stock comes from: "box:xmin,ymin,zmin,xmax,ymax,zmax" (mm) or an STL file.
+// Where the stock comes from: "box:xmin,ymin,zmin,xmax,ymax,zmax" (mm; in inches with a
+// trailing ":in") or an STL file.
 struct StockSpec {
   bool is_box = true;
   Aabb box;
