@@ -814,5 +814,24 @@ TEST(CliSimulate, FuzzFoundJobsAreInputErrors) {
   EXPECT_EQ(files, 4);
 }
 
+// Tool and stock in inches give the same job as their millimetre equivalents.
+TEST(CliSimulate, InchToolAndStockEqualTheirMillimetres) {
+  const auto dir = scratch_dir("inches");
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "cut.ngc") << kForceProgram;
+  const auto removed = [&](const char* tool, const char* stock, const char* out) {
+    const Result r = run_cwe({"simulate", "--path", (dir / "cut.ngc").string(), "--tool", tool,
+                              "--stock", stock, "--resolution", "0.25", "--out",
+                              (dir / out).string(), "--maps", "none", "--quiet"});
+    EXPECT_EQ(r.status, 0) << r.err;
+    std::ifstream in(dir / out / "summary.json");
+    return nlohmann::json::parse(in)["removed_volume_mm3"].get<double>();
+  };
+  const double inch = removed("flat:0.375in,0.75in", "box:0,0,-0.5,2,1,0:in", "in");
+  const double mm = removed("flat:9.525,19.05", "box:0,0,-12.7,50.8,25.4,0", "mm");
+  EXPECT_GT(mm, 500.0);
+  EXPECT_NEAR(inch, mm, 1e-9 * mm);
+}
+
 }  // namespace
 }  // namespace cwe::app
