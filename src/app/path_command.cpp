@@ -119,8 +119,17 @@ void print_summary(const std::string& file, const ReadToolpath& read,
   }
   for (const auto& [tool, count] : moves_per_tool) {
     const auto def = path.tool_definitions.find(tool);
-    fmt::print(out, "  tool {:<10} {} moves{}\n", tool == 0 ? "(none)" : fmt::format("T{}", tool),
-               count, def != path.tool_definitions.end() ? "  " + to_string(def->second) : "");
+    // Where the program loads it (the line a tool table's errors name).
+    std::string loaded;
+    for (const ToolChange& change : path.tool_changes) {
+      if (change.tool == tool) {
+        loaded = fmt::format(", loaded at line {}", change.location.line);
+        break;
+      }
+    }
+    fmt::print(out, "  tool {:<10} {} moves{}{}\n", tool == 0 ? "(none)" : fmt::format("T{}", tool),
+               count, loaded,
+               def != path.tool_definitions.end() ? "  " + to_string(def->second) : "");
   }
   fmt::print(out, "  CL points       {} (every {:g} mm of tip path and {:g} deg of axis turn)\n",
              cl_points, options.cl_step, options.cl_angle_deg);

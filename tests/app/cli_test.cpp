@@ -682,6 +682,11 @@ TEST(CliTools, MissingToolsAreErrorsAtTheToolChange) {
   EXPECT_EQ(none.status, 2);
   EXPECT_NE(none.err.find(at), std::string::npos) << none.err;
   EXPECT_EQ(run_cwe(with({"--tool", "flat:10,20", "--tool-for-all"})).status, 0);
+  // `cwe path` says where each tool is loaded.
+  const Result listing = run_cwe({"path", (dir / "both.ngc").string()});
+  ASSERT_EQ(listing.status, 0) << listing.err;
+  EXPECT_NE(listing.out.find("tool T2         4 moves, loaded at line 8"), std::string::npos)
+      << listing.out;
   // A table that is not one.
   for (const char* bad : {R"({"one": "flat:10"})", R"({"1": "flat:-3"})", R"({"1": 7})",
                           R"({"1": {"spec": "ball:6", "flutes": 0}})", R"([1, 2])", "{1:"}) {
