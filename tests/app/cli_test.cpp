@@ -161,7 +161,8 @@ TEST(CliPath, SummarisesBothFormats) {
   const Result c = run_cwe({"path", root + "/examples/programs/five_axis.cls"});
   ASSERT_EQ(c.status, 0) << c.err;
   EXPECT_NE(c.out.find("5-axis moves    4"), std::string::npos) << c.out;
-  EXPECT_NE(c.out.find("tool T2         9 moves  CUTTER/6,3,0,3,0,0,25"), std::string::npos)
+  EXPECT_NE(c.out.find("tool T2         9 moves, loaded at line 5  CUTTER/6,3,0,3,0,0,25"),
+            std::string::npos)
       << c.out;
 }
 
