@@ -185,11 +185,44 @@ ToolEntry freecad_bit(const std::string& path) {
     if (!tip) throw InputError(where, "the drill bit has no \"TipAngle\"");
     if (!height) height = length("Length");
     entry.spec = fmt::format("chamfer:{:.6g},{:.6g}{}", *diameter, *tip, suffix());
+  } else if (shape == "chamfer" || shape == "v-bit") {
+    // A cone from the flat tip (TipDiameter) at half the CuttingEdgeAngle from the axis, as
+    // FreeCAD's shapes draw it: a chamfer mill's cone is CuttingEdgeHeight tall (its Diameter is
+    // not its geometry), a v-bit's rises to its Diameter.
+    const std::optional<double> included = angle("CuttingEdgeAngle");
+    if (!included || !(*included > 0.0 && *included < 180.0)) {
+      throw InputError(where, fmt::format("the {} bit needs a \"CuttingEdgeAngle\" between 0° "
+                                          "and 180°",
+                                          shape));
+    }
+    const double slope = std::tan(*included * kPi / 360.0);
+    const double tip = 0.5 * length("TipDiameter").value_or(0.0);
+    double top = 0.0;
+    if (shape == "chamfer") {
+      if (!height || !(*height > 0.0)) {
+        throw InputError(where, "the chamfer bit needs a positive \"CuttingEdgeHeight\"");
+      }
+      top = tip + *height * slope;
+    } else {
+      top = 0.5 * *diameter;
+      if (!(top > tip)) throw InputError(where, "the v-bit's Diameter is not above its tip");
+      height = (top - tip) / slope;
+    }
+    const std::string name = bit.contains("name") && bit["name"].is_string()
+                                 ? bit["name"].get<std::string>()
+                                 : std::filesystem::path(path).stem().string();
+    nlohmann::json profile = nlohmann::json::array();
+    if (tip > 0.0) profile.push_back({{"line", {tip, 0.0}}});
+    profile.push_back({{"line", {top, *height}}});
+    entry.json = nlohmann::json{{"name", fmt::format("{} (FreeCAD {})", name, shape)},
+                                {"profile", profile}}
+                     .dump();
   } else {
     throw InputError(where,
                      fmt::format("a FreeCAD \"{}\" bit: cwe reads endmill, ballend, bullnose, "
-                                 "torus and drill bits; give this tool as a specification or a "
-                                 "profile tool file (cwe tool --help) in a cwe tool table",
+                                 "torus, drill, chamfer and v-bit bits; give this tool as a "
+                                 "specification or a profile tool file (cwe tool --help) in a cwe "
+                                 "tool table",
                                  shape));
   }
   // Flutes, where FreeCAD 1.0 keeps them.
@@ -338,7 +371,8 @@ ToolTable read_tool_table(const std::string& path, bool inches) {
 
 Cutter cutter_of(const ToolEntry& entry) {
   if (!entry.refused.empty()) throw InputError(entry.where, entry.refused);
-  Cutter base = cutter_from_spec(entry.spec, entry.where);
+  Cutter base = entry.json.empty() ? cutter_from_spec(entry.spec, entry.where)
+                                   : cutter_from_json(entry.json, entry.where.source);
   if (!entry.flutes && !entry.helix_deg) return base;
   CutterOptions options;
   options.name = base.name();

@@ -23,6 +23,7 @@ namespace cwe::app {
 
 struct ToolEntry {
   std::string spec;  // a tool specification or a JSON tool file (absolute or as written)
+  std::string json;  // else the text of a JSON tool file (a profile, for FreeCAD's cones)
   std::optional<int> flutes;
   std::optional<double> helix_deg;
   SourceLocation where;  // the entry, for errors
@@ -42,7 +43,7 @@ ToolTable tool_table_from_json(const nlohmann::json& value, const std::string& s
                                const std::filesystem::path& folder);
 // A table read from a file: a FreeCAD tool library (.fctl, its .fctb bits mapped to cwe's
 // cutters: endmill → flat, ballend → ball, bullnose/torus → bull, drill → chamfer at its tip
-// angle; other shapes are errors), a LinuxCNC tool table (.tbl: flat end mills of diameter D,
+// angle, chamfer and v-bit → a cone from the tip diameter; other shapes are errors), a LinuxCNC tool table (.tbl: flat end mills of diameter D,
 // or the cutter a "cwe:spec" comment names; D in inches when `inches`), else a cwe JSON table.
 ToolTable read_tool_table(const std::string& path, bool inches = false);
 

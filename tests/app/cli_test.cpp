@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -724,6 +725,12 @@ TEST(CliTools, ScheduleFollowsEachTool) {
   EXPECT_NE(slots[0], slots[1]);
 }
 
+// A straight groove along X at Y10, `depth` mm deep, with tool `tool`.
+std::string groove_program(int tool, int depth) {
+  return "G21 G90\nT" + std::to_string(tool) + " M6\nS10000 M3\nG0 X-10 Y10 Z1\nG1 Z-" +
+         std::to_string(depth) + " F300\nG1 X60 F600\nG0 Z5\nM2\n";
+}
+
 // FreeCAD 0.20's own tool library and bits (tests/app/data/freecad, as FreeCAD ships them): the
 // tool numbers a program loads map to cwe's cutters; a bit cwe cannot model (the library's
 // slitting saw) is an error only for a program that loads it, at that line.
@@ -748,6 +755,25 @@ TEST(CliTools, FreeCadLibraryAndBits) {
   EXPECT_EQ(summary["operations"][1]["tool"], "ball:6,40");
   EXPECT_EQ(summary["operations"][2]["tool"], "bull:6,1.5,40");
   EXPECT_EQ(summary["operations"][2]["tool_number"], 4);
+  // T5 and T6, the 60° v-bit (tip 1 mm) and the 45° chamfer mill (tip 5 mm): cones at half their
+  // CuttingEdgeAngle from the axis, as FreeCAD draws them. A groove 2 mm deep with the v-bit across
+  // the 50 mm block removes 50·∫₀² 2(0.5 + t·tan 30°) dt = 215.5 mm³; 1 mm deep with the chamfer
+  // mill, 50·∫₀¹ 2(2.5 + t·tan 22.5°) dt = 270.7 mm³ (within 1 %: the rays at s = 0.1 cross the
+  // grooves' slanted walls).
+  for (const auto& [tool, depth, expected] :
+       {std::tuple{5, 2, 50 * 2 * (0.5 * 2 + std::tan(kPi / 6) * 2)},
+        std::tuple{6, 1, 50 * 2 * (2.5 + std::tan(kPi / 8) / 2)}}) {
+    SCOPED_TRACE(testing::Message() << "T" << tool);
+    std::ofstream(dir / "cone.ngc") << groove_program(tool, depth);
+    const Result cone = run_cwe({"simulate", "--path", (dir / "cone.ngc").string(), "--tools",
+                                 library, "--stock", "box:0,0,-10,50,20,0", "--resolution", "0.1",
+                                 "--out", (dir / "cone").string(), "--maps", "none", "--quiet",
+                                 "--stock-only"});
+    ASSERT_EQ(cone.status, 0) << cone.err;
+    std::ifstream cone_summary(dir / "cone" / "summary.json");
+    EXPECT_NEAR(nlohmann::json::parse(cone_summary)["removed_volume_mm3"].get<double>(), expected,
+                0.01 * expected);
+  }
   // T7, the slitting saw.
   std::ofstream(dir / "saw.ngc") << kTwoToolHeader << kFlatPart << "T7 M6\nG0 X-10 Y8 Z1\nM2\n";
   const Result saw = run_cwe({"simulate", "--path", (dir / "saw.ngc").string(), "--tools",
