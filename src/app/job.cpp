@@ -11,6 +11,7 @@
 #include "cwe/core/error.hpp"
 #include "cwe/core/text_file.hpp"
 #include "cwe/toolpath/cl_sampling.hpp"
+#include "cwe/io/mesh_io.hpp"
 #include "cwe/tool/apt.hpp"
 #include "tool_choice.hpp"
 #include "tool_table.hpp"
@@ -44,12 +45,12 @@ void read_job(SimulateCommandOptions& options) {
       "tolerance",   "threads",    "ply",    "cl_step",     "maps", "stock_only",
       "mesh_stride", "comment",    "forces", "spindle",     "feed", "flutes",
       "helix",       "force_step", "runout", "force_curves", "tools", "tool_for_all",
-      "tool_units"};
+      "tool_units",  "start"};
   for (const auto& [key, value] : job.items()) {
     if (std::find(std::begin(kKeys), std::end(kKeys), key) == std::end(kKeys)) {
       throw InputError(where(key),
-                       "unknown key; expected stock, tool, tools, tool_units, tool_for_all, path, "
-                       "operations, "
+                       "unknown key; expected stock, tool, tools, tool_units, tool_for_all, start, "
+                       "path, operations, "
                        "out, resolution, tolerance, threads, mesh_stride, ply, cl_step, maps, "
                        "stock_only, forces, spindle, feed, flutes, helix, force_step, runout, "
                        "force_curves or comment");
@@ -92,6 +93,7 @@ void read_job(SimulateCommandOptions& options) {
     }
   }
   text_of("tool_units", options.tool_units, false);
+  text_of("start", options.start, false);
   if (job.contains("tool_for_all") && !options.tool_for_all) {
     if (!job["tool_for_all"].is_boolean()) {
       throw InputError(where("tool_for_all"), "expected true or false");
@@ -189,6 +191,9 @@ void add_job_options(CLI::App* cmd, SimulateCommandOptions& options) {
   cmd->add_option("--tools", options.tools,
                   "Tool table (JSON: {\"1\": \"flat:10,30\", …}): the cutter of each tool number "
                   "the program loads (T… M6, LOADTL)");
+  cmd->add_option("--start", options.start,
+                  "Where a G-code program's tool starts: auto (5 mm above the stock's top at the "
+                  "program's first XY), origin, or x,y,z in mm (default auto)");
   cmd->add_option("--tool-units", options.tool_units,
                   "Units of a LinuxCNC tool table's lengths: mm or in (default mm)");
   cmd->add_flag("--tool-for-all", options.tool_for_all,
@@ -328,6 +333,77 @@ std::vector<ToolRun> split_by_tool(const ReadToolpath& read, const Operation& op
   return runs;
 }
 
+// Where G-code programs start (docs/simulate.md, "Where the tool starts").
+struct StartRule {
+  enum class Kind { kAuto, kOrigin, kGiven } kind = Kind::kAuto;
+  Vec3 given = Vec3::Zero();
+  double top = 0.0;  // the stock's top, for kAuto
+};
+
+StartRule start_rule(const SimulateCommandOptions& options) {
+  StartRule rule;
+  const SourceLocation where{"--start"};
+  if (options.start.empty() || options.start == "auto") {
+    const StockSpec stock = parse_stock_spec(options.stock, SourceLocation{"--stock"});
+    rule.top = stock.is_box ? stock.box.max.z() : read_stl(stock.path).mesh.bounds().max.z();
+    return rule;
+  }
+  if (options.start == "origin") {
+    rule.kind = StartRule::Kind::kOrigin;
+    return rule;
+  }
+  std::vector<double> values;
+  std::size_t from = 0;
+  while (from <= options.start.size()) {
+    const std::size_t comma = std::min(options.start.find(',', from), options.start.size());
+    const std::string word = options.start.substr(from, comma - from);
+    std::size_t used = 0;
+    double value = 0.0;
+    try {
+      value = std::stod(word, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != word.size() || !std::isfinite(value)) {
+      throw InputError(where, fmt::format("'{}': expected auto, origin or x,y,z in mm",
+                                          options.start));
+    }
+    values.push_back(value);
+    from = comma + 1;
+  }
+  if (values.size() != 3) {
+    throw InputError(where, fmt::format("'{}': expected auto, origin or x,y,z in mm",
+                                        options.start));
+  }
+  rule.kind = StartRule::Kind::kGiven;
+  rule.given = Vec3(values[0], values[1], values[2]);
+  return rule;
+}
+
+// A program read with its tool starting where `rule` says. For "auto", a first reading from the
+// origin finds the program's first XY (the end of the first move that leaves the origin's XY,
+// else the origin's), and the program is read again from kStartClearance above the stock's top
+// there.
+ReadToolpath read_program(const std::string& path, const StartRule& rule) {
+  if (rule.kind == StartRule::Kind::kOrigin) return read_toolpath_file(path);
+  GcodeOptions gcode;
+  if (rule.kind == StartRule::Kind::kGiven) {
+    gcode.initial_position = rule.given;
+    return read_toolpath_file(path, gcode);
+  }
+  ReadToolpath first = read_toolpath_file(path);
+  if (first.format != ToolpathFormat::kGcode) return first;
+  Vec3 at(0.0, 0.0, rule.top + kStartClearance);
+  for (const Move& m : first.toolpath.moves) {
+    if (m.end.head<2>() != Vec2::Zero()) {
+      at.head<2>() = m.end.head<2>();
+      break;
+    }
+  }
+  gcode.initial_position = at;
+  return read_toolpath_file(path, gcode);
+}
+
 }  // namespace
 
 PreparedJob prepare_job(SimulateCommandOptions& options, bool sample) {
@@ -371,9 +447,10 @@ PreparedJob prepare_job(SimulateCommandOptions& options, bool sample) {
   }
 
   // Everything the job needs is read and checked before the long part starts.
+  const StartRule start = start_rule(options);
   for (std::size_t o = 0; o < options.operations.size(); ++o) {
     const Operation& op = options.operations[o];
-    ReadToolpath read = read_toolpath_file(op.path);
+    ReadToolpath read = read_program(op.path, start);
     for (ToolRun& run : split_by_tool(read, op, options)) {
       SamplingOptions sampling;
       sampling.step =

@@ -50,12 +50,12 @@ ToolpathFormat detect_toolpath_format(const std::string& path, std::string_view 
   return ToolpathFormat::kGcode;
 }
 
-ReadToolpath read_toolpath_file(const std::string& path) {
+ReadToolpath read_toolpath_file(const std::string& path, const GcodeOptions& gcode) {
   const std::string text = read_text_file(path, "toolpath file");
   ReadToolpath result;
   result.format = detect_toolpath_format(path, text);
   result.toolpath =
-      result.format == ToolpathFormat::kGcode ? read_gcode(text, path) : read_cldata(text, path);
+      result.format == ToolpathFormat::kGcode ? read_gcode(text, path, gcode) : read_cldata(text, path);
   return result;
 }
 

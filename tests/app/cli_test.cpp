@@ -865,5 +865,37 @@ TEST(CliSimulate, InchToolAndStockEqualTheirMillimetres) {
   EXPECT_NEAR(inch, mm, 1e-9 * mm);
 }
 
+// Where the tool starts: by default above the stock's top at the program's first XY, so a stock
+// whose top is above Z0 gets no false rapid cut from the first positioning move; from the
+// origin (LinuxCNC's machine starts wherever it is) that move cuts the stock.
+TEST(CliSimulate, ToolStartsAboveTheStock) {
+  const auto dir = scratch_dir("start");
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "cut.ngc") << "G21 G90\nS10000 M3\nG0 X20 Y10 Z15\nG1 Z7 F300\n"
+                                    "G1 X40 F600\nG0 Z15\nM2\n";
+  const auto rapid_cuts = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args = {"simulate", "--path", (dir / "cut.ngc").string(), "--tool",
+                                     "flat:10,20", "--stock", "box:0,0,0,50,20,10",
+                                     "--resolution", "0.25", "--out", (dir / "out").string(),
+                                     "--maps", "none", "--quiet"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const Result r = run_cwe(args);
+    EXPECT_EQ(r.status, 0) << r.err;
+    std::ifstream in(dir / "out" / "summary.json");
+    return nlohmann::json::parse(in)["rapid_cuts"]["count"].get<int>();
+  };
+  EXPECT_EQ(rapid_cuts({}), 0);
+  EXPECT_EQ(rapid_cuts({"--start", "auto"}), 0);
+  EXPECT_EQ(rapid_cuts({"--start", "20,10,30"}), 0);
+  EXPECT_EQ(rapid_cuts({"--start", "origin"}), 1);
+  for (const char* bad : {"up", "1,2", "1,2,3,4", "1,x,3"}) {
+    const Result r = run_cwe({"simulate", "--path", (dir / "cut.ngc").string(), "--tool",
+                              "flat:10,20", "--stock", "box:0,0,0,50,20,10", "--out",
+                              (dir / "bad").string(), "--start", bad});
+    EXPECT_EQ(r.status, 2) << bad;
+    EXPECT_NE(r.err.find("--start: error:"), std::string::npos) << r.err;
+  }
+}
+
 }  // namespace
 }  // namespace cwe::app

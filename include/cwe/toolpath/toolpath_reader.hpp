@@ -7,6 +7,7 @@
 
 #include <string>
 
+#include "cwe/toolpath/gcode_reader.hpp"
 #include "cwe/toolpath/toolpath.hpp"
 
 namespace cwe {
@@ -23,6 +24,8 @@ struct ReadToolpath {
   ToolpathFormat format = ToolpathFormat::kGcode;
 };
 
-ReadToolpath read_toolpath_file(const std::string& path);
+// Reads a G-code or CLDATA file; `gcode` sets where a G-code program's tool starts (CLDATA
+// programs state their first pose).
+ReadToolpath read_toolpath_file(const std::string& path, const GcodeOptions& gcode = {});
 
 }  // namespace cwe
