@@ -357,14 +357,9 @@ StartRule start_rule(const SimulateCommandOptions& options) {
   while (from <= options.start.size()) {
     const std::size_t comma = std::min(options.start.find(',', from), options.start.size());
     const std::string word = options.start.substr(from, comma - from);
-    std::size_t used = 0;
     double value = 0.0;
-    try {
-      value = std::stod(word, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != word.size() || !std::isfinite(value)) {
+    const std::size_t used = leading_number(word, value);
+    if (used == 0 || used != word.size()) {
       throw InputError(where, fmt::format("'{}': expected auto, origin or x,y,z in mm",
                                           options.start));
     }

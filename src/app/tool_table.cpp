@@ -12,18 +12,25 @@
 #include "cwe/tool/tool_spec.hpp"
 
 namespace cwe::app {
+
+std::size_t leading_number(const std::string& text, double& value) {
+  std::size_t used = 0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    return 0;
+  }
+  return std::isfinite(value) ? used : 0;
+}
+
 namespace {
 
 // A tool number as a JSON key: a whole number from 0.
 int tool_number(const std::string& key, const SourceLocation& where) {
-  int number = 0;
-  std::size_t used = 0;
-  try {
-    number = std::stoi(key, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used == 0 || used != key.size() || number < 0) {
+  double value = 0.0;
+  const std::size_t used = leading_number(key, value);
+  const int number = value >= 0.0 && value <= 1e9 ? static_cast<int>(value) : -1;
+  if (used == 0 || used != key.size() || number < 0 || number != value) {
     throw InputError(where, fmt::format("\"{}\" is not a tool number; expected a whole number "
                                         "such as \"1\"",
                                         key));
@@ -116,13 +123,8 @@ double quantity(const nlohmann::json& value, const SourceLocation& where, bool a
   if (value.is_number()) return value.get<double>();
   if (!value.is_string()) throw InputError(where, "expected a quantity such as \"6.0000 mm\"");
   const std::string text = value.get<std::string>();
-  std::size_t used = 0;
   double number = 0.0;
-  try {
-    number = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
+  const std::size_t used = leading_number(text, number);
   std::string unit = text.substr(used);
   unit.erase(0, unit.find_first_not_of(' '));
   unit.erase(unit.find_last_not_of(' ') + 1);
@@ -132,7 +134,7 @@ double quantity(const nlohmann::json& value, const SourceLocation& where, bool a
   if (!angle && (unit == "in" || unit == "\"")) scale = 25.4;
   if (!angle && unit == "cm") scale = 10.0;
   if (!angle && unit == "m") scale = 1000.0;
-  if (used == 0 || scale == 0.0 || !std::isfinite(number) || number < 0.0) {
+  if (used == 0 || scale == 0.0 || number < 0.0) {
     throw InputError(where, fmt::format("\"{}\" is not a {}", text,
                                         angle ? "angle in degrees (\"60.0000 °\")"
                                               : "length (\"6.0000 mm\", \"0.2500 in\")"));
@@ -313,14 +315,9 @@ ToolTable linuxcnc_table(const std::string& path, bool inches) {
                                          "A, B, C, U, V, W, D, I, J or Q",
                                          row[k]));
       }
-      std::size_t used = 0;
       double value = 0.0;
-      try {
-        value = std::stod(row.substr(k + 1), &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used == 0 || !std::isfinite(value)) {
+      const std::size_t used = leading_number(row.substr(k + 1), value);
+      if (used == 0) {
         throw InputError(at, fmt::format("{} needs a number", letter));
       }
       if (letter == 'T') {
