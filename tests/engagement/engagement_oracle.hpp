@@ -7,6 +7,7 @@
 // neighbours 1.5 s away on the surface disagree (the map places boundaries within s/√2), are not
 // judged.
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -82,6 +83,27 @@ inline OracleCount check_against_oracle(const Cutter& cutter, const Aabb& block,
   int& agreed = count.agreed;
   int& engaged = count.engaged;
   const int kPhi = 120;
+  // Judges the map's intervals `phi_map` round one disc or ring (`label`): at(φ, w) gives the
+  // oracle's verdict, w the disc's height or the ring's radius, rho its radius. A point is judged only where its neighbours 1.5 s
+  // away on the surface (in φ and in w) agree with it.
+  const auto judge = [&](const auto& at, double w, double rho, const std::vector<Interval>& phi_map,
+                         const std::string& label) {
+    const double dphi = 1.5 * kSpacing / std::max(rho, kSpacing);
+    for (int k = 0; k < kPhi; ++k) {
+      const double phi = (k + 0.5) * 2 * kPi / kPhi;
+      const int verdict = at(phi, w);
+      if (verdict == 0) continue;
+      if (at(phi - dphi, w) != verdict || at(phi + dphi, w) != verdict ||
+          at(phi, std::max(0.0, w - 1.5 * kSpacing)) != verdict ||
+          at(phi, w + 1.5 * kSpacing) != verdict) {
+        continue;
+      }
+      EXPECT_EQ(map_engaged(phi_map, phi), verdict > 0)
+          << cutter.name() << ": " << label << " φ " << phi * 180 / kPi;
+      ++agreed;
+      engaged += verdict > 0 ? 1 : 0;
+    }
+  };
   // Side: heights up to the block's reach, each checked with its neighbours 1.5 s away on the
   // surface (the map places boundaries within s/√2; the disc spans s).
   for (const DiscEngagement& disc : map.discs) {
@@ -98,21 +120,7 @@ inline OracleCount check_against_oracle(const Cutter& cutter, const Aabb& block,
       return oracle(tcs.origin + r * radial + height * tcs.z(),
                     (normal.x() * radial + normal.y() * tcs.z()).normalized());
     };
-    for (int k = 0; k < kPhi; ++k) {
-      const double phi = (k + 0.5) * 2 * kPi / kPhi;
-      const double dphi = 1.5 * kSpacing / std::max(rho, kSpacing);
-      const int verdict = at(phi, z);
-      if (verdict == 0) continue;
-      if (at(phi - dphi, z) != verdict || at(phi + dphi, z) != verdict ||
-          at(phi, std::max(0.0, z - 1.5 * kSpacing)) != verdict ||
-          at(phi, z + 1.5 * kSpacing) != verdict) {
-        continue;
-      }
-      EXPECT_EQ(map_engaged(disc.phi, phi), verdict > 0)
-          << cutter.name() << ": disc " << disc.z0 << "–" << disc.z1 << " φ " << phi * 180 / kPi;
-      ++agreed;
-      engaged += verdict > 0 ? 1 : 0;
-    }
+    judge(at, z, rho, disc.phi, fmt::format("disc {}–{}", disc.z0, disc.z1));
   }
   // Bottom rings.
   for (const RingEngagement& ring : map.rings) {
@@ -121,21 +129,7 @@ inline OracleCount check_against_oracle(const Cutter& cutter, const Aabb& block,
       const Vec3 radial = std::sin(phi) * tcs.x() + std::cos(phi) * tcs.y();
       return oracle(tcs.origin + radius * radial, -tcs.z());
     };
-    for (int k = 0; k < kPhi; ++k) {
-      const double phi = (k + 0.5) * 2 * kPi / kPhi;
-      const int verdict = at(phi, r);
-      if (verdict == 0) continue;
-      const double dphi = 1.5 * kSpacing / std::max(r, kSpacing);
-      if (at(phi - dphi, r) != verdict || at(phi + dphi, r) != verdict ||
-          at(phi, std::max(0.0, r - 1.5 * kSpacing)) != verdict ||
-          at(phi, r + 1.5 * kSpacing) != verdict) {
-        continue;
-      }
-      EXPECT_EQ(map_engaged(ring.phi, phi), verdict > 0)
-          << cutter.name() << ": ring " << ring.r0 << "–" << ring.r1 << " φ " << phi * 180 / kPi;
-      ++agreed;
-      engaged += verdict > 0 ? 1 : 0;
-    }
+    judge(at, r, r, ring.phi, fmt::format("ring {}–{}", ring.r0, ring.r1));
   }
   return count;
 }

@@ -6,8 +6,8 @@
 // a cutter point is engaged where the step removes material next to it.
 //
 // Storage follows the removal's parallel tiles (TriDexel::kTile × kTile rays), each tile's
-// stretches sorted by ray, so that recording costs no sort of the whole step and a look-up is a
-// binary search within one tile. A record reused for step after step keeps its buffers.
+// stretches sorted by ray with the start of each row of rays, so that recording costs no sort of
+// the whole step and a look-up is a short binary search within one row of one tile. A record reused for step after step keeps its buffers.
 
 #include <algorithm>
 #include <array>
@@ -30,7 +30,6 @@ class RemovalRecord {
 
   void clear();
   bool empty() const { return stretches_ == 0; }
-  std::size_t size() const { return stretches_; }
   // A box holding every stretch (empty when nothing was removed).
   const Aabb& bounds() const { return bounds_; }
   // The stretches removed from ray (i, j) of family `axis` (0 x, 1 y, 2 z), ascending. Inline:
