@@ -5,15 +5,14 @@
 #include <filesystem>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <tbb/info.h>
 #include <nlohmann/json.hpp>
 
 #include "cwe/core/error.hpp"
 #include "cwe/core/text_file.hpp"
 #include "cwe/toolpath/cl_sampling.hpp"
-#include "cwe/io/mesh_io.hpp"
-#include "cwe/tool/apt.hpp"
-#include "tool_choice.hpp"
+#include "program_runs.hpp"
 #include "tool_table.hpp"
 
 namespace cwe::app {
@@ -40,20 +39,17 @@ void read_job(SimulateCommandOptions& options) {
   const auto where = [&](const std::string& key) {
     return SourceLocation{fmt::format("{}: \"{}\"", options.job, key)};
   };
+  // The job's keys, in the order the error lists them.
   static const char* const kKeys[] = {
-      "stock",       "tool",       "path",   "operations",  "out",  "resolution",
-      "tolerance",   "threads",    "ply",    "cl_step",     "maps", "stock_only",
-      "mesh_stride", "comment",    "forces", "spindle",     "feed", "flutes",
-      "helix",       "force_step", "runout", "force_curves", "tools", "tool_for_all",
-      "tool_units",  "start"};
+      "stock",  "tool",       "tools",      "tool_units",   "tool_for_all", "start",
+      "tool_change", "path",  "operations", "out",          "resolution",   "tolerance",
+      "threads", "mesh_stride", "ply",      "cl_step",      "maps",         "stock_only",
+      "forces", "spindle",    "feed",       "flutes",       "helix",        "force_step",
+      "runout", "force_curves", "comment"};
   for (const auto& [key, value] : job.items()) {
     if (std::find(std::begin(kKeys), std::end(kKeys), key) == std::end(kKeys)) {
-      throw InputError(where(key),
-                       "unknown key; expected stock, tool, tools, tool_units, tool_for_all, start, "
-                       "path, operations, "
-                       "out, resolution, tolerance, threads, mesh_stride, ply, cl_step, maps, "
-                       "stock_only, forces, spindle, feed, flutes, helix, force_step, runout, "
-                       "force_curves or comment");
+      throw InputError(where(key), fmt::format("unknown key; expected one of {}",
+                                               fmt::join(std::begin(kKeys), std::end(kKeys), ", ")));
     }
   }
   const auto text_of = [&](const char* key, std::string& field, bool is_path) {
@@ -94,6 +90,7 @@ void read_job(SimulateCommandOptions& options) {
   }
   text_of("tool_units", options.tool_units, false);
   text_of("start", options.start, false);
+  text_of("tool_change", options.tool_change, false);
   if (job.contains("tool_for_all") && !options.tool_for_all) {
     if (!job["tool_for_all"].is_boolean()) {
       throw InputError(where("tool_for_all"), "expected true or false");
@@ -179,11 +176,8 @@ void read_job(SimulateCommandOptions& options) {
 
 void add_job_options(CLI::App* cmd, SimulateCommandOptions& options) {
   cmd->add_option("job", options.job,
-                  "JSON job file (keys: stock, tool, tools, tool_for_all, path or operations, out, "
-                  "resolution, "
-                  "tolerance, threads, cl_step, maps, stock_only, mesh_stride, ply, forces, "
-                  "spindle, feed, flutes, helix, force_step, runout, force_curves); options below "
-                  "override it");
+                  "JSON job file (keys as the options below, with _ for -, plus operations; "
+                  "docs/simulate.md); options below override it");
   cmd->add_option("--stock", options.stock,
                   "box:xmin,ymin,zmin,xmax,ymax,zmax (mm) or a closed STL file");
   cmd->add_option("--tool", options.tool,
@@ -192,8 +186,12 @@ void add_job_options(CLI::App* cmd, SimulateCommandOptions& options) {
                   "Tool table (JSON: {\"1\": \"flat:10,30\", …}): the cutter of each tool number "
                   "the program loads (T… M6, LOADTL)");
   cmd->add_option("--start", options.start,
-                  "Where a G-code program's tool starts: auto (5 mm above the stock's top at the "
+                  "Where a program's tool starts: auto (5 mm above the stock's top at the "
                   "program's first XY), origin, or x,y,z in mm (default auto)");
+  cmd->add_option("--tool-change", options.tool_change,
+                  "Where a program changes tools: auto (the old tool straight up to 5 mm above "
+                  "the stock's top, the new one across to its first XY), stay, or x,y,z in mm "
+                  "(default auto)");
   cmd->add_option("--tool-units", options.tool_units,
                   "Units of a LinuxCNC tool table's lengths: mm or in (default mm)");
   cmd->add_flag("--tool-for-all", options.tool_for_all,
@@ -224,182 +222,6 @@ void add_job_options(CLI::App* cmd, SimulateCommandOptions& options) {
                   "Radial runout offset_mm[,angle_deg] of the cutter (default none)");
   cmd->add_flag("--quiet", options.quiet, "No progress bar");
 }
-
-namespace {
-
-// A stretch of a program cut by one tool.
-struct ToolRun {
-  ReadToolpath read;  // the program with only the stretch's moves
-  Cutter cutter;
-  int tool = 0;
-};
-
-// Where a program loads `tool` (its first tool change to it), for errors.
-SourceLocation loading(const Toolpath& path, int tool, const std::string& file) {
-  for (const ToolChange& change : path.tool_changes) {
-    if (change.tool == tool) return change.location;
-  }
-  return SourceLocation{file};
-}
-
-// The program cut into stretches of one tool each, with their cutters: from the tool table, else
-// the program's own definition of that tool (CLDATA CUTTER/). A program that loads one tool (or
-// none) is one stretch with the operation's --tool (or its one definition). Moves before the
-// first tool change go with the first tool loaded.
-std::vector<ToolRun> split_by_tool(const ReadToolpath& read, const Operation& op,
-                                   const SimulateCommandOptions& options) {
-  const Toolpath& path = read.toolpath;
-  std::vector<int> tools;  // the tool of each move, moves before any change taking the first
-  int first = 0;
-  for (const Move& m : path.moves) {
-    if (m.tool != 0) {
-      first = m.tool;
-      break;
-    }
-  }
-  std::vector<int> used;
-  for (const Move& m : path.moves) {
-    tools.push_back(m.tool != 0 ? m.tool : (tools.empty() ? first : tools.back()));
-    if (std::find(used.begin(), used.end(), tools.back()) == used.end()) {
-      used.push_back(tools.back());
-    }
-  }
-  const bool table = options.tool_table.has_value();
-  // At most one tool: --tool when given (it names the cutter of this operation), else the table's
-  // entry for it, else the program's own cutter.
-  if (used.size() <= 1 && (!table || !op.tool.empty() || used.empty() || used.front() == 0)) {
-    return {{read, choose_cutter(op.tool, path, op.path), used.empty() ? 0 : used.front()}};
-  }
-  if (!table) {
-    if (!op.tool.empty() && options.tool_for_all) {
-      return {{read, choose_cutter(op.tool, path, op.path), 0}};
-    }
-    const bool defined = std::all_of(used.begin(), used.end(), [&](int t) {
-      return path.tool_definitions.count(t) > 0;
-    });
-    if (op.tool.empty() && !defined) {
-      throw InputError(loading(path, used[1], op.path),
-                       fmt::format("the program loads tool {} here after tool {}: give a tool "
-                                   "table (--tools) that names the cutter of each",
-                                   used[1], used[0]));
-    }
-    if (!op.tool.empty()) {
-      throw InputError(loading(path, used[1], op.path),
-                       fmt::format("the program loads tool {} here after tool {}, but --tool names "
-                                   "one cutter: give a tool table (--tools), or --tool-for-all to "
-                                   "cut every move with {}",
-                                   used[1], used[0], op.tool));
-    }
-  }
-  // The cutter of each tool the program uses.
-  std::map<int, Cutter> cutters;
-  for (const int t : used) {
-    if (table) {
-      const auto entry = options.tool_table->tools.find(t);
-      if (entry != options.tool_table->tools.end()) {
-        try {
-          cutters.emplace(t, cutter_of(entry->second));
-        } catch (const InputError& e) {
-          throw InputError(loading(path, t, op.path), fmt::format("tool {}: {}", t, e.what()));
-        }
-        continue;
-      }
-    }
-    const auto defined = path.tool_definitions.find(t);
-    if (defined == path.tool_definitions.end()) {
-      throw InputError(loading(path, t, op.path),
-                       fmt::format("tool {} is not in the tool table {}", t,
-                                   options.tool_table->source));
-    }
-    CutterOptions named;
-    named.name = fmt::format("{} T{} {}", op.path, t, to_string(defined->second));
-    named.apt = defined->second;
-    cutters.emplace(t, Cutter(apt_profile(defined->second, SourceLocation{op.path}), named));
-  }
-  std::vector<ToolRun> runs;
-  for (std::size_t m = 0; m < path.moves.size();) {
-    std::size_t end = m;
-    while (end < path.moves.size() && tools[end] == tools[m]) ++end;
-    // The program's warnings go with its first stretch only.
-    ReadToolpath part{Toolpath{path.sources, {}, path.tool_definitions, path.tool_changes,
-                               runs.empty() ? path.warnings : std::vector<Diagnostic>{},
-                               path.units},
-                      read.format};
-    part.toolpath.moves.assign(path.moves.begin() + static_cast<std::ptrdiff_t>(m),
-                               path.moves.begin() + static_cast<std::ptrdiff_t>(end));
-    runs.push_back({std::move(part), cutters.at(tools[m]), tools[m]});
-    m = end;
-  }
-  return runs;
-}
-
-// Where G-code programs start (docs/simulate.md, "Where the tool starts").
-struct StartRule {
-  enum class Kind { kAuto, kOrigin, kGiven } kind = Kind::kAuto;
-  Vec3 given = Vec3::Zero();
-  double top = 0.0;  // the stock's top, for kAuto
-};
-
-StartRule start_rule(const SimulateCommandOptions& options) {
-  StartRule rule;
-  const SourceLocation where{"--start"};
-  if (options.start.empty() || options.start == "auto") {
-    const StockSpec stock = parse_stock_spec(options.stock, SourceLocation{"--stock"});
-    rule.top = stock.is_box ? stock.box.max.z() : read_stl(stock.path).mesh.bounds().max.z();
-    return rule;
-  }
-  if (options.start == "origin") {
-    rule.kind = StartRule::Kind::kOrigin;
-    return rule;
-  }
-  std::vector<double> values;
-  std::size_t from = 0;
-  while (from <= options.start.size()) {
-    const std::size_t comma = std::min(options.start.find(',', from), options.start.size());
-    const std::string word = options.start.substr(from, comma - from);
-    double value = 0.0;
-    const std::size_t used = leading_number(word, value);
-    if (used == 0 || used != word.size()) {
-      throw InputError(where, fmt::format("'{}': expected auto, origin or x,y,z in mm",
-                                          options.start));
-    }
-    values.push_back(value);
-    from = comma + 1;
-  }
-  if (values.size() != 3) {
-    throw InputError(where, fmt::format("'{}': expected auto, origin or x,y,z in mm",
-                                        options.start));
-  }
-  rule.kind = StartRule::Kind::kGiven;
-  rule.given = Vec3(values[0], values[1], values[2]);
-  return rule;
-}
-
-// A program read with its tool starting where `rule` says. For "auto", a first reading from the
-// origin finds the program's first XY (the end of the first move that leaves the origin's XY,
-// else the origin's), and the program is read again from kStartClearance above the stock's top
-// there.
-ReadToolpath read_program(const std::string& path, const StartRule& rule) {
-  if (rule.kind == StartRule::Kind::kOrigin) return read_toolpath_file(path);
-  GcodeOptions gcode;
-  if (rule.kind == StartRule::Kind::kGiven) {
-    gcode.initial_position = rule.given;
-    return read_toolpath_file(path, gcode);
-  }
-  ReadToolpath first = read_toolpath_file(path);
-  if (first.format != ToolpathFormat::kGcode) return first;
-  Vec3 at(0.0, 0.0, rule.top + kStartClearance);
-  for (const Move& m : first.toolpath.moves) {
-    if (m.end.head<2>() != Vec2::Zero()) {
-      at.head<2>() = m.end.head<2>();
-      break;
-    }
-  }
-  gcode.initial_position = at;
-  return read_toolpath_file(path, gcode);
-}
-
-}  // namespace
 
 PreparedJob prepare_job(SimulateCommandOptions& options, bool sample) {
   require(options.stock, "stock", "--stock");
@@ -442,11 +264,10 @@ PreparedJob prepare_job(SimulateCommandOptions& options, bool sample) {
   }
 
   // Everything the job needs is read and checked before the long part starts.
-  const StartRule start = start_rule(options);
+  const EntryRules entries = entry_rules(options);
   for (std::size_t o = 0; o < options.operations.size(); ++o) {
     const Operation& op = options.operations[o];
-    ReadToolpath read = read_program(op.path, start);
-    for (ToolRun& run : split_by_tool(read, op, options)) {
+    for (ToolRun& run : program_runs(op, options, entries)) {
       SamplingOptions sampling;
       sampling.step =
           options.cl_step > 0.0 ? options.cl_step : default_cl_step(run.cutter.diameter());

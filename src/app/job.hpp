@@ -41,9 +41,6 @@ struct PreparedJob {
   std::optional<ForceSettings> forces;
 };
 
-// How far above the stock's top a G-code program's tool starts by default, mm.
-inline constexpr double kStartClearance = 5.0;
-
 // Checks the options (after read_job) and prepares the job; `sample` counts the CL samples.
 // Throws InputError naming the option, file and line of the first problem.
 PreparedJob prepare_job(SimulateCommandOptions& options, bool sample);

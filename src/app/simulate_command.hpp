@@ -39,9 +39,11 @@ struct SimulateCommandOptions {
   std::optional<ToolTable> tool_table;
   bool tool_for_all = false;  // one --tool cuts every move of a program that changes tools
   std::string tool_units;     // "mm" or "in": lengths of a LinuxCNC tool table (default mm)
-  // Where a G-code program's tool starts: "auto" (default: kStartClearance above the stock's
-  // top at the program's first XY), "origin", or "x,y,z" in mm.
+  // Where a program's tool starts: "auto" (default: kStartClearance above the stock's top at the
+  // program's first XY), "origin", or "x,y,z" in mm; and where it changes tools: "auto" (default:
+  // up to that height, then across to the new tool's first XY), "stay", or "x,y,z" in mm.
   std::string start;
+  std::string tool_change;
   std::string out;
   double resolution = 0.0;  // 0: from the job, else 0.1 mm
   double tolerance = 0.0;   // 0: from the job, else resolution / 10

@@ -318,7 +318,8 @@ bool is_ignored_word(std::string_view word) {
 
 class Reader {
  public:
-  Reader(std::string source, bool nx_clsf) : source_(std::move(source)), nx_clsf_(nx_clsf) {
+  Reader(std::string source, bool nx_clsf, const Vec3& start)
+      : source_(std::move(source)), nx_clsf_(nx_clsf), position_(start) {
     path_.sources = {source_};
   }
 
@@ -362,6 +363,7 @@ class Reader {
     } else if (word == "TLAXIS") {
       const std::vector<double> v = numbers(record, 3, 3, "TLAXIS takes i,j,k");
       axis_ = direction(v[0], v[1], v[2], record.fields[0].where);
+      axis_stated_ = true;
     } else if (word == "MULTAX") {
       multax(record);
     } else if (word == "SPINDL") {
@@ -738,7 +740,10 @@ class Reader {
     }
     std::optional<Vec3> axis;
     point(record, v, 0, position_, axis);
-    if (axis) axis_ = *axis;
+    if (axis) {
+      axis_ = *axis;
+      axis_stated_ = true;
+    }
   }
 
   void go_to(const Record& record) {
@@ -776,6 +781,9 @@ class Reader {
     Vec3 end;
     std::optional<Vec3> axis;
     point(record, v, 0, end, axis);
+    // A program that states no axis before its first motion (FROM or TLAXIS with one) starts in
+    // its first GOTO's orientation: no turn from an invented one.
+    if (!axis_stated_ && axis) axis_ = *axis;
     if (circle) {
       add_arc(record, *circle, end, axis.value_or(axis_), mode);
     } else {
@@ -837,6 +845,7 @@ class Reader {
   // A move from the current position with the state every move carries.
   Move new_move(MotionMode mode, Position where) {
     settle_pending_cutter();
+    axis_stated_ = true;
     tool_just_loaded_ = false;
     Move move;
     move.mode = mode;
@@ -933,6 +942,7 @@ class Reader {
   double scale_ = 1.0;  // mm per program unit
   Vec3 position_ = Vec3::Zero();
   Vec3 axis_ = Vec3::UnitZ();
+  bool axis_stated_ = false;  // by FROM, TLAXIS or a motion
   bool multax_ = false;
   bool rapid_next_ = false;
 
@@ -959,9 +969,9 @@ class Reader {
 
 }  // namespace
 
-Toolpath read_cldata(std::string_view text, const std::string& source) {
+Toolpath read_cldata(std::string_view text, const std::string& source, const Vec3& start) {
   Lexer lexer(text);
-  Reader reader(source, is_nx_clsf(text));
+  Reader reader(source, is_nx_clsf(text), start);
   while (std::optional<Record> record = lexer.next()) {
     if (reader.read(*record)) continue;
     // FINI ends the program: what follows is counted, not interpreted.
@@ -976,8 +986,8 @@ Toolpath read_cldata(std::string_view text, const std::string& source) {
   return reader.finish();
 }
 
-Toolpath read_cldata_file(const std::string& path) {
-  return read_cldata(read_text_file(path, "CLDATA file"), path);
+Toolpath read_cldata_file(const std::string& path, const Vec3& start) {
+  return read_cldata(read_text_file(path, "CLDATA file"), path, start);
 }
 
 }  // namespace cwe

@@ -54,8 +54,9 @@ ReadToolpath read_toolpath_file(const std::string& path, const GcodeOptions& gco
   const std::string text = read_text_file(path, "toolpath file");
   ReadToolpath result;
   result.format = detect_toolpath_format(path, text);
-  result.toolpath =
-      result.format == ToolpathFormat::kGcode ? read_gcode(text, path, gcode) : read_cldata(text, path);
+  result.toolpath = result.format == ToolpathFormat::kGcode
+                        ? read_gcode(text, path, gcode)
+                        : read_cldata(text, path, gcode.initial_position);
   return result;
 }
 

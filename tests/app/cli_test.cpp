@@ -888,12 +888,78 @@ TEST(CliSimulate, ToolStartsAboveTheStock) {
   EXPECT_EQ(rapid_cuts({"--start", "auto"}), 0);
   EXPECT_EQ(rapid_cuts({"--start", "20,10,30"}), 0);
   EXPECT_EQ(rapid_cuts({"--start", "origin"}), 1);
+  // A CLDATA program without FROM starts alike, in its first GOTO's orientation.
+  std::ofstream(dir / "cut.cls") << "SPINDL/10000,CLW\nRAPID\nGOTO/20,10,15,0,0.6,0.8\n"
+                                    "FEDRAT/300\nGOTO/20,10,7\nGOTO/40,10,7\nFINI\n";
+  const auto cldata_rapid_cuts = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args = {"simulate", "--path", (dir / "cut.cls").string(), "--tool",
+                                     "flat:10,20", "--stock", "box:0,0,0,50,20,10",
+                                     "--resolution", "0.25", "--out", (dir / "out").string(),
+                                     "--maps", "none", "--quiet"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const Result r = run_cwe(args);
+    EXPECT_EQ(r.status, 0) << r.err;
+    std::ifstream in(dir / "out" / "summary.json");
+    return nlohmann::json::parse(in)["rapid_cuts"]["count"].get<int>();
+  };
+  EXPECT_EQ(cldata_rapid_cuts({}), 0);
+  EXPECT_EQ(cldata_rapid_cuts({"--start", "origin"}), 1);
   for (const char* bad : {"up", "1,2", "1,2,3,4", "1,x,3"}) {
     const Result r = run_cwe({"simulate", "--path", (dir / "cut.ngc").string(), "--tool",
                               "flat:10,20", "--stock", "box:0,0,0,50,20,10", "--out",
                               (dir / "bad").string(), "--start", bad});
     EXPECT_EQ(r.status, 2) << bad;
     EXPECT_NE(r.err.find("--start: error:"), std::string::npos) << r.err;
+  }
+}
+
+// At a tool change the old tool goes straight up to the clearance above the stock and the new one
+// comes in above its first XY (auto); `stay` starts the new tool where the old one stopped, as a
+// machine without a tool-change position does; x,y,z is a tool-change position.
+TEST(CliTools, ToolChangesComeFromAbove) {
+  const auto dir = scratch_dir("tool_change");
+  std::filesystem::create_directories(dir);
+  // The flat end mill stops inside the stock, at the end of its slot; no retract before T2 M6.
+  std::ofstream(dir / "both.ngc")
+      << kTwoToolHeader << "T1 M6\nS10000 M3\nG0 X-10 Y10 Z1\nG1 Z-3 F300\nG1 X40 F600\n"
+      << "T2 M6\nS12000 M3\nG0 X10 Y3 Z1\nG1 Z-4 F300\nG1 X40 F600\nG0 Z5\nM2\n";
+  std::ofstream(dir / "table.json") << R"({"1": "flat:10,20", "2": "ball:6,20"})";
+  const auto run = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args = {"simulate", "--path", (dir / "both.ngc").string(), "--tools",
+                                     (dir / "table.json").string(), "--stock",
+                                     "box:0,0,-10,50,20,0", "--resolution", "0.25", "--out",
+                                     (dir / "out").string(), "--maps", "none", "--quiet"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const Result r = run_cwe(args);
+    EXPECT_EQ(r.status, 0) << r.err;
+    std::ifstream in(dir / "out" / "summary.json");
+    return nlohmann::json::parse(in);
+  };
+  const nlohmann::json automatic = run({});
+  EXPECT_EQ(automatic["rapid_cuts"]["count"], 0);
+  const nlohmann::json given = run({"--tool-change", "40,10,20"});
+  EXPECT_EQ(given["rapid_cuts"]["count"], 0);
+  EXPECT_NEAR(given["removed_volume_mm3"].get<double>(),
+              automatic["removed_volume_mm3"].get<double>(), 1e-9);
+  // The old tool's way up and across are moves of their own.
+  EXPECT_EQ(automatic["operations"][0]["moves"], 5);
+  EXPECT_EQ(given["operations"][0]["moves"], 4);  // up; across is nothing
+  // Staying, the ball's first rapid runs from the slot's end through the stock beside it:
+  // reported at its line (9, the G0 after T2 M6 at line 7). The ball's cut that follows takes
+  // that material anyway.
+  const nlohmann::json stay = run({"--tool-change", "stay"});
+  EXPECT_EQ(stay["operations"][0]["moves"], 3);
+  ASSERT_EQ(stay["rapid_cuts"]["count"], 1);
+  EXPECT_EQ(stay["rapid_cuts"]["first"][0]["line"], 9);
+  EXPECT_GT(stay["rapid_cuts"]["first"][0]["removed_mm3"].get<double>(), 1.0);
+  EXPECT_NEAR(stay["removed_volume_mm3"].get<double>(),
+              automatic["removed_volume_mm3"].get<double>(), 1e-9);
+  for (const char* bad : {"up", "1,2", "origin"}) {
+    const Result r = run_cwe({"simulate", "--path", (dir / "both.ngc").string(), "--tools",
+                              (dir / "table.json").string(), "--stock", "box:0,0,-10,50,20,0",
+                              "--out", (dir / "bad").string(), "--tool-change", bad});
+    EXPECT_EQ(r.status, 2) << bad;
+    EXPECT_NE(r.err.find("--tool-change: error:"), std::string::npos) << r.err;
   }
 }
 

@@ -262,6 +262,33 @@ TEST(CldataMotion, TheFirstGotoStartsAtTheOrigin) {
   const Toolpath p = read("GOTO/1,2,3");
   EXPECT_EQ(p.moves[0].start, Vec3::Zero());
   EXPECT_EQ(p.moves[0].start_axis, Vec3::UnitZ());
+  // Or where the reader is told the tool is.
+  EXPECT_EQ(read_cldata("GOTO/1,2,3", "t.cl", Vec3(1, 2, 8)).moves[0].start, Vec3(1, 2, 8));
+  EXPECT_EQ(read_cldata("FROM/0,0,9\nGOTO/1,2,3", "t.cl", Vec3(1, 2, 8)).moves[0].start,
+            Vec3(0, 0, 9));
+}
+
+// A program that states no axis before its first GOTO starts in that GOTO's orientation: no
+// simultaneous 5-axis turn from an invented +Z pose.
+TEST(CldataMotion, TheFirstGotoStartsInItsOwnOrientation) {
+  const Vec3 tilted = Vec3(0, 3, 4) / 5.0;
+  for (const char* program : {"RAPID\nGOTO/10,0,20,0,3,4\nGOTO/10,0,5,0,0,1\n",
+                              "FEDRAT/300\nMULTAX/ON\nGOTO/10,0,20,0,0.6,0.8\nGOTO/10,0,5,0,0,1\n",
+                              "FROM/0,0,50\nGOTO/10,0,20,0,3,4\nGOTO/10,0,5,0,0,1\n"}) {
+    const Toolpath p = read(program);
+    ASSERT_EQ(p.moves.size(), 2u) << program;
+    expect_point(p.moves[0].start_axis, tilted, kUnit);
+    expect_point(p.moves[0].end_axis, tilted, kUnit);
+    EXPECT_EQ(p.moves[0].axis_angle(), 0.0) << program;
+    EXPECT_GT(p.moves[1].axis_angle(), 0.6) << program;  // the later turn is programmed
+  }
+  // An axis stated before the first GOTO is where the tool starts.
+  for (const char* program : {"TLAXIS/0,0,1\nGOTO/10,0,20,0,3,4\n",
+                              "FROM/0,0,50,0,0,1\nGOTO/10,0,20,0,3,4\n"}) {
+    const Toolpath p = read(program);
+    EXPECT_EQ(p.moves[0].start_axis, Vec3::UnitZ()) << program;
+    expect_point(p.moves[0].end_axis, tilted, kUnit);
+  }
 }
 
 TEST(CldataMotion, FromSetsThePositionWithoutMoving) {

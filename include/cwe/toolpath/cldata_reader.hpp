@@ -11,11 +11,16 @@
 #include <string>
 #include <string_view>
 
+#include "cwe/geometry/vec.hpp"
 #include "cwe/toolpath/toolpath.hpp"
 
 namespace cwe {
 
-Toolpath read_cldata(std::string_view text, const std::string& source);
-Toolpath read_cldata_file(const std::string& path);
+// `start`: where the tool tip is before the first motion when the program has no FROM. A program
+// that states no axis before its first GOTO (no FROM or TLAXIS with one) starts in that GOTO's
+// orientation, +Z for a 3-axis GOTO.
+Toolpath read_cldata(std::string_view text, const std::string& source,
+                     const Vec3& start = Vec3::Zero());
+Toolpath read_cldata_file(const std::string& path, const Vec3& start = Vec3::Zero());
 
 }  // namespace cwe

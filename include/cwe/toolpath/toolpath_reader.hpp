@@ -24,8 +24,8 @@ struct ReadToolpath {
   ToolpathFormat format = ToolpathFormat::kGcode;
 };
 
-// Reads a G-code or CLDATA file; `gcode` sets where a G-code program's tool starts (CLDATA
-// programs state their first pose).
+// Reads a G-code or CLDATA file; `gcode.initial_position` is where the tool tip is before the
+// first move (of a CLDATA program, unless it has a FROM).
 ReadToolpath read_toolpath_file(const std::string& path, const GcodeOptions& gcode = {});
 
 }  // namespace cwe
