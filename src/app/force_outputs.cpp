@@ -12,7 +12,7 @@ namespace cwe::app {
 ForceSettings force_settings(const std::string& forces, double spindle, double feed, int flutes,
                              double helix_deg, double step_deg, const std::string& runout) {
   ForceSettings s;
-  s.coefficients = load_cutting_coefficients(forces);
+  if (!forces.empty()) s.coefficients = load_cutting_coefficients(forces);
   if (spindle < 0.0 || !std::isfinite(spindle)) {
     throw InputError(SourceLocation{"--spindle"},
                      fmt::format("{} rev/min: expected a positive spindle speed", spindle));

@@ -14,14 +14,16 @@
 namespace cwe::app {
 
 struct ForceSettings {
-  CuttingCoefficients coefficients;
+  // The job's (--forces); a tool table's entry may give its tool's own instead.
+  std::optional<CuttingCoefficients> coefficients;
   ForceModelOptions model;        // flutes, helix 0/−1 mean: the cutter's
   std::optional<double> spindle;  // rev/min, overriding the program's
   std::optional<double> feed;     // mm/min, overriding the program's (feed moves)
 };
 
-// `forces`: a coefficient JSON file or bundled material; the others as on the command line
-// (spindle 0, flutes 0, helix < 0, step 0 and an empty runout mean "not given"). Throws
+// `forces`: a coefficient JSON file or bundled material (empty: only the tool table's); the others
+// as on the command line (spindle 0, flutes 0, helix < 0, step 0 and an empty runout mean "not
+// given"). Throws
 // InputError naming the option.
 ForceSettings force_settings(const std::string& forces, double spindle, double feed, int flutes,
                              double helix_deg, double step_deg, const std::string& runout);

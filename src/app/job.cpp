@@ -223,6 +223,17 @@ void add_job_options(CLI::App* cmd, SimulateCommandOptions& options) {
   cmd->add_flag("--quiet", options.quiet, "No progress bar");
 }
 
+std::string coefficient_names(const PreparedJob& job, bool sources) {
+  std::vector<std::string> names;
+  for (const PreparedOperation& op : job.operations) {
+    if (!op.forces) continue;
+    const CuttingCoefficients& k = op.forces->coefficients();
+    const std::string& name = sources ? k.source : k.name;
+    if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+  }
+  return fmt::format("{}", fmt::join(names, "; "));
+}
+
 PreparedJob prepare_job(SimulateCommandOptions& options, bool sample) {
   require(options.stock, "stock", "--stock");
   if (!options.path.empty()) {
@@ -246,15 +257,6 @@ PreparedJob prepare_job(SimulateCommandOptions& options, bool sample) {
                      fmt::format("{} mm: expected a positive length", options.cl_step));
   }
   job.threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
-  if (options.forces.empty() && (options.feed != 0.0 || options.spindle != 0.0)) {
-    throw InputError(SourceLocation{options.feed != 0.0 ? "--feed" : "--spindle"},
-                     "spindle speed and feed overrides are for the force model: give --forces");
-  }
-  if (!options.forces.empty()) {
-    job.forces = force_settings(options.forces, options.spindle, options.feed, options.flutes,
-                                options.helix, options.force_step, options.runout);
-  }
-
   if (!options.tool_units.empty() && options.tool_units != "mm" && options.tool_units != "in") {
     throw InputError(SourceLocation{"--tool-units"},
                      fmt::format("'{}': expected mm or in", options.tool_units));
@@ -265,22 +267,45 @@ PreparedJob prepare_job(SimulateCommandOptions& options, bool sample) {
 
   // Everything the job needs is read and checked before the long part starts.
   const EntryRules entries = entry_rules(options);
+  std::vector<std::pair<std::size_t, ToolRun>> runs;  // with their operation
   for (std::size_t o = 0; o < options.operations.size(); ++o) {
-    const Operation& op = options.operations[o];
-    for (ToolRun& run : program_runs(op, options, entries)) {
-      SamplingOptions sampling;
-      sampling.step =
-          options.cl_step > 0.0 ? options.cl_step : default_cl_step(run.cutter.diameter());
-      const std::size_t cls = sample ? sample_cl_points(run.read.toolpath, sampling).size() : 0;
-      job.cl_count += cls;
-      std::optional<ForceModel> forces;
-      if (job.forces) {
-        check_spindle(run.read.toolpath, op.path, *job.forces);
-        forces.emplace(run.cutter, job.forces->coefficients, job.forces->model);
-      }
-      job.operations.push_back({op.path, std::move(run.read), std::move(run.cutter), sampling, cls,
-                                std::move(forces), run.tool, o});
+    for (ToolRun& run : program_runs(options.operations[o], options, entries)) {
+      runs.emplace_back(o, std::move(run));
     }
+  }
+  // Forces: with --forces, or when the tool table gives a tool its coefficients.
+  const bool own_coefficients = std::any_of(
+      runs.begin(), runs.end(), [](const auto& run) { return run.second.coefficients.has_value(); });
+  if (options.forces.empty() && !own_coefficients &&
+      (options.feed != 0.0 || options.spindle != 0.0)) {
+    throw InputError(SourceLocation{options.feed != 0.0 ? "--feed" : "--spindle"},
+                     "spindle speed and feed overrides are for the force model: give --forces");
+  }
+  if (!options.forces.empty() || own_coefficients) {
+    job.forces = force_settings(options.forces, options.spindle, options.feed, options.flutes,
+                                options.helix, options.force_step, options.runout);
+  }
+  for (auto& [o, run] : runs) {
+    const std::string& program = options.operations[o].path;
+    SamplingOptions sampling;
+    sampling.step =
+        options.cl_step > 0.0 ? options.cl_step : default_cl_step(run.cutter.diameter());
+    const std::size_t cls = sample ? sample_cl_points(run.read.toolpath, sampling).size() : 0;
+    job.cl_count += cls;
+    std::optional<ForceModel> forces;
+    if (job.forces) {
+      if (!run.coefficients && !job.forces->coefficients) {
+        throw InputError(run.loaded,
+                         fmt::format("tool {} has no cutting coefficients: give --forces, or "
+                                     "\"forces\" in its tool table entry",
+                                     run.tool));
+      }
+      check_spindle(run.read.toolpath, program, *job.forces);
+      forces.emplace(run.cutter, run.coefficients.value_or(*job.forces->coefficients),
+                     job.forces->model);
+    }
+    job.operations.push_back({program, std::move(run.read), std::move(run.cutter), sampling, cls,
+                              std::move(forces), run.tool, o});
   }
   return job;
 }

@@ -41,6 +41,10 @@ struct PreparedJob {
   std::optional<ForceSettings> forces;
 };
 
+// The cutting coefficient sets of the job's operations, each named once in order of use: their
+// names, or (sources) where their numbers come from. Empty without forces.
+std::string coefficient_names(const PreparedJob& job, bool sources = false);
+
 // Checks the options (after read_job) and prepares the job; `sample` counts the CL samples.
 // Throws InputError naming the option, file and line of the first problem.
 PreparedJob prepare_job(SimulateCommandOptions& options, bool sample);

@@ -167,11 +167,13 @@ std::vector<ToolRun> program_runs(const Operation& op, const SimulateCommandOpti
   // At most one tool: --tool when given (it names the cutter of this operation), else the table's
   // entry for it, else the program's own cutter.
   if (used.size() <= 1 && (!table || !op.tool.empty() || used.empty() || used.front() == 0)) {
-    return {{read, choose_cutter(op.tool, path, op.path), used.empty() ? 0 : used.front()}};
+    const int tool = used.empty() ? 0 : used.front();
+    return {{read, choose_cutter(op.tool, path, op.path), tool, std::nullopt,
+             loading(path, tool, op.path)}};
   }
   if (!table) {
     if (!op.tool.empty() && options.tool_for_all) {
-      return {{read, choose_cutter(op.tool, path, op.path), 0}};
+      return {{read, choose_cutter(op.tool, path, op.path), 0, std::nullopt, SourceLocation{op.path}}};
     }
     const bool defined = std::all_of(used.begin(), used.end(), [&](int t) {
       return path.tool_definitions.count(t) > 0;
@@ -226,12 +228,17 @@ std::vector<ToolRun> program_runs(const Operation& op, const SimulateCommandOpti
                       read.format};
     part.toolpath.moves.assign(path.moves.begin() + static_cast<std::ptrdiff_t>(m),
                                path.moves.begin() + static_cast<std::ptrdiff_t>(end));
+    const SourceLocation loaded = loading(path, tools[m], op.path, path.moves[m].line);
     if (!runs.empty()) {
-      const Move& next = part.toolpath.moves.front();
-      change_tools(runs.back().read.toolpath.moves, part.toolpath.moves, rules,
-                   loading(path, tools[m], op.path, next.line).line);
+      change_tools(runs.back().read.toolpath.moves, part.toolpath.moves, rules, loaded.line);
     }
-    runs.push_back({std::move(part), cutters.at(tools[m]), tools[m]});
+    std::optional<CuttingCoefficients> coefficients;
+    if (table) {
+      const auto entry = options.tool_table->tools.find(tools[m]);
+      if (entry != options.tool_table->tools.end()) coefficients = entry->second.coefficients;
+    }
+    runs.push_back({std::move(part), cutters.at(tools[m]), tools[m], std::move(coefficients),
+                    loaded});
     m = end;
   }
   return runs;

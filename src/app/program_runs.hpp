@@ -3,10 +3,12 @@
 // a program (--start) and at each tool change (--tool-change). See docs/simulate.md, "Where the
 // tool starts" and "Programs that change tools".
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "cwe/geometry/vec.hpp"
+#include "cwe/process/cutting_coefficients.hpp"
 #include "cwe/tool/cutter.hpp"
 #include "cwe/toolpath/toolpath_reader.hpp"
 #include "simulate_command.hpp"
@@ -39,6 +41,8 @@ struct ToolRun {
   ReadToolpath read;  // the program with only the stretch's moves
   Cutter cutter;
   int tool = 0;  // 0: the program loads no tool
+  std::optional<CuttingCoefficients> coefficients;  // the tool table's for this tool, if any
+  SourceLocation loaded;  // where the program loads the tool (the file when it does not)
 };
 
 // The program of `op` read with its tool starting where `rules` say, cut into stretches of one

@@ -65,7 +65,6 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
                          std::ostream* progress) {
   SimulateCommandOptions& sim = options.job;
   read_job(sim);
-  require(sim.forces, "cutting coefficients", "--forces");
   const FeedLimit limit = parse_feed_limit(options.limit, "--limit");
   ScheduleOptions bounds;
   bounds.min_scale = options.min_scale;
@@ -82,6 +81,11 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
                                  e.what()));
   }
   PreparedJob job = prepare_job(sim, false);
+  if (!job.forces) {
+    throw InputError(SourceLocation{"cwe"},
+                     "no cutting coefficients: give --forces, put it in a job file, or give each "
+                     "tool its \"forces\" in the tool table");
+  }
   // Where each scheduled program goes: --out itself for one program, else --out/<its name>; no
   // two programs to one file, and never over an input. A program that changes tools runs as
   // several operations (one per tool) and is written once, with the feeds of all of them.
@@ -218,7 +222,7 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
                      : limit.quantity == FeedLimit::Quantity::kPower  ? "W"
                                                                       : "mm";
   fmt::print(out, "cwe schedule: limit {} {:g} {} ({})\n", to_string(limit.quantity), limit.value,
-             unit, job.forces->coefficients.name);
+             unit, coefficient_names(job));
   for (std::size_t o = 0; o < programs.size(); ++o) {
     const ScheduledProgram& p = programs[o];
     const Schedule& s = p.schedule;

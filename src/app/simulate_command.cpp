@@ -392,6 +392,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
                    {"cl_points", operations[o].cl_points},
                    {"cl_step_mm", operations[o].sampling.step}});
     if (operations[o].forces) {
+      ops.back()["coefficients"] = operations[o].forces->coefficients().name;
       ops.back()["flutes"] = operations[o].forces->flutes();
       ops.back()["helix_deg"] = degrees(operations[o].forces->helix_angle());
     }
@@ -432,8 +433,8 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
       return nlohmann::json{{"value", e.value}, {"cl", e.cl}, {"file", e.file}, {"line", e.line}};
     };
     const ForceModel& model = *operations.front().forces;
-    summary["forces"] = {{"coefficients", job.forces->coefficients.name},
-                         {"coefficients_source", job.forces->coefficients.source},
+    summary["forces"] = {{"coefficients", coefficient_names(job)},
+                         {"coefficients_source", coefficient_names(job, true)},
                          {"angle_step_deg", 360.0 / model.samples()},
                          {"runout_mm", job.forces->model.runout.offset},
                          {"runout_angle_deg", degrees(job.forces->model.runout.angle)},
@@ -502,7 +503,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
     fmt::print(out,
                "  forces      {}: peak {:.0f} N at CL {} ({} line {}), torque up to "
                "{:.2f} N·m, power up to {:.2f} kW\n",
-               job.forces->coefficients.name, extremes.force.value, extremes.force.cl,
+               coefficient_names(job), extremes.force.value, extremes.force.cl,
                std::filesystem::path(extremes.force.file).filename().string(), extremes.force.line,
                extremes.torque.value, extremes.power.value / 1000.0);
   }

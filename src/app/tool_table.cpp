@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cwe/core/text_file.hpp"
+#include "cwe/process/cutting_coefficients.hpp"
 #include "cwe/tool/tool_spec.hpp"
 
 namespace cwe::app {
@@ -66,9 +67,10 @@ ToolTable tool_table_from_json(const nlohmann::json& value, const std::string& s
     const nlohmann::json* spec = &entry;
     if (entry.is_object()) {
       for (const auto& [field, unused] : entry.items()) {
-        if (field != "spec" && field != "flutes" && field != "helix" && field != "comment") {
-          throw InputError(where, fmt::format("unknown key \"{}\"; expected spec, flutes, helix "
-                                              "or comment",
+        if (field != "spec" && field != "flutes" && field != "helix" && field != "forces" &&
+            field != "comment") {
+          throw InputError(where, fmt::format("unknown key \"{}\"; expected spec, flutes, helix, "
+                                              "forces or comment",
                                               field));
         }
       }
@@ -88,6 +90,23 @@ ToolTable tool_table_from_json(const nlohmann::json& value, const std::string& s
           throw InputError(where, "\"helix\": expected an angle in degrees from 0 to below 90");
         }
         tool.helix_deg = h.get<double>();
+      }
+      if (entry.contains("forces")) {
+        const nlohmann::json& f = entry["forces"];
+        if (!f.is_string() || f.get<std::string>().empty()) {
+          throw InputError(where, "\"forces\": expected a coefficient JSON file or a bundled "
+                                  "material (cwe materials lists them)");
+        }
+        std::string name = f.get<std::string>();
+        if ((name.ends_with(".json") || name.find('/') != std::string::npos) &&
+            std::filesystem::path(name).is_relative()) {
+          name = (folder / name).lexically_normal().string();
+        }
+        try {
+          tool.coefficients = load_cutting_coefficients(name);
+        } catch (const InputError& e) {
+          throw InputError(where, fmt::format("\"forces\": {}", e.what()));
+        }
       }
     }
     if (!spec->is_string() || spec->get<std::string>().empty()) {

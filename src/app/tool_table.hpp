@@ -2,12 +2,15 @@
 // Tool tables: which cutter cuts the moves of each tool number a program loads (G-code T… M6,
 // CLDATA LOADTL/). The cwe table is JSON, a file given with --tools or the job key "tools":
 //
-//   {"tools": {"1": "flat:10,30", "2": {"spec": "ball:6,25", "flutes": 2, "helix": 30},
+//   {"tools": {"1": "flat:10,30", "2": {"spec": "ball:6,25", "flutes": 2, "helix": 30,
+//                                        "forces": "ti6al4v-carbide"},
 //              "3": "tools/bull.json"}}
 //
 // (the outer {"tools": …}, which may carry a "comment", may be left out in a file). A value is a tool specification (or a JSON
 // tool file, relative to the table's folder), or an object with "spec" and optional "flutes"
-// and "helix" (degrees) that override the specification's.
+// and "helix" (degrees) that override the specification's, and "forces": the tool's cutting
+// coefficients (a bundled material or a coefficient file, as --forces takes), which replace the
+// job's for that tool's moves.
 
 #include <filesystem>
 #include <map>
@@ -17,6 +20,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "cwe/core/error.hpp"
+#include "cwe/process/cutting_coefficients.hpp"
 #include "cwe/tool/cutter.hpp"
 
 namespace cwe::app {
@@ -26,6 +30,7 @@ struct ToolEntry {
   std::string json;  // else the text of a JSON tool file (a profile, for FreeCAD's cones)
   std::optional<int> flutes;
   std::optional<double> helix_deg;
+  std::optional<CuttingCoefficients> coefficients;  // the tool's own ("forces")
   SourceLocation where;  // the entry, for errors
   // Non-empty: why cwe cannot cut with this entry (a FreeCAD probe or slitting saw in a library);
   // an error only for a program that loads it.

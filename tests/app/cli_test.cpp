@@ -963,5 +963,71 @@ TEST(CliTools, ToolChangesComeFromAbove) {
   }
 }
 
+// Each tool may bring its own cutting coefficients ("forces" in its table entry): a set twice the
+// job's doubles that tool's forces and leaves the other tool's alone.
+TEST(CliTools, EachToolItsOwnCoefficients) {
+  const auto dir = scratch_dir("tools_forces");
+  std::filesystem::create_directories(dir / "sets");
+  std::ofstream(dir / "both.ngc") << kTwoToolHeader << kFlatPart << kBallPart << "M2\n";
+  std::ofstream(dir / "base.json")
+      << R"({"Ktc": 800, "Krc": 300, "Kac": 100, "Kte": 20, "Kre": 15, "Kae": 2})";
+  std::ofstream(dir / "sets" / "double.json")
+      << R"({"name": "twice", "Ktc": 1600, "Krc": 600, "Kac": 200, "Kte": 40, "Kre": 30, "Kae": 4})";
+  std::ofstream(dir / "plain.json") << R"({"1": "flat:10,20", "2": "ball:6,20"})";
+  std::ofstream(dir / "own.json")
+      << R"({"1": "flat:10,20", "2": {"spec": "ball:6,20", "forces": "sets/double.json"}})";
+  std::ofstream(dir / "all.json")
+      << R"({"1": {"spec": "flat:10,20", "forces": "base.json"},
+             "2": {"spec": "ball:6,20", "forces": "sets/double.json"}})";
+  const auto run = [&](const std::string& table, std::vector<std::string> extra) {
+    std::vector<std::string> args = {"simulate", "--path", (dir / "both.ngc").string(), "--tools",
+                                     (dir / table).string(), "--stock", "box:0,0,-10,50,20,0",
+                                     "--resolution", "0.25", "--out",
+                                     (dir / ("out_" + table)).string(), "--maps", "none",
+                                     "--quiet"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return run_cwe(args);
+  };
+  const std::string base = (dir / "base.json").string();
+  for (const auto& [table, extra] :
+       std::vector<std::pair<std::string, std::vector<std::string>>>{
+           {"plain.json", {"--forces", base}}, {"own.json", {"--forces", base}},
+           {"all.json", {}}}) {
+    const Result r = run(table, extra);
+    ASSERT_EQ(r.status, 0) << table << ": " << r.err;
+  }
+  const auto plain = read_csv(dir / "out_plain.json" / "forces.csv");
+  for (const char* table : {"own.json", "all.json"}) {
+    const auto own = read_csv(dir / ("out_" + std::string(table)) / "forces.csv");
+    ASSERT_EQ(own.size(), plain.size());
+    int doubled = 0;
+    for (std::size_t i = 1; i < own.size(); ++i) {
+      const double factor = own[i].back() == "2" ? 2.0 : 1.0;
+      const double reference = std::stod(plain[i][9]);  // peak_resultant_n
+      // forces.csv prints N to 3 decimals: each value is within 0.0005 N of its own.
+      EXPECT_NEAR(std::stod(own[i][9]), factor * reference, 0.0005 * (1.0 + factor) + 1e-9)
+          << i;
+      if (factor == 2.0 && reference > 1.0) ++doubled;
+    }
+    EXPECT_GT(doubled, 10) << table;
+  }
+  std::ifstream in(dir / "out_own.json" / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  EXPECT_EQ(summary["operations"][0]["coefficients"], base);  // a set without a name: its file
+  EXPECT_EQ(summary["operations"][1]["coefficients"], "twice");
+  EXPECT_EQ(summary["forces"]["coefficients"], base + "; twice");
+  // A tool with no coefficients of its own and no --forces: an error where it is loaded.
+  const Result missing = run("own.json", {});
+  EXPECT_EQ(missing.status, 2);
+  EXPECT_NE(missing.err.find((dir / "both.ngc").string() + ":2:1: error: tool 1 has no cutting "
+                                                          "coefficients"),
+            std::string::npos)
+      << missing.err;
+  std::ofstream(dir / "bad.json") << R"({"1": {"spec": "flat:10", "forces": "nothing-known"}})";
+  const Result bad = run("bad.json", {});
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("tool \"1\""), std::string::npos) << bad.err;
+}
+
 }  // namespace
 }  // namespace cwe::app
