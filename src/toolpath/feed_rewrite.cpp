@@ -24,10 +24,23 @@
 namespace cwe {
 namespace {
 
-// Decimals written for a feed: 1e-4 mm/min, 1e-5 in/min (2.5e-4 mm/min), as CAM systems write
-// them.
-constexpr int kDecimalsMm = 4;
-constexpr int kDecimalsInch = 5;
+// Decimals written for a feed: the program's own (the most any of its feeds has), at least
+// kLeastDecimalsInch in inches (0.1 in/min), at most kMostDecimals*; kDefaultDecimals* for a
+// program without feeds. More only when fewer would write 0.
+constexpr int kMostDecimalsMm = 4;    // 1e-4 mm/min
+constexpr int kMostDecimalsInch = 5;  // 1e-5 in/min, 2.5e-4 mm/min
+constexpr int kLeastDecimalsInch = 1;
+constexpr int kDefaultDecimalsMm = 1;
+constexpr int kDefaultDecimalsInch = 2;
+
+// Decimals of a number as written (digits after the point, before any exponent).
+int decimals_of(std::string_view number) {
+  const std::size_t point = number.find('.');
+  if (point == std::string_view::npos) return 0;
+  std::size_t end = point + 1;
+  while (end < number.size() && number[end] >= '0' && number[end] <= '9') ++end;
+  return static_cast<int>(end - point - 1);
+}
 
 bool is_digit(char c) { return c >= '0' && c <= '9'; }
 bool is_upper(char c) { return c >= 'A' && c <= 'Z'; }
@@ -89,24 +102,36 @@ struct WrittenFeed {
   double value = 0.0;  // in the reader's unit (mm/min, or mm/rev for CLDATA per revolution)
 };
 
-// `feed` (mm/min) in program units of `scale` mm, with at most `decimals` decimals and no
-// trailing zeros. Throws std::invalid_argument when the number would be 0 or out of range.
-WrittenFeed write_feed(double feed, double scale, int decimals, const std::string& source,
-                       int line) {
+// `feed` (mm/min) in program units of `scale` mm, rounded to `decimals` decimals (more, up to
+// `most`, when that would be 0), down when `down` (a scheduled feed is never written above the
+// feed the schedule allows), else to the nearest, with no trailing zeros. Throws
+// std::invalid_argument when the number would be 0 or out of range.
+WrittenFeed write_feed(double feed, double scale, int decimals, int most, bool down,
+                       const std::string& source, int line) {
   const double number = feed / scale;
   if (!(number <= kLargestInputValue)) {
     throw std::invalid_argument(fmt::format(
         "{}:{}: the feed rate {} mm/min is too large to write (more than {:g} program units)",
         source, line, feed, kLargestInputValue));
   }
-  std::string text = fmt::format("{:.{}f}", number, decimals);
-  while (text.back() == '0') text.pop_back();
-  if (text.back() == '.') text.pop_back();
-  const double written = parse_unsigned(text);
+  std::string text;
+  double written = 0.0;
+  for (int d = decimals; d <= std::max(decimals, most) && !(written > 0.0); ++d) {
+    // Down, but not below a number within rounding of `number` (812.3 is 812.29999…).
+    const double unit = std::pow(10.0, -d);
+    const double rounded =
+        down ? std::floor(number / unit * (1.0 + 1e-12)) * unit : number;
+    text = fmt::format("{:.{}f}", rounded, d);
+    if (text.find('.') != std::string::npos) {
+      while (text.back() == '0') text.pop_back();
+      if (text.back() == '.') text.pop_back();
+    }
+    written = parse_unsigned(text);
+  }
   if (!(written > 0.0)) {
     throw std::invalid_argument(
         fmt::format("{}:{}: the feed rate {} mm/min is 0 when written with {} decimals", source,
-                    line, feed, decimals));
+                    line, feed, std::max(decimals, most)));
   }
   return {text, written * scale};
 }
@@ -244,6 +269,23 @@ std::string rewrite_gcode(std::string_view text, const LineFeeds& feeds, const s
   const FeedLines lines = feed_lines(read_gcode(text, source, options), feeds, source);
   if (feeds.empty()) return std::string(text);
 
+  // The program's precision: the most decimals its F words have (up to its last feed move).
+  std::optional<int> precision;
+  for (std::size_t from = 0, number = 1;
+       from < text.size() && number <= static_cast<std::size_t>(lines.last); ++number) {
+    std::size_t to = text.find('\n', from);
+    if (to == std::string_view::npos) to = text.size();
+    std::string_view raw = text.substr(from, to - from);
+    if (!raw.empty() && raw.back() == '\r') raw.remove_suffix(1);
+    from = to + 1;
+    if (raw.find_first_not_of(" \t%") == std::string_view::npos) continue;
+    const GcodeLine line = lex_gcode_line(raw, source, static_cast<int>(number));
+    if (line.f) precision = std::max(precision.value_or(0), decimals_of(line.f->digits));
+  }
+  const int decimals_mm = std::min(precision.value_or(kDefaultDecimalsMm), kMostDecimalsMm);
+  const int decimals_inch = std::clamp(precision.value_or(kDefaultDecimalsInch),
+                                       kLeastDecimalsInch, kMostDecimalsInch);
+
   std::vector<Edit> edits;
   bool inches = options.initial_units == ProgramUnits::kInches;
   // The feed (mm/min) the original program has in force, and its F word.
@@ -275,7 +317,8 @@ std::string rewrite_gcode(std::string_view text, const LineFeeds& feeds, const s
 
     // F takes the units in force before the line's own G20/G21.
     const double scale = inches ? kMillimetresPerInch : 1.0;
-    const int decimals = inches ? kDecimalsInch : kDecimalsMm;
+    const int decimals = inches ? decimals_inch : decimals_mm;
+    const int most = inches ? kMostDecimalsInch : kMostDecimalsMm;
     const auto listed = feeds.find(number);
     const bool feeds_here = lines.feed.count(number) > 0;
     const auto insert = [&](const std::string& digits) {
@@ -290,7 +333,7 @@ std::string rewrite_gcode(std::string_view text, const LineFeeds& feeds, const s
       original_inches = inches;
       output = original;
       if (listed != feeds.end()) {
-        const WrittenFeed written = write_feed(listed->second, scale, decimals, source, number);
+        const WrittenFeed written = write_feed(listed->second, scale, decimals, most, true, source, number);
         if (written.value != original) {
           if (line.f->interrupted) {
             throw InputError(SourceLocation{source, number, line.f->column},
@@ -303,7 +346,7 @@ std::string rewrite_gcode(std::string_view text, const LineFeeds& feeds, const s
       }
       in_step = output == original;
     } else if (listed != feeds.end()) {
-      const WrittenFeed written = write_feed(listed->second, scale, decimals, source, number);
+      const WrittenFeed written = write_feed(listed->second, scale, decimals, most, true, source, number);
       if (written.value != output) {
         insert(written.text);
         output = written.value;
@@ -315,7 +358,7 @@ std::string rewrite_gcode(std::string_view text, const LineFeeds& feeds, const s
         insert(original_digits);
         output = original;
       } else {
-        const WrittenFeed written = write_feed(original, scale, decimals, source, number);
+        const WrittenFeed written = write_feed(original, scale, most, most, false, source, number);
         insert(written.text);
         output = written.value;
       }
@@ -535,6 +578,17 @@ std::string rewrite_cldata(std::string_view text, const LineFeeds& feeds,
                          std::string(ending)});
   };
 
+  // The program's precision: the most decimals its FEDRAT numbers have.
+  std::optional<int> precision;
+  for (const ClRecord& record : records) {
+    if (record.major == "FEDRAT") {
+      precision = std::max(precision.value_or(0), decimals_of(read_fedrat(record, 1.0).number));
+    }
+  }
+  const int decimals_mm = std::min(precision.value_or(kDefaultDecimalsMm), kMostDecimalsMm);
+  const int decimals_inch = std::clamp(precision.value_or(kDefaultDecimalsInch),
+                                       kLeastDecimalsInch, kMostDecimalsInch);
+
   double scale = 1.0;  // mm per program unit (UNITS)
   ClFedrat original;   // the FEDRAT in force in the original program (none: 0 mm/min)
   ClFeed output;       // the feed in force in the rewritten program
@@ -580,10 +634,14 @@ std::string rewrite_cldata(std::string_view text, const LineFeeds& feeds,
       const auto listed = feeds.find(record.line);
       std::optional<ClFedrat> change;
       if (listed != feeds.end()) {
+        // In the program's units.
+        const bool inches = scale != 1.0;
         const WrittenFeed written =
-            write_feed(listed->second, 1.0, kDecimalsMm, source, record.line);
+            write_feed(listed->second, scale, inches ? decimals_inch : decimals_mm,
+                       inches ? kMostDecimalsInch : kMostDecimalsMm, true, source, record.line);
         if (ClFeed{written.value, false} != output) {
-          change = ClFedrat{{written.value, false}, written.text, "MMPM", unit_first};
+          change = ClFedrat{{written.value, false}, written.text, inches ? "IPM" : "MMPM",
+                            unit_first};
         }
       } else if (!in_step) {
         change = original;

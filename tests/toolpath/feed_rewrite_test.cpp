@@ -21,9 +21,11 @@
 namespace cwe {
 namespace {
 
-// A new feed is written with 4 decimals of mm/min (5 of in/min): for the feeds here, ≥ 50
-// mm/min, that is within 1e-6 relative. A feed restored in other units than its F word is within
-// 0.5e-5 in/min = 1.3e-4 mm/min, below 1e-6 relative for the feeds ≥ 127 mm/min such tests use.
+// A new feed is rounded down to the program's precision: at worst (F words without decimals in an
+// inch program) to 0.1 in/min, 2.54 mm/min, below the feed asked for. A feed restored in other
+// units than its F word is within 0.5e-5 in/min = 1.3e-4 mm/min, below 1e-6 relative for the
+// feeds ≥ 127 mm/min such tests use.
+constexpr double kListedStep = 2.54;
 constexpr double kFeedRelative = 1e-6;
 
 std::vector<std::string> split_lines(std::string_view text) {
@@ -40,8 +42,8 @@ std::vector<std::string> split_lines(std::string_view text) {
 
 // `rewritten` reads as `original` but for the feeds: the same moves in the same order (shape,
 // mode, positions, axes, arc geometry, spindle, tool), the feed moves of a listed line at its new
-// feed, every other move at its old feed (exactly, or within `unlisted_relative`). The line of
-// each move is `line_of` of the original one.
+// feed (never above it, at most kListedStep below), every other move at its old feed (exactly,
+// or within `unlisted_relative`). The line of each move is `line_of` of the original one.
 void expect_feeds_rewritten(const Toolpath& original, const Toolpath& rewritten,
                             const LineFeeds& feeds, const std::function<int(int)>& line_of,
                             double unlisted_relative = 0.0) {
@@ -68,7 +70,8 @@ void expect_feeds_rewritten(const Toolpath& original, const Toolpath& rewritten,
     if (a.is_rapid()) {
       EXPECT_EQ(b.feed_rate, 0.0);
     } else if (listed != feeds.end()) {
-      EXPECT_NEAR(b.feed_rate, listed->second, kFeedRelative * listed->second);
+      EXPECT_LE(b.feed_rate, listed->second * (1.0 + 1e-12));
+      EXPECT_GE(b.feed_rate, listed->second - kListedStep);
     } else {
       EXPECT_NEAR(b.feed_rate, a.feed_rate, unlisted_relative * a.feed_rate);
     }
@@ -124,11 +127,12 @@ TEST(FeedRewriteGcode, ReplacesTheFWordAndKeepsEverythingElse) {
 
 TEST(FeedRewriteGcode, InsertsAnFWordAndRestoresTheOriginalFeedAfterIt) {
   const std::string text = "G21\nG0 X0 Y0 Z1\nG1 Z0 F300\nG1 X10\nG1 X20\nG1 X30\nM30\n";
-  EXPECT_EQ(rewrite_gcode_checked(text, {{4, 812.5}}),
-            "G21\nG0 X0 Y0 Z1\nG1 Z0 F300\nG1 X10 F812.5\nG1 X20 F300\nG1 X30\nM30\n");
+  // The program writes whole mm/min: so does the schedule, rounding down.
+  EXPECT_EQ(rewrite_gcode_checked(text, {{4, 812.9}}),
+            "G21\nG0 X0 Y0 Z1\nG1 Z0 F300\nG1 X10 F812\nG1 X20 F300\nG1 X30\nM30\n");
   // The same feed on consecutive lines is said once.
   EXPECT_EQ(rewrite_gcode_checked(text, {{4, 812.5}, {5, 812.5}}),
-            "G21\nG0 X0 Y0 Z1\nG1 Z0 F300\nG1 X10 F812.5\nG1 X20\nG1 X30 F300\nM30\n");
+            "G21\nG0 X0 Y0 Z1\nG1 Z0 F300\nG1 X10 F812\nG1 X20\nG1 X30 F300\nM30\n");
   // The feed in force already: nothing to write.
   EXPECT_EQ(rewrite_gcode_checked(text, {{4, 300.0}}), text);
   EXPECT_EQ(rewrite_gcode_checked(text, {}), text);
@@ -146,19 +150,40 @@ TEST(FeedRewriteGcode, CommentsAreNotWordsAndTheFGoesBeforeThem) {
             "G1 X10 F250 (F500) ; feed F999\n"
             "G1 X20 F300 (F500)\n"
             "G1X30Y5F1200\n"  // written as the line writes its words
-            "(F700)G1 X40 F95.25;F800\n");
+            "(F700)G1 X40 F95;F800\n");
 }
 
 TEST(FeedRewriteGcode, InchProgramsGetInchesPerMinute) {
   const std::string text = "G20\nG0 X0 Y0 Z0.1\nG1 Z0 F10\nG1 X1\nG1 X2\nG1 X3\nM2\n";
+  // 500 mm/min is 19.685 in/min: 19.6 at the least precision inches get.
   EXPECT_EQ(rewrite_gcode_checked(text, {{4, 635.0}, {5, 500.0}}),
-            "G20\nG0 X0 Y0 Z0.1\nG1 Z0 F10\nG1 X1 F25\nG1 X2 F19.68504\nG1 X3 F10\nM2\n");
+            "G20\nG0 X0 Y0 Z0.1\nG1 Z0 F10\nG1 X1 F25\nG1 X2 F19.6\nG1 X3 F10\nM2\n");
   // The initial units of the reader's options count too.
   const std::string bare = "%\r\n/n1 g1 x1 f10\r\nx2\r\n%\r\n";
   GcodeOptions inches;
   inches.initial_units = ProgramUnits::kInches;
   EXPECT_EQ(rewrite_gcode_checked(bare, {{3, 508.0}}, inches),
             "%\r\n/n1 g1 x1 f10\r\nx2 f20\r\n%\r\n");
+}
+
+// A scheduled feed keeps the program's precision, rounded down: never above the feed the limit
+// allows, at most one unit of the last decimal below it.
+TEST(FeedRewriteGcode, NewFeedsKeepTheProgramsPrecision) {
+  // FreeCAD's posts write three decimals.
+  const std::string freecad = "G21\nG1 X1 F600.000\nG1 X2\nG1 X3\nM2\n";
+  EXPECT_EQ(rewrite_gcode_checked(freecad, {{3, 812.34567}}),
+            "G21\nG1 X1 F600.000\nG1 X2 F812.345\nG1 X3 F600.000\nM2\n");
+  // 812.3 is not quite 812.3 in binary: still 812.3, not 812.2.
+  EXPECT_EQ(rewrite_gcode_checked(freecad, {{3, 812.3}}),
+            "G21\nG1 X1 F600.000\nG1 X2 F812.3\nG1 X3 F600.000\nM2\n");
+  // An inch post without decimals gets tenths; one with five keeps five.
+  EXPECT_EQ(rewrite_gcode_checked("G20\nG1 X1 F15.\nG1 X2\nM2\n", {{3, 578.6}}),
+            "G20\nG1 X1 F15.\nG1 X2 F22.7\nM2\n");  // 22.779… in/min
+  EXPECT_EQ(rewrite_gcode_checked("G20\nG1 X1 F15.00000\nG1 X2\nM2\n", {{3, 578.6}}),
+            "G20\nG1 X1 F15.00000\nG1 X2 F22.77952\nM2\n");
+  // A feed that the precision would write as 0 gets the decimals it needs.
+  EXPECT_EQ(rewrite_gcode("G21\nG1 X1 F600\nG1 X2\nM2\n", {{3, 0.057}}),
+            "G21\nG1 X1 F600\nG1 X2 F0.05\nM2\n");
 }
 
 TEST(FeedRewriteGcode, FOnAUnitsLineIsInTheUnitsBeforeIt) {
@@ -385,7 +410,7 @@ TEST(FeedRewriteCldata, InsertsFedratLinesInTheFilesStyle) {
             "RAPID\r\n"
             "GOTO/0,0,5\r\n"
             "GOTO/0,0,0\r\n"
-            "  FEDRAT/MMPM,812.5\r\n"
+            "  FEDRAT/MMPM,812\r\n"
             "  GOTO/10,0,0\r\n"
             "FEDRAT/MMPM,250\r\n"
             "GOTO/20,0,0\r\n"
@@ -398,6 +423,8 @@ TEST(FeedRewriteCldata, InsertsFedratLinesInTheFilesStyle) {
   EXPECT_EQ(rewrite_cldata_checked("\xEF\xBB\xBFGOTO/1,0,0\n", {{1, 100.0}}),
             "\xEF\xBB\xBF"
             "FEDRAT/100,MMPM\nGOTO/1,0,0\n");
+  // No FEDRAT to take the precision from: one decimal.
+  EXPECT_EQ(rewrite_cldata_checked("GOTO/1,0,0\n", {{1, 99.99}}), "FEDRAT/99.9,MMPM\nGOTO/1,0,0\n");
   const std::string lone_cr = "FEDRAT/100\rGOTO/1,0,0\rGOTO/2,0,0\r";
   const std::string out = rewrite_cldata(lone_cr, {{2, 50.0}});
   EXPECT_EQ(out, "FEDRAT/100\rFEDRAT/50,MMPM\rGOTO/1,0,0\rFEDRAT/100,MMPM\rGOTO/2,0,0\r");
@@ -450,8 +477,9 @@ TEST(FeedRewriteCldata, ArcsKeepTheirCircleNextToTheGoto) {
 
 TEST(FeedRewriteCldata, InchUnitsAndFeedsPerRevolutionAreRestoredExactly) {
   const std::string inches = "UNITS/INCHES\nFEDRAT/20\nGOTO/0,0,0\nGOTO/1,0,0\nGOTO/2,0,0\n";
+  // In the program's units: 812.5 mm/min is 31.988 in/min.
   EXPECT_EQ(rewrite_cldata_checked(inches, {{4, 812.5}}),
-            "UNITS/INCHES\nFEDRAT/20\nGOTO/0,0,0\nFEDRAT/812.5,MMPM\nGOTO/1,0,0\nFEDRAT/20,IPM\n"
+            "UNITS/INCHES\nFEDRAT/20\nGOTO/0,0,0\nFEDRAT/31.9,IPM\nGOTO/1,0,0\nFEDRAT/20,IPM\n"
             "GOTO/2,0,0\n");
   EXPECT_DOUBLE_EQ(cldata(rewrite_cldata(inches, {{4, 812.5}})).moves[2].feed_rate, 508.0);
   const std::string per_revolution =

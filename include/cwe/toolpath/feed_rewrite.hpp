@@ -17,14 +17,18 @@
 // the number of its F word is replaced or, without one, a word ` F<feed>` is added after the last
 // word of the line (before a trailing `( … )` or `;` comment). F is in program units per minute:
 // the units in force before the line's own G20/G21 (the reader executes F before G20/G21 on a
-// line, as LinuxCNC does), mm/25.4 in G20. Numbers have at most 4 decimals in mm and 5 in inches,
-// trailing zeros stripped (F812.5, F1200, F31.98819). A restored feed is written as its original
-// F word was when the units are the same (so it is exact), converted otherwise (within 0.5e-5 in
-// of it).
+// line, as LinuxCNC does), mm/25.4 in G20. A new feed keeps the program's precision: it is
+// rounded down (so never above the feed asked for) to as many decimals as the program's F words
+// have at most (its post's precision), in inches at least 1; 1 in mm and 2 in inches for a
+// program with no F word; more (up to 4 in mm, 5 in inches) only when that would write 0.
+// Trailing zeros are stripped (F812, F812.5, F22.7). A restored feed is written as its original
+// F word was when the units are the same (so it is exact), converted otherwise (5 decimals in
+// inches, 4 in mm, to the nearest).
 //
 // APT CLDATA (as cwe/toolpath/cldata_reader.hpp reads it; docs/cldata.md): a line
-// `FEDRAT/<feed>,MMPM` (4 decimals; `FEDRAT/MMPM,<feed>` if the program writes the unit first; in
-// lower case if the motion record is) is inserted before the motion record, with that line's
+// `FEDRAT/<feed>,MMPM` (`IPM` under UNITS/INCHES; rounded down to the program's precision as
+// for G-code, from its FEDRAT numbers; `FEDRAT/MMPM,<feed>` if the program writes the unit
+// first; in lower case if the motion record is) is inserted before the motion record, with that line's
 // indentation and line ending: before the first line of a record continued with `$`, and before
 // the CIRCLE record of an arc unless a FEDRAT already stands between the CIRCLE and its GOTO. A
 // restored feed repeats the original FEDRAT's number with its unit made explicit (MMPM, IPM, or
