@@ -6,12 +6,14 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
 #include <tuple>
 #include <vector>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "cwe/geometry/vec.hpp"
@@ -1027,6 +1029,94 @@ TEST(CliTools, EachToolItsOwnCoefficients) {
   const Result bad = run("bad.json", {});
   EXPECT_EQ(bad.status, 2);
   EXPECT_NE(bad.err.find("tool \"1\""), std::string::npos) << bad.err;
+}
+
+// A program as FreeCAD 0.20's CAM workbench posts it for LinuxCNC, with two tools of its Default
+// library (tests/app/data/freecad_two_tools.py): cut with the library as the tool table, it
+// removes what the two tools' parts run as two operations remove, and each cutter location is
+// engaged and loaded as there.
+TEST(CliTools, FreeCadTwoToolProgram) {
+  const auto dir = scratch_dir("freecad_two_tools");
+  std::filesystem::create_directories(dir);
+  const std::filesystem::path data = test::source_dir() / "tests/app/data";
+  const std::string program = (data / "freecad_two_tools.ngc").string();
+  // The parts: the bull nose's part keeps the preamble and its line numbers, the end mill's
+  // lines made comments (the bull nose's T4 M6 is line 100).
+  std::vector<std::string> lines;
+  {
+    std::ifstream in(program);
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+  }
+  ASSERT_EQ(lines[99], "M6 T4 ");
+  {
+    std::ofstream first(dir / "endmill.ngc");
+    std::ofstream second(dir / "bullnose.ngc");
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      const bool preamble = i < 6;
+      first << (i < 99 ? lines[i] : "(bull nose part)") << "\n";
+      second << (preamble || i >= 99 ? lines[i] : "(end mill part)") << "\n";
+    }
+    first << "M2\n";
+  }
+  std::ofstream(dir / "split.json")
+      << R"({"operations": [{"path": "endmill.ngc"}, {"path": "bullnose.ngc"}]})";
+  const std::string table = (data / "freecad/Library/Default.fctl").string();
+  const std::vector<std::string> common = {"--tools", table, "--stock", "box:-1,-1,-1,61,41,16",
+                                           "--resolution", "0.25", "--forces",
+                                           "al7075-t6-carbide", "--maps", "none", "--quiet"};
+  auto with = [&](std::vector<std::string> args) {
+    args.insert(args.end(), common.begin(), common.end());
+    return args;
+  };
+  const Result both = run_cwe(
+      with({"simulate", "--path", program, "--out", (dir / "both").string()}));
+  ASSERT_EQ(both.status, 0) << both.err;
+  const Result split = run_cwe(
+      with({"simulate", (dir / "split.json").string(), "--out", (dir / "split").string()}));
+  ASSERT_EQ(split.status, 0) << split.err;
+  const auto summary = [](const std::filesystem::path& file) {
+    std::ifstream in(file);
+    return nlohmann::json::parse(in);
+  };
+  const nlohmann::json a = summary(dir / "both" / "summary.json");
+  const nlohmann::json b = summary(dir / "split" / "summary.json");
+  const double removed = a["removed_volume_mm3"];
+  EXPECT_NEAR(removed, b["removed_volume_mm3"].get<double>(), 1e-4 * removed);
+  EXPECT_GT(removed, 30.0 * 16.0 * 6.0);  // the pocket at least
+  EXPECT_EQ(a["rapid_cuts"]["count"], 0);
+  ASSERT_EQ(a["operations"].size(), 2u);
+  EXPECT_EQ(a["operations"][0]["tool_number"], 1);
+  EXPECT_EQ(a["operations"][1]["tool_number"], 4);
+  EXPECT_EQ(a["operations"][1]["tool"], b["operations"][1]["tool"]);
+  // The engaged cutter locations, by line and position: the same, engaged and loaded alike. (The
+  // rapids between the parts differ: the split part comes in from its own start.)
+  const auto engaged = [](const std::filesystem::path& folder) {
+    const auto rows = read_csv(folder / "engagement.csv");
+    const auto forces = read_csv(folder / "forces.csv");
+    EXPECT_EQ(rows.size(), forces.size());
+    std::map<std::string, std::vector<std::string>> by_place;
+    EXPECT_EQ(rows[0][20], "operation");
+    EXPECT_EQ(rows[0][21], "tool");
+    for (std::size_t i = 1; i < rows.size() && i < forces.size(); ++i) {
+      if (rows[i][12] != "1") continue;
+      const std::string key = fmt::format("{}:{},{},{}", rows[i][2], rows[i][3], rows[i][4],
+                                          rows[i][5]);
+      // phi_entry_deg … motion and the tool (not the operation: one program is two here).
+      std::vector<std::string> values(rows[i].begin() + 13, rows[i].begin() + 20);
+      values.push_back(rows[i][21]);
+      values.push_back(forces[i][9]);   // peak_resultant_n
+      values.push_back(forces[i][11]);  // peak_torque_nm
+      by_place[key] = values;
+    }
+    return by_place;
+  };
+  const auto x = engaged(dir / "both");
+  const auto y = engaged(dir / "split");
+  EXPECT_GT(x.size(), 1000u);
+  EXPECT_EQ(x, y);
+  std::set<std::string> tools;
+  for (const auto& [place, values] : x) tools.insert(values[values.size() - 3]);
+  EXPECT_EQ(tools, (std::set<std::string>{"1", "4"}));
 }
 
 }  // namespace
