@@ -24,6 +24,16 @@ void require(const std::string& value, const char* what, const char* option) {
   }
 }
 
+void check_units(const std::string& units, const char* option) {
+  if (!units.empty() && units != "mm" && units != "in") {
+    throw InputError(SourceLocation{option}, fmt::format("'{}': expected mm or in", units));
+  }
+}
+
+double unit_length(const std::string& units) {
+  return units == "in" ? kMillimetresPerInch : 1.0;
+}
+
 // Paths in the job are relative to the job file's folder.
 void read_job(SimulateCommandOptions& options) {
   if (options.job.empty()) return;
@@ -41,7 +51,8 @@ void read_job(SimulateCommandOptions& options) {
   };
   // The job's keys, in the order the error lists them.
   static const char* const kKeys[] = {
-      "stock",  "tool",       "tools",      "tool_units",   "tool_for_all", "start",
+      "units",  "report_units", "stock",    "tool",         "tools",
+      "tool_units",   "tool_for_all", "start",
       "tool_change", "path",  "operations", "out",          "resolution",   "tolerance",
       "threads", "mesh_stride", "ply",      "cl_step",      "maps",         "stock_only",
       "forces", "spindle",    "feed",       "flutes",       "helix",        "force_step",
@@ -66,6 +77,9 @@ void read_job(SimulateCommandOptions& options) {
     if (!job[key].is_number()) throw InputError(where(key), "expected a number");
     field = job[key].get<double>();
   };
+  text_of("units", options.units, false);
+  text_of("report_units", options.report_units, false);
+  check_units(options.units, "--units");
   // A stock given as a file is a path; a box is not.
   if (job.contains("stock") && options.stock.empty()) {
     if (!job["stock"].is_string()) throw InputError(where("stock"), "expected a string");
@@ -85,7 +99,8 @@ void read_job(SimulateCommandOptions& options) {
     if (job["tools"].is_string()) {
       text_of("tools", options.tools, true);
     } else {
-      options.tool_table = tool_table_from_json(job["tools"], where("tools").source, folder);
+      options.tool_table = tool_table_from_json(job["tools"], where("tools").source, folder,
+                                                unit_length(options.units));
     }
   }
   text_of("tool_units", options.tool_units, false);
@@ -187,13 +202,20 @@ void add_job_options(CLI::App* cmd, SimulateCommandOptions& options) {
                   "the program loads (T… M6, LOADTL)");
   cmd->add_option("--start", options.start,
                   "Where a program's tool starts: auto (5 mm above the stock's top at the "
-                  "program's first XY), origin, or x,y,z in mm (default auto)");
+                  "program's first XY), origin, or x,y,z (default auto)");
   cmd->add_option("--tool-change", options.tool_change,
                   "Where a program changes tools: auto (the old tool straight up to 5 mm above "
-                  "the stock's top, the new one across to its first XY), stay, or x,y,z in mm "
+                  "the stock's top, the new one across to its first XY), stay, or x,y,z "
                   "(default auto)");
+  cmd->add_option("--units", options.units,
+                  "Unit of the lengths given without one (stock box, tool specifications and "
+                  "tables, --start, --tool-change): mm or in (default mm)");
+  cmd->add_option("--report-units", options.report_units,
+                  "Lengths of engagement.csv, engagement.jsonl, forces.csv and the report: mm or "
+                  "in (default mm; summary.json stays in mm)");
   cmd->add_option("--tool-units", options.tool_units,
-                  "Units of a LinuxCNC tool table's lengths: mm or in (default mm)");
+                  "Units of a tool table's bare lengths (LinuxCNC D, cwe specifications): mm or "
+                  "in (default: --units)");
   cmd->add_flag("--tool-for-all", options.tool_for_all,
                 "Cut every move of a program that changes tools with the one --tool");
   cmd->add_option("--path", options.path, "Toolpath file (G-code or APT CLDATA)");
@@ -257,12 +279,17 @@ PreparedJob prepare_job(SimulateCommandOptions& options, bool sample) {
                      fmt::format("{} mm: expected a positive length", options.cl_step));
   }
   job.threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
-  if (!options.tool_units.empty() && options.tool_units != "mm" && options.tool_units != "in") {
-    throw InputError(SourceLocation{"--tool-units"},
-                     fmt::format("'{}': expected mm or in", options.tool_units));
-  }
+  check_units(options.units, "--units");
+  check_units(options.report_units, "--report-units");
+  check_units(options.tool_units, "--tool-units");
+  if (options.tool_units.empty()) options.tool_units = options.units;
   if (!options.tools.empty()) {
     options.tool_table = read_tool_table(options.tools, options.tool_units == "in");
+  }
+  // A box written without its unit is in --units.
+  if (options.units == "in" && options.stock.rfind("box:", 0) == 0 &&
+      !options.stock.ends_with(":in") && !options.stock.ends_with(":mm")) {
+    options.stock += ":in";
   }
 
   // Everything the job needs is read and checked before the long part starts.

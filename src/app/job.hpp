@@ -71,6 +71,11 @@ class ProgressBar {
   int shown_ = -1;
 };
 
+// InputError unless `units` is empty, "mm" or "in"; `option` names it.
+void check_units(const std::string& units, const char* option);
+// mm per length unit: 25.4 for "in", else 1.
+double unit_length(const std::string& units);
+
 // Throws InputError "no <what>: give <option> or put it in a job file" when value is empty.
 void require(const std::string& value, const char* what, const char* option);
 

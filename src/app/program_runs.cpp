@@ -10,6 +10,7 @@
 #include "cwe/io/mesh_io.hpp"
 #include "cwe/simulation/simulation.hpp"
 #include "cwe/tool/apt.hpp"
+#include "job.hpp"
 #include "tool_choice.hpp"
 #include "tool_table.hpp"
 
@@ -125,10 +126,10 @@ EntryRules entry_rules(const SimulateCommandOptions& options) {
     const std::optional<Vec3> at = point_of(options.start);
     if (!at) {
       throw InputError(SourceLocation{"--start"},
-                       fmt::format("'{}': expected auto, origin or x,y,z in mm", options.start));
+                       fmt::format("'{}': expected auto, origin or x,y,z", options.start));
     }
     rules.start = EntryRules::Kind::kGiven;
-    rules.start_at = *at;
+    rules.start_at = *at * unit_length(options.units);
   }
   if (options.tool_change == "stay") {
     rules.change = EntryRules::Kind::kStay;
@@ -136,10 +137,10 @@ EntryRules entry_rules(const SimulateCommandOptions& options) {
     const std::optional<Vec3> at = point_of(options.tool_change);
     if (!at) {
       throw InputError(SourceLocation{"--tool-change"},
-                       fmt::format("'{}': expected auto, stay or x,y,z in mm", options.tool_change));
+                       fmt::format("'{}': expected auto, stay or x,y,z", options.tool_change));
     }
     rules.change = EntryRules::Kind::kGiven;
-    rules.change_at = *at;
+    rules.change_at = *at * unit_length(options.units);
   }
   return rules;
 }
@@ -168,12 +169,14 @@ std::vector<ToolRun> program_runs(const Operation& op, const SimulateCommandOpti
   // entry for it, else the program's own cutter.
   if (used.size() <= 1 && (!table || !op.tool.empty() || used.empty() || used.front() == 0)) {
     const int tool = used.empty() ? 0 : used.front();
-    return {{read, choose_cutter(op.tool, path, op.path), tool, std::nullopt,
+    return {{read, choose_cutter(op.tool, path, op.path, unit_length(options.units)), tool,
+             std::nullopt,
              loading(path, tool, op.path)}};
   }
   if (!table) {
     if (!op.tool.empty() && options.tool_for_all) {
-      return {{read, choose_cutter(op.tool, path, op.path), 0, std::nullopt, SourceLocation{op.path}}};
+      return {{read, choose_cutter(op.tool, path, op.path, unit_length(options.units)), 0,
+               std::nullopt, SourceLocation{op.path}}};
     }
     const bool defined = std::all_of(used.begin(), used.end(), [&](int t) {
       return path.tool_definitions.count(t) > 0;

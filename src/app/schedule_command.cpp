@@ -65,6 +65,11 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
                          std::ostream* progress) {
   SimulateCommandOptions& sim = options.job;
   read_job(sim);
+  if (!sim.report_units.empty()) {
+    throw InputError(SourceLocation{"--report-units"},
+                     "cwe schedule writes the program in its own units and reports no lengths; "
+                     "the option is for cwe simulate");
+  }
   const FeedLimit limit = parse_feed_limit(options.limit, "--limit");
   ScheduleOptions bounds;
   bounds.min_scale = options.min_scale;

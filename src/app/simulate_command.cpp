@@ -128,8 +128,11 @@ class OutputFolder {
 
 double degrees(double radians) { return radians * 180.0 / kPi; }
 
-// One engagement.jsonl line: the engaged discs and rings, angles in degrees.
-std::string jsonl_line(std::size_t k, const ClPoint& cl, const EngagementMap& map) {
+// One engagement.jsonl line: the engaged discs and rings, angles in degrees, heights and radii in
+// `unit`.
+std::string jsonl_line(std::size_t k, const ClPoint& cl, const EngagementMap& map,
+                       const ReportUnit& unit) {
+  const int e = unit.extra_decimals;
   const auto intervals = [](const std::vector<Interval>& phi) {
     std::string out = "[";
     for (std::size_t i = 0; i < phi.size(); ++i) {
@@ -141,16 +144,18 @@ std::string jsonl_line(std::size_t k, const ClPoint& cl, const EngagementMap& ma
   bool first = true;
   for (const DiscEngagement& disc : map.discs) {
     if (disc.phi.empty()) continue;
-    line += fmt::format(R"({}{{"z0":{:.4f},"z1":{:.4f},"intervals":{}}})", first ? "" : ",",
-                        disc.z0, disc.z1, intervals(disc.phi));
+    line += fmt::format(R"({}{{"z0":{:.{}f},"z1":{:.{}f},"intervals":{}}})", first ? "" : ",",
+                        unit.length(disc.z0), 4 + e, unit.length(disc.z1), 4 + e,
+                        intervals(disc.phi));
     first = false;
   }
   line += R"(],"bottom":{"rings":[)";
   first = true;
   for (const RingEngagement& ring : map.rings) {
     if (ring.phi.empty()) continue;
-    line += fmt::format(R"({}{{"r0":{:.4f},"r1":{:.4f},"intervals":{}}})", first ? "" : ",",
-                        ring.r0, ring.r1, intervals(ring.phi));
+    line += fmt::format(R"({}{{"r0":{:.{}f},"r1":{:.{}f},"intervals":{}}})", first ? "" : ",",
+                        unit.length(ring.r0), 4 + e, unit.length(ring.r1), 4 + e,
+                        intervals(ring.phi));
     first = false;
   }
   return line + "]}}\n";
@@ -160,15 +165,20 @@ constexpr const char* kCsvHeader =
     "cl,move,line,x,y,z,i,j,k,feed_x,feed_y,feed_z,engaged,phi_entry_deg,phi_exit_deg,"
     "axial_depth_mm,area_mm2,u,path_mm,motion,operation,tool\n";
 
+// Lengths in `unit`.
 std::string csv_row(std::size_t k, const ClPoint& cl, const ToolState& state,
-                    const EngagementMap& map, std::size_t operation, int tool) {
+                    const EngagementMap& map, std::size_t operation, int tool,
+                    const ReportUnit& unit) {
+  const int p = 4 + unit.extra_decimals;
+  const Vec3 at = cl.position / unit.mm;
   return fmt::format(
-      "{},{},{},{:.4f},{:.4f},{:.4f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{},"
-      "{:.3f},{:.3f},{:.4f},{:.4f},{:.6f},{:.4f},{},{},{}\n",
-      k, cl.move + 1, cl.line, cl.position.x(), cl.position.y(), cl.position.z(), cl.axis.x(),
-      cl.axis.y(), cl.axis.z(), cl.feed_direction.x(), cl.feed_direction.y(), cl.feed_direction.z(),
-      map.engaged ? 1 : 0, degrees(map.phi_entry), degrees(map.phi_exit), map.axial_depth, map.area,
-      cl.u, cl.path_length, to_string(state.motion), operation, tool);
+      "{},{},{},{:.{}f},{:.{}f},{:.{}f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{},"
+      "{:.3f},{:.3f},{:.{}f},{:.{}f},{:.6f},{:.{}f},{},{},{}\n",
+      k, cl.move + 1, cl.line, at.x(), p, at.y(), p, at.z(), p, cl.axis.x(), cl.axis.y(),
+      cl.axis.z(), cl.feed_direction.x(), cl.feed_direction.y(), cl.feed_direction.z(),
+      map.engaged ? 1 : 0, degrees(map.phi_entry), degrees(map.phi_exit),
+      unit.length(map.axial_depth), p, unit.area(map.area), p + unit.extra_decimals, cl.u,
+      unit.length(cl.path_length), p, to_string(state.motion), operation, tool);
 }
 
 }  // namespace
@@ -242,6 +252,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
       parse_maps(job.forces ? options.force_curves : "none", cl_count, "--force-curves");
   const StockSpec stock_spec = parse_stock_spec(options.stock, SourceLocation{"--stock"});
   TriDexel stock = make_stock(stock_spec, simulation);
+  const ReportUnit unit = ReportUnit::of(options.report_units);
   const TriDexel::Volume initial = stock.volume();
   const std::filesystem::path folder(options.out);
 
@@ -260,7 +271,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
     csv.emplace(folder / "engagement.csv");
     jsonl.emplace(folder / "engagement.jsonl");
     map_folder.emplace(folder, "maps");
-    csv->append(kCsvHeader);
+    csv->append(unit.header(kCsvHeader));
   }
   // Forces: forces.csv and the chosen curves.
   std::optional<AtomicFileWriter> forces_csv;
@@ -268,7 +279,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   ForceExtremes extremes;
   if (job.forces) {
     forces_csv.emplace(folder / "forces.csv");
-    forces_csv->append(kForcesCsvHeader);
+    forces_csv->append(unit.header(kForcesCsvHeader));
     curve_folder.emplace(folder, "force_curves");
   }
   std::string csv_block, jsonl_block, forces_block;  // appended in blocks of about a megabyte
@@ -296,8 +307,8 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
         const std::size_t k = cls_before + index;
         ClPoint global = cl;
         global.move += static_cast<int>(moves_before);
-        csv_block += csv_row(k, global, state, map, op.operation + 1, op.tool);
-        jsonl_block += jsonl_line(k, global, map);
+        csv_block += csv_row(k, global, state, map, op.operation + 1, op.tool, unit);
+        jsonl_block += jsonl_line(k, global, map, unit);
         along.push_back({static_cast<int>(k), map.engaged, degrees(map.phi_entry),
                          degrees(map.phi_exit), map.axial_depth});
         if (map.engaged) ++engaged_cls;
@@ -320,7 +331,8 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
               feed_per_tooth(feed_rate(move, *job.forces), op.forces->flutes(), spindle), spindle,
               curve);
           forces_block +=
-              forces_csv_row(k, global, op.operation + 1, op.tool, feed_rate(move, *job.forces), f);
+              forces_csv_row(k, global, op.operation + 1, op.tool, feed_rate(move, *job.forces), f,
+                             unit);
           extremes.add(f, k, file, cl.line);
           if (curve) {
             const ForcePlotInfo info{fmt::format("{} · fz {:.4f} mm · {:.0f} rev/min", place,
@@ -382,6 +394,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   summary["tool"] = fmt::format("{}", fmt::join(tool_names, ", "));
   summary["path"] = fmt::format("{}", fmt::join(paths, ", "));
   summary["stock"] = options.stock;
+  summary["report_units"] = unit.name;
   summary["threads"] = threads;
   nlohmann::json ops = nlohmann::json::array();
   for (std::size_t o = 0; o < operations.size(); ++o) {
@@ -488,16 +501,20 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
              options.stock, simulation.resolution, stock.ray_count(),
              static_cast<double>(memory.peak()) / (1024.0 * 1024.0),
              summary["bytes_per_ray"].get<double>());
+  const double cubed = unit.mm * unit.mm * unit.mm;
   fmt::print(out,
-             "  removed     {:.1f} mm³ of {:.1f} mm³ ({} moves cut material; family spread "
-             "{:.2f} mm³)\n",
-             initial.mean() - final_volume.mean(), initial.mean(), removal.cutting_moves,
-             final_volume.spread());
+             "  removed     {:.{}f} {}³ of {:.{}f} {}³ ({} moves cut material; family spread "
+             "{:.{}f} {}³)\n",
+             (initial.mean() - final_volume.mean()) / cubed, 1 + 2 * unit.extra_decimals,
+             unit.name, initial.mean() / cubed, 1 + 2 * unit.extra_decimals, unit.name,
+             removal.cutting_moves, final_volume.spread() / cubed, 2 + 2 * unit.extra_decimals,
+             unit.name);
   if (!options.stock_only) {
     fmt::print(out,
-               "  engagement  {} cutter locations, {} engaged; deepest {:.2f} mm, largest "
-               "contact {:.1f} mm²\n",
-               along.size(), engaged_cls, deepest, largest_area);
+               "  engagement  {} cutter locations, {} engaged; deepest {:.{}f} {}, largest "
+               "contact {:.{}f} {}²\n",
+               along.size(), engaged_cls, unit.length(deepest), 2 + unit.extra_decimals,
+               unit.name, unit.area(largest_area), 1 + 2 * unit.extra_decimals, unit.name);
   }
   if (job.forces) {
     fmt::print(out,

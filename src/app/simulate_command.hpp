@@ -44,6 +44,12 @@ struct SimulateCommandOptions {
   // up to that height, then across to the new tool's first XY), "stay", or "x,y,z" in mm.
   std::string start;
   std::string tool_change;
+  // "mm" (default) or "in": the unit of the lengths given without one (stock box, tool
+  // specifications and tables, start and tool-change points).
+  std::string units;
+  // "mm" (default) or "in": the lengths of engagement.csv, engagement.jsonl, forces.csv and the
+  // terminal report (summary.json stays in mm).
+  std::string report_units;
   std::string out;
   double resolution = 0.0;  // 0: from the job, else 0.1 mm
   double tolerance = 0.0;   // 0: from the job, else resolution / 10

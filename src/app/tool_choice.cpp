@@ -6,8 +6,8 @@
 namespace cwe::app {
 
 Cutter choose_cutter(const std::string& tool_spec, const Toolpath& path,
-                     const std::string& path_name) {
-  if (!tool_spec.empty()) return cutter_from_spec(tool_spec, SourceLocation{"--tool"});
+                     const std::string& path_name, double unit) {
+  if (!tool_spec.empty()) return cutter_from_spec(tool_spec, SourceLocation{"--tool"}, unit);
   if (path.tool_definitions.size() == 1) {
     const AptCutter& apt = path.tool_definitions.begin()->second;
     CutterOptions named;

@@ -42,7 +42,7 @@ int tool_number(const std::string& key, const SourceLocation& where) {
 }  // namespace
 
 ToolTable tool_table_from_json(const nlohmann::json& value, const std::string& source,
-                               const std::filesystem::path& folder) {
+                               const std::filesystem::path& folder, double unit) {
   // {"tools": {…}} (with an optional "comment"), or the entries themselves.
   const bool wrapped = value.is_object() && value.contains("tools");
   if (wrapped) {
@@ -64,6 +64,7 @@ ToolTable tool_table_from_json(const nlohmann::json& value, const std::string& s
     const SourceLocation where{fmt::format("{}: tool \"{}\"", source, key)};
     ToolEntry tool;
     tool.where = where;
+    tool.unit = unit;
     const nlohmann::json* spec = &entry;
     if (entry.is_object()) {
       for (const auto& [field, unused] : entry.items()) {
@@ -382,12 +383,13 @@ ToolTable read_tool_table(const std::string& path, bool inches) {
   if (path.ends_with(".fctl")) return freecad_library(path);
   if (path.ends_with(".tbl")) return linuxcnc_table(path, inches);
   return tool_table_from_json(read_json(path, "tool table"), path,
-                              std::filesystem::path(path).parent_path());
+                              std::filesystem::path(path).parent_path(),
+                              inches ? kMillimetresPerInch : 1.0);
 }
 
 Cutter cutter_of(const ToolEntry& entry) {
   if (!entry.refused.empty()) throw InputError(entry.where, entry.refused);
-  Cutter base = entry.json.empty() ? cutter_from_spec(entry.spec, entry.where)
+  Cutter base = entry.json.empty() ? cutter_from_spec(entry.spec, entry.where, entry.unit)
                                    : cutter_from_json(entry.json, entry.where.source);
   if (!entry.flutes && !entry.helix_deg) return base;
   CutterOptions options;

@@ -31,6 +31,7 @@ struct ToolEntry {
   std::optional<int> flutes;
   std::optional<double> helix_deg;
   std::optional<CuttingCoefficients> coefficients;  // the tool's own ("forces")
+  double unit = 1.0;  // mm per length of `spec` written without a unit
   SourceLocation where;  // the entry, for errors
   // Non-empty: why cwe cannot cut with this entry (a FreeCAD probe or slitting saw in a library);
   // an error only for a program that loads it.
@@ -44,12 +45,14 @@ struct ToolTable {
 
 // A table from its JSON value (an object of entries, or {"tools": {…}}); relative tool files are
 // taken from `folder`. Throws InputError naming `source` and the entry.
+// `unit`: mm per length written without a unit in the specifications (25.4: inches).
 ToolTable tool_table_from_json(const nlohmann::json& value, const std::string& source,
-                               const std::filesystem::path& folder);
+                               const std::filesystem::path& folder, double unit = 1.0);
 // A table read from a file: a FreeCAD tool library (.fctl, its .fctb bits mapped to cwe's
 // cutters: endmill → flat, ballend → ball, bullnose/torus → bull, drill → chamfer at its tip
 // angle, chamfer and v-bit → a cone from the tip diameter; other shapes are errors), a LinuxCNC tool table (.tbl: flat end mills of diameter D,
-// or the cutter a "cwe:spec" comment names; D in inches when `inches`), else a cwe JSON table.
+// or the cutter a "cwe:spec" comment names; D in inches when `inches`), else a cwe JSON table
+// (its bare lengths in inches when `inches`).
 ToolTable read_tool_table(const std::string& path, bool inches = false);
 
 // The number at the start of `text` (as std::stod reads it): the characters it takes, 0 when

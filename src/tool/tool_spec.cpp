@@ -33,7 +33,7 @@ SourceLocation at(const SourceLocation& where, int column) {
 }
 
 std::vector<Number> parse_numbers(std::string_view text, int first_column,
-                                  const SourceLocation& where) {
+                                  const SourceLocation& where, double unit = 1.0) {
   std::vector<Number> out;
   std::size_t pos = 0;
   while (true) {
@@ -51,6 +51,7 @@ std::vector<Number> parse_numbers(std::string_view text, int first_column,
     // A length may carry its unit: 0.375in, 9.525mm.
     Number number;
     number.column = column;
+    number.scale = unit;
     for (const auto& [suffix, scale] : {std::pair<std::string_view, double>{"in", 25.4},
                                         std::pair<std::string_view, double>{"mm", 1.0}}) {
       if (item.size() > suffix.size() && item.substr(item.size() - suffix.size()) == suffix) {
@@ -196,7 +197,7 @@ Profile json_profile(const nlohmann::json& pieces, const std::string& source) {
 
 }  // namespace
 
-Cutter cutter_from_spec(std::string_view spec, const SourceLocation& where) {
+Cutter cutter_from_spec(std::string_view spec, const SourceLocation& where, double unit) {
   if (ends_with(spec, ".json")) return cutter_from_file(std::string(spec));
   const std::size_t colon = spec.find(':');
   if (colon == std::string_view::npos) {
@@ -207,7 +208,7 @@ Cutter cutter_from_spec(std::string_view spec, const SourceLocation& where) {
   }
   const std::string_view type = spec.substr(0, colon);
   const std::vector<Number> numbers =
-      parse_numbers(spec.substr(colon + 1), static_cast<int>(colon) + 2, where);
+      parse_numbers(spec.substr(colon + 1), static_cast<int>(colon) + 2, where, unit);
   const AptCutter apt = apt_from_spec(type, numbers, where, 1);
   CutterOptions options;
   options.name = std::string(spec);

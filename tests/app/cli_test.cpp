@@ -865,6 +865,72 @@ TEST(CliSimulate, InchToolAndStockEqualTheirMillimetres) {
   const double mm = removed("flat:9.525,19.05", "box:0,0,-12.7,50.8,25.4,0", "mm");
   EXPECT_GT(mm, 500.0);
   EXPECT_NEAR(inch, mm, 1e-9 * mm);
+  // --units in (or the job's "units") makes bare lengths inches: stock box, --tool and a tool
+  // table's specifications; a length written in mm stays mm.
+  const auto run_in_inches = [&](std::vector<std::string> extra, const char* out) {
+    std::vector<std::string> args = {"simulate", "--path", (dir / "cut.ngc").string(), "--stock",
+                                     "box:0,0,-0.5,2,1,0", "--units", "in", "--resolution",
+                                     "0.25", "--out", (dir / out).string(), "--maps", "none",
+                                     "--quiet", "--forces", "al7075-t6-carbide"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const Result r = run_cwe(args);
+    EXPECT_EQ(r.status, 0) << r.err;
+    std::ifstream in(dir / out / "summary.json");
+    return nlohmann::json::parse(in)["removed_volume_mm3"].get<double>();
+  };
+  EXPECT_NEAR(run_in_inches({"--tool", "flat:0.375,0.75"}, "units"), mm, 1e-9 * mm);
+  EXPECT_NEAR(run_in_inches({"--tool", "flat:9.525mm,0.75"}, "units_mm"), mm, 1e-9 * mm);
+  std::ofstream(dir / "table.json") << R"({"1": "flat:0.375,0.75"})";
+  std::ofstream(dir / "t1.ngc") << "T1 M6\n" << kForceProgram;
+  const Result table = run_cwe({"simulate", "--path", (dir / "t1.ngc").string(), "--stock",
+                                "box:0,0,-0.5,2,1,0", "--tools", (dir / "table.json").string(),
+                                "--units", "in", "--resolution", "0.25", "--out",
+                                (dir / "table").string(), "--maps", "none", "--quiet"});
+  ASSERT_EQ(table.status, 0) << table.err;
+  std::ifstream in(dir / "table" / "summary.json");
+  EXPECT_NEAR(nlohmann::json::parse(in)["removed_volume_mm3"].get<double>(), mm, 1e-9 * mm);
+
+  // --report-units in: the per-CL files in inches, their columns named so; summary.json in mm.
+  run_in_inches({"--tool", "flat:0.375,0.75"}, "report_mm");
+  run_in_inches({"--tool", "flat:0.375,0.75", "--report-units", "in"}, "report_in");
+  const auto a = read_csv(dir / "report_mm" / "engagement.csv");
+  const auto b = read_csv(dir / "report_in" / "engagement.csv");
+  const auto fa = read_csv(dir / "report_mm" / "forces.csv");
+  const auto fb = read_csv(dir / "report_in" / "forces.csv");
+  ASSERT_EQ(a.size(), b.size());
+  ASSERT_EQ(fa.size(), fb.size());
+  EXPECT_EQ(b[0][15], "axial_depth_in");
+  EXPECT_EQ(b[0][16], "area_in2");
+  EXPECT_EQ(b[0][18], "path_in");
+  EXPECT_EQ(fb[0][2], "feed_per_tooth_in");
+  EXPECT_EQ(fb[0][15], "feed_in_min");
+  EXPECT_EQ(fb[0][17], "max_chip_in");
+  int engaged = 0;
+  for (std::size_t i = 1; i < a.size(); ++i) {
+    // Printed to 1e-4 mm and 1e-5 in: within half of each last digit.
+    for (const std::size_t c : {3u, 4u, 5u, 15u, 18u}) {
+      EXPECT_NEAR(std::stod(b[i][c]) * 25.4, std::stod(a[i][c]), 0.5e-4 + 25.4 * 0.5e-5) << i;
+    }
+    EXPECT_NEAR(std::stod(b[i][16]) * 25.4 * 25.4, std::stod(a[i][16]),
+                0.5e-4 + 645.16 * 0.5e-6);
+    EXPECT_EQ(a[i][13], b[i][13]);  // angles unchanged
+    engaged += a[i][12] == "1";
+    EXPECT_NEAR(std::stod(fb[i][15]) * 25.4, std::stod(fa[i][15]), 0.5e-3 + 25.4 * 0.5e-4);
+    EXPECT_NEAR(std::stod(fb[i][17]) * 25.4, std::stod(fa[i][17]), 0.5e-6 + 25.4 * 0.5e-7);
+    EXPECT_EQ(fa[i][9], fb[i][9]);  // forces in N either way
+  }
+  EXPECT_GT(engaged, 10);
+  std::ifstream report(dir / "report_in" / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(report);
+  EXPECT_EQ(summary["report_units"], "in");
+  EXPECT_NEAR(summary["removed_volume_mm3"].get<double>(), mm, 1e-9 * mm);
+  for (const char* bad : {"--units", "--report-units", "--tool-units"}) {
+    const Result r = run_cwe({"simulate", "--path", (dir / "cut.ngc").string(), "--tool",
+                              "flat:0.375", "--stock", "box:0,0,-0.5,2,1,0", "--out",
+                              (dir / "bad").string(), bad, "inch"});
+    EXPECT_EQ(r.status, 2) << bad;
+    EXPECT_NE(r.err.find("'inch': expected mm or in"), std::string::npos) << r.err;
+  }
 }
 
 // Where the tool starts: by default above the stock's top at the program's first XY, so a stock

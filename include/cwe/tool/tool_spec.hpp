@@ -25,9 +25,11 @@
 
 namespace cwe {
 
-// Parses a specification string; a string ending in ".json" is read as a tool file. Errors are
+// Parses a specification string; a string ending in ".json" is read as a tool file. Lengths
+// written without a unit are in `unit` mm (25.4: inches; a tool file keeps its own). Errors are
 // InputErrors at `where` (column of the offending value within the string), or in the file.
-Cutter cutter_from_spec(std::string_view spec, const SourceLocation& where = {"tool spec"});
+Cutter cutter_from_spec(std::string_view spec, const SourceLocation& where = {"tool spec"},
+                        double unit = 1.0);
 
 // Reads a JSON tool file.
 Cutter cutter_from_file(const std::string& path);
