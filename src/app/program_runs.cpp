@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "cwe/core/error.hpp"
+#include "cwe/core/numbers.hpp"
 #include "cwe/io/mesh_io.hpp"
 #include "cwe/simulation/simulation.hpp"
 #include "cwe/tool/apt.hpp"
@@ -17,21 +18,11 @@
 namespace cwe::app {
 namespace {
 
-// "x,y,z" in mm, or nullopt when `text` is not three numbers.
+// "x,y,z", or nullopt when `text` is not three numbers.
 std::optional<Vec3> point_of(const std::string& text) {
-  std::vector<double> values;
-  std::size_t from = 0;
-  while (from <= text.size()) {
-    const std::size_t comma = std::min(text.find(',', from), text.size());
-    const std::string word = text.substr(from, comma - from);
-    double value = 0.0;
-    const std::size_t used = leading_number(word, value);
-    if (used == 0 || used != word.size()) return std::nullopt;
-    values.push_back(value);
-    from = comma + 1;
-  }
-  if (values.size() != 3) return std::nullopt;
-  return Vec3(values[0], values[1], values[2]);
+  const NumberList list = parse_number_list(text);
+  if (list.bad || list.values.size() != 3) return std::nullopt;
+  return Vec3(list.values[0], list.values[1], list.values[2]);
 }
 
 // Where `path` loads `tool` at or before `line` (the last such change), for errors and for the

@@ -13,7 +13,10 @@
 #include "cwe/tool/tool_spec.hpp"
 
 namespace cwe::app {
+namespace {
 
+// The number at the start of `text` (as std::stod reads it): the characters it takes, 0 when
+// there is none or it is not finite.
 std::size_t leading_number(const std::string& text, double& value) {
   std::size_t used = 0;
   try {
@@ -23,8 +26,6 @@ std::size_t leading_number(const std::string& text, double& value) {
   }
   return std::isfinite(value) ? used : 0;
 }
-
-namespace {
 
 // A tool number as a JSON key: a whole number from 0.
 int tool_number(const std::string& key, const SourceLocation& where) {

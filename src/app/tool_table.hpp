@@ -55,10 +55,6 @@ ToolTable tool_table_from_json(const nlohmann::json& value, const std::string& s
 // (its bare lengths in inches when `inches`).
 ToolTable read_tool_table(const std::string& path, bool inches = false);
 
-// The number at the start of `text` (as std::stod reads it): the characters it takes, 0 when
-// there is none or it is not finite.
-std::size_t leading_number(const std::string& text, double& value);
-
 // The cutter of one entry (the specification with the entry's flutes and helix). Throws
 // InputError for a refused entry.
 Cutter cutter_of(const ToolEntry& entry);

@@ -1,11 +1,11 @@
 #include "cwe/simulation/simulation.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 
 #include <fmt/format.h>
 
+#include "cwe/core/numbers.hpp"
 #include "cwe/io/mesh_io.hpp"
 
 namespace cwe {
@@ -28,23 +28,14 @@ StockSpec parse_stock_spec(const std::string& text, const SourceLocation& source
   } else if (body.ends_with(":mm")) {
     body.remove_suffix(3);
   }
-  std::vector<double> values;
-  std::size_t start = 0;
-  while (start <= body.size()) {
-    const std::size_t comma = std::min(body.find(',', start), body.size());
-    const std::string_view word = body.substr(start, comma - start);
-    double v = 0.0;
-    const auto [end, ec] = std::from_chars(word.data(), word.data() + word.size(), v);
-    if (word.empty() || ec != std::errc() || end != word.data() + word.size() ||
-        !std::isfinite(v)) {
-      throw InputError(source, fmt::format("stock '{}': '{}' is not a number; expected "
-                                           "box:xmin,ymin,zmin,xmax,ymax,zmax in mm (or "
-                                           "…:in)",
-                                           text, word));
-    }
-    values.push_back(v * scale);
-    start = comma + 1;
+  const NumberList list = parse_number_list(body);
+  if (list.bad) {
+    throw InputError(source, fmt::format("stock '{}': '{}' is not a number; expected "
+                                         "box:xmin,ymin,zmin,xmax,ymax,zmax in mm (or …:in)",
+                                         text, *list.bad));
   }
+  std::vector<double> values = list.values;
+  for (double& v : values) v *= scale;
   if (values.size() != 6) {
     throw InputError(source, fmt::format("stock '{}': expected six numbers "
                                          "box:xmin,ymin,zmin,xmax,ymax,zmax, got {}",

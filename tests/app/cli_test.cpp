@@ -941,8 +941,9 @@ TEST(CliSimulate, ToolStartsAboveTheStock) {
   std::filesystem::create_directories(dir);
   std::ofstream(dir / "cut.ngc") << "G21 G90\nS10000 M3\nG0 X20 Y10 Z15\nG1 Z7 F300\n"
                                     "G1 X40 F600\nG0 Z15\nM2\n";
-  const auto rapid_cuts = [&](std::vector<std::string> extra) {
-    std::vector<std::string> args = {"simulate", "--path", (dir / "cut.ngc").string(), "--tool",
+  // Rapid cuts of `program` (in `dir`) started as `extra` says.
+  const auto program_rapid_cuts = [&](const char* program, std::vector<std::string> extra) {
+    std::vector<std::string> args = {"simulate", "--path", (dir / program).string(), "--tool",
                                      "flat:10,20", "--stock", "box:0,0,0,50,20,10",
                                      "--resolution", "0.25", "--out", (dir / "out").string(),
                                      "--maps", "none", "--quiet"};
@@ -952,6 +953,9 @@ TEST(CliSimulate, ToolStartsAboveTheStock) {
     std::ifstream in(dir / "out" / "summary.json");
     return nlohmann::json::parse(in)["rapid_cuts"]["count"].get<int>();
   };
+  const auto rapid_cuts = [&](std::vector<std::string> extra) {
+    return program_rapid_cuts("cut.ngc", std::move(extra));
+  };
   EXPECT_EQ(rapid_cuts({}), 0);
   EXPECT_EQ(rapid_cuts({"--start", "auto"}), 0);
   EXPECT_EQ(rapid_cuts({"--start", "20,10,30"}), 0);
@@ -960,15 +964,7 @@ TEST(CliSimulate, ToolStartsAboveTheStock) {
   std::ofstream(dir / "cut.cls") << "SPINDL/10000,CLW\nRAPID\nGOTO/20,10,15,0,0.6,0.8\n"
                                     "FEDRAT/300\nGOTO/20,10,7\nGOTO/40,10,7\nFINI\n";
   const auto cldata_rapid_cuts = [&](std::vector<std::string> extra) {
-    std::vector<std::string> args = {"simulate", "--path", (dir / "cut.cls").string(), "--tool",
-                                     "flat:10,20", "--stock", "box:0,0,0,50,20,10",
-                                     "--resolution", "0.25", "--out", (dir / "out").string(),
-                                     "--maps", "none", "--quiet"};
-    args.insert(args.end(), extra.begin(), extra.end());
-    const Result r = run_cwe(args);
-    EXPECT_EQ(r.status, 0) << r.err;
-    std::ifstream in(dir / "out" / "summary.json");
-    return nlohmann::json::parse(in)["rapid_cuts"]["count"].get<int>();
+    return program_rapid_cuts("cut.cls", std::move(extra));
   };
   EXPECT_EQ(cldata_rapid_cuts({}), 0);
   EXPECT_EQ(cldata_rapid_cuts({"--start", "origin"}), 1);
