@@ -17,7 +17,7 @@
 #include "cwe/io/mesh_io.hpp"
 #include "cwe/tool/tool_spec.hpp"
 #include "cwe/toolpath/toolpath_reader.hpp"
-#include "tool_choice.hpp"
+#include "cwe/job/tool_choice.hpp"
 
 namespace cwe::app {
 namespace {

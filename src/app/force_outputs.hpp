@@ -1,41 +1,16 @@
 #pragma once
-// The force part of `cwe simulate` and `cwe schedule`: the force model's settings from the
-// command line or job file, the spindle speed and feed per tooth at a cutter location, and the
-// rows of forces.csv.
+// The force outputs of `cwe simulate`: the extremes of a job and the rows of forces.csv.
 
 #include <cstddef>
 #include <optional>
 #include <string>
 
+#include "cwe/job/force_settings.hpp"
 #include "cwe/process/force_model.hpp"
 #include "cwe/toolpath/cl_sampling.hpp"
 #include "cwe/toolpath/toolpath.hpp"
 
 namespace cwe::app {
-
-struct ForceSettings {
-  // The job's (--forces); a tool table's entry may give its tool's own instead.
-  std::optional<CuttingCoefficients> coefficients;
-  ForceModelOptions model;        // flutes, helix 0/−1 mean: the cutter's
-  std::optional<double> spindle;  // rev/min, overriding the program's
-  std::optional<double> feed;     // mm/min, overriding the program's (feed moves)
-};
-
-// `forces`: a coefficient JSON file or bundled material (empty: only the tool table's); the others
-// as on the command line (spindle 0, flutes 0, helix < 0, step 0 and an empty runout mean "not
-// given"). Throws
-// InputError naming the option.
-ForceSettings force_settings(const std::string& forces, double spindle, double feed, int flutes,
-                             double helix_deg, double step_deg, const std::string& runout);
-
-// Checks that every feed move of `path` turns the spindle (or that an override is given):
-// InputError naming the file and line of the first that does not.
-void check_spindle(const Toolpath& path, const std::string& file, const ForceSettings& settings);
-
-// Spindle speed (rev/min) of a move, the override first.
-double spindle_speed(const Move& move, const ForceSettings& settings);
-// Feed rate (mm/min) of a move, the override first (rapids: 0).
-double feed_rate(const Move& move, const ForceSettings& settings);
 
 // The largest force, torque and power of a job, and where they occur.
 struct ForceExtremes {

@@ -18,7 +18,7 @@
 #include "cwe/io/atomic_file.hpp"
 #include "cwe/process/feed_schedule.hpp"
 #include "cwe/toolpath/feed_rewrite.hpp"
-#include "job.hpp"
+#include "job_file.hpp"
 
 namespace cwe::app {
 

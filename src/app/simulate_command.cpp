@@ -28,7 +28,7 @@
 #include "cwe/toolpath/toolpath_reader.hpp"
 #include "cwe/workpiece/dexel/dexel_mesh.hpp"
 #include "force_outputs.hpp"
-#include "job.hpp"
+#include "job_file.hpp"
 
 namespace cwe::app {
 namespace {
@@ -233,6 +233,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   const auto started = std::chrono::steady_clock::now();
   read_job(options);
   require(options.out, "output folder", "--out");
+  check_units(options.report_units, "--report-units");
   PreparedJob job = prepare_job(options, !options.stock_only);
   const SimulationOptions& simulation = job.simulation;
   const int threads = job.threads;

@@ -7,10 +7,10 @@
 #include "cwe/tool/cutter.hpp"
 #include "cwe/toolpath/toolpath.hpp"
 
-namespace cwe::app {
+namespace cwe {
 
 // `unit`: mm per length of the specification written without a unit (25.4 for --units in).
 Cutter choose_cutter(const std::string& tool_spec, const Toolpath& path,
                      const std::string& path_name, double unit = 1.0);
 
-}  // namespace cwe::app
+}  // namespace cwe

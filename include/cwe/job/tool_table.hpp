@@ -23,7 +23,7 @@
 #include "cwe/process/cutting_coefficients.hpp"
 #include "cwe/tool/cutter.hpp"
 
-namespace cwe::app {
+namespace cwe {
 
 struct ToolEntry {
   std::string spec;  // a tool specification or a JSON tool file (absolute or as written)
@@ -59,4 +59,4 @@ ToolTable read_tool_table(const std::string& path, bool inches = false);
 // InputError for a refused entry.
 Cutter cutter_of(const ToolEntry& entry);
 
-}  // namespace cwe::app
+}  // namespace cwe

@@ -8,15 +8,12 @@
 #include <vector>
 
 #include "cwe/geometry/vec.hpp"
+#include "cwe/job/job.hpp"
 #include "cwe/process/cutting_coefficients.hpp"
 #include "cwe/tool/cutter.hpp"
 #include "cwe/toolpath/toolpath_reader.hpp"
-#include "simulate_command.hpp"
 
-namespace cwe::app {
-
-// How far above the stock's top a tool starts, and goes up to at a tool change, by default, mm.
-inline constexpr double kStartClearance = 5.0;
+namespace cwe {
 
 // Where tools come in, from --start and --tool-change.
 struct EntryRules {
@@ -34,7 +31,7 @@ struct EntryRules {
 };
 
 // The rules of the options (the stock is read for its top). Throws InputError naming the option.
-EntryRules entry_rules(const SimulateCommandOptions& options);
+EntryRules entry_rules(const Job& options);
 
 // A stretch of a program cut by one tool.
 struct ToolRun {
@@ -52,7 +49,7 @@ struct ToolRun {
 // the line that loads the new tool), and the new tool's first move starts there. Throws
 // InputError at the line that loads a tool no table or definition names, or for one --tool with
 // a program that changes tools (unless options.tool_for_all).
-std::vector<ToolRun> program_runs(const Operation& op, const SimulateCommandOptions& options,
+std::vector<ToolRun> program_runs(const Operation& op, const Job& options,
                                   const EntryRules& rules);
 
-}  // namespace cwe::app
+}  // namespace cwe

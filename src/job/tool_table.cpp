@@ -1,4 +1,4 @@
-#include "tool_table.hpp"
+#include "cwe/job/tool_table.hpp"
 
 #include <cctype>
 #include <cmath>
@@ -12,7 +12,7 @@
 #include "cwe/process/cutting_coefficients.hpp"
 #include "cwe/tool/tool_spec.hpp"
 
-namespace cwe::app {
+namespace cwe {
 namespace {
 
 // The number at the start of `text` (as std::stod reads it): the characters it takes, 0 when
@@ -403,4 +403,4 @@ Cutter cutter_of(const ToolEntry& entry) {
   return Cutter(base.profile(), options);
 }
 
-}  // namespace cwe::app
+}  // namespace cwe

@@ -9,13 +9,13 @@
 #include "cwe/core/error.hpp"
 #include "cwe/core/numbers.hpp"
 #include "cwe/io/mesh_io.hpp"
+#include "cwe/job/job.hpp"
+#include "cwe/job/tool_table.hpp"
 #include "cwe/simulation/simulation.hpp"
 #include "cwe/tool/apt.hpp"
-#include "job.hpp"
-#include "tool_choice.hpp"
-#include "tool_table.hpp"
+#include "cwe/job/tool_choice.hpp"
 
-namespace cwe::app {
+namespace cwe {
 namespace {
 
 // "x,y,z", or nullopt when `text` is not three numbers.
@@ -105,7 +105,7 @@ void change_tools(std::vector<Move>& before, std::vector<Move>& after, const Ent
 
 }  // namespace
 
-EntryRules entry_rules(const SimulateCommandOptions& options) {
+EntryRules entry_rules(const Job& options) {
   EntryRules rules;
   const StockSpec stock = parse_stock_spec(options.stock, SourceLocation{"--stock"});
   rules.clearance_z =
@@ -136,7 +136,7 @@ EntryRules entry_rules(const SimulateCommandOptions& options) {
   return rules;
 }
 
-std::vector<ToolRun> program_runs(const Operation& op, const SimulateCommandOptions& options,
+std::vector<ToolRun> program_runs(const Operation& op, const Job& options,
                                   const EntryRules& rules) {
   const ReadToolpath read = read_program(op.path, rules);
   const Toolpath& path = read.toolpath;
@@ -238,4 +238,4 @@ std::vector<ToolRun> program_runs(const Operation& op, const SimulateCommandOpti
   return runs;
 }
 
-}  // namespace cwe::app
+}  // namespace cwe

@@ -1,9 +1,9 @@
-#include "tool_choice.hpp"
+#include "cwe/job/tool_choice.hpp"
 
 #include "cwe/core/error.hpp"
 #include "cwe/tool/tool_spec.hpp"
 
-namespace cwe::app {
+namespace cwe {
 
 Cutter choose_cutter(const std::string& tool_spec, const Toolpath& path,
                      const std::string& path_name, double unit) {
@@ -21,4 +21,4 @@ Cutter choose_cutter(const std::string& tool_spec, const Toolpath& path,
                        : "the program defines several cutters: name the one to use with --tool");
 }
 
-}  // namespace cwe::app
+}  // namespace cwe

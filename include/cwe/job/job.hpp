@@ -1,0 +1,102 @@
+#pragma once
+// A job: the stock, the programs with their tools, the resolution and the force model's settings,
+// as the command line and JSON job files give them (docs/simulate.md); and the job made ready to
+// run — programs read and cut into one operation per tool, cutters chosen, CL sampling set, force
+// models built — with every input checked before the long part starts.
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cwe/job/force_settings.hpp"
+#include "cwe/job/tool_table.hpp"
+#include "cwe/process/force_model.hpp"
+#include "cwe/simulation/simulation.hpp"
+#include "cwe/toolpath/cl_sampling.hpp"
+#include "cwe/toolpath/toolpath_reader.hpp"
+
+namespace cwe {
+
+// How far above the stock's top a tool starts, and goes up to at a tool change, by default, mm.
+inline constexpr double kStartClearance = 5.0;
+
+// One toolpath with its tool (empty: the job's tool, else the program's own).
+struct Operation {
+  std::string tool;
+  std::string path;
+};
+
+// A job as given. Empty strings and zeros mean "not given" (the defaults in the comments).
+struct Job {
+  std::string stock;  // box:xmin,ymin,zmin,xmax,ymax,zmax or an STL file
+  std::string tool;   // for operations without their own
+  std::string path;   // one program; else `operations`
+  std::vector<Operation> operations;
+  // Tool table (docs/simulate.md, tool_table.hpp): a file, or the table itself.
+  std::string tools;
+  std::optional<ToolTable> tool_table;
+  bool tool_for_all = false;  // one `tool` cuts every move of a program that changes tools
+  std::string tool_units;     // "mm" or "in": a tool table's bare lengths (default: `units`)
+  // Where a program's tool starts: "auto" (default: kStartClearance above the stock's top at the
+  // program's first XY), "origin", or "x,y,z"; and where it changes tools: "auto" (default: up to
+  // that height, then across to the new tool's first XY), "stay", or "x,y,z".
+  std::string start;
+  std::string tool_change;
+  // "mm" (default) or "in": the unit of the lengths given without one (stock box, tool
+  // specifications and tables, start and tool-change points).
+  std::string units;
+  double resolution = 0.0;  // 0: 0.1 mm
+  double tolerance = 0.0;   // 0: resolution / 10
+  int threads = 0;          // 0: all cores
+  double cl_step = 0.0;     // 0: min(0.5, D/20) mm
+  // Cutting forces (docs/forces.md): a coefficient JSON file or bundled material; empty: none
+  // (unless the tool table gives coefficients).
+  std::string forces;
+  double spindle = 0.0;     // rev/min overriding the program's; 0: the program's S / SPINDL
+  double feed = 0.0;        // mm/min overriding the program's F / FEDRAT; 0: the program's
+  int flutes = 0;           // 0: the cutter's
+  double helix = -1.0;      // degrees; < 0: the cutter's
+  double force_step = 0.0;  // spindle angle step, degrees; 0: 1°
+  std::string runout;       // offset_mm[,angle_deg]; empty: none
+};
+
+// An operation ready to run: its program read, its cutter chosen, its force model (with
+// forces). A program that changes tools becomes one operation per stretch of one tool.
+struct PreparedOperation {
+  std::string path;
+  ReadToolpath read;
+  Cutter cutter;
+  SamplingOptions sampling;
+  std::size_t cl_points = 0;
+  std::optional<ForceModel> forces;
+  int tool = 0;  // the tool number whose moves these are (0: the program loads no tool)
+  std::size_t operation = 0;  // the job's operation (program) this comes from, from 0
+};
+
+struct PreparedJob {
+  SimulationOptions simulation;
+  int threads = 1;
+  std::vector<PreparedOperation> operations;
+  std::size_t cl_count = 0;  // CL samples of all operations (0 unless sampled)
+  std::optional<ForceSettings> forces;
+};
+
+// Checks the job and prepares it; `sample` counts the CL samples. `job` is completed on the way:
+// `operations` from `path` and `tool`, the tool table read, `tool_units` defaulted, a bare box in
+// inches marked so. Throws InputError naming the option, file and line of the first problem.
+PreparedJob prepare_job(Job& job, bool sample);
+
+// The cutting coefficient sets of the job's operations, each named once in order of use: their
+// names, or (sources) where their numbers come from. Empty without forces.
+std::string coefficient_names(const PreparedJob& job, bool sources = false);
+
+// InputError unless `units` is empty, "mm" or "in"; `option` names it.
+void check_units(const std::string& units, const char* option);
+// mm per length unit: 25.4 for "in", else 1.
+double unit_length(const std::string& units);
+
+// Throws InputError "no <what>: give <option> or put it in a job file" when value is empty.
+void require(const std::string& value, const char* what, const char* option);
+
+}  // namespace cwe
