@@ -10,17 +10,6 @@
 
 namespace cwe::app {
 
-void ForceExtremes::add(const ClForces& f, std::size_t cl, const std::string& file, int line) {
-  if (f.cutting) ++cutting;
-  const auto update = [&](Extreme& e, double value) {
-    if (value > e.value) e = {value, cl, file, line};
-  };
-  update(force, f.peak_resultant);
-  update(torque, f.peak_torque);
-  update(power, f.mean_power);
-  update(chip, f.max_chip);
-}
-
 const char* const kForcesCsvHeader =
     "cl,move,feed_per_tooth_mm,mean_fx_n,mean_fy_n,mean_fz_n,peak_fx_n,peak_fy_n,peak_fz_n,"
     "peak_resultant_n,mean_torque_nm,peak_torque_nm,mean_power_w,line,operation,feed_mm_min,"

@@ -6,24 +6,12 @@
 #include <string>
 
 #include "cwe/job/force_settings.hpp"
+#include "cwe/job/run.hpp"
 #include "cwe/process/force_model.hpp"
 #include "cwe/toolpath/cl_sampling.hpp"
 #include "cwe/toolpath/toolpath.hpp"
 
 namespace cwe::app {
-
-// The largest force, torque and power of a job, and where they occur.
-struct ForceExtremes {
-  struct Extreme {
-    double value = 0.0;
-    std::size_t cl = 0;
-    std::string file;
-    int line = 0;
-  };
-  Extreme force, torque, power, chip;  // peak resultant N, peak torque N·m, mean power W, mm
-  std::size_t cutting = 0;             // CLs where some flute cut a chip
-  void add(const ClForces& f, std::size_t cl, const std::string& file, int line);
-};
 
 // The unit of the lengths the per-CL files and the terminal report give (--report-units).
 struct ReportUnit {

@@ -22,7 +22,9 @@
 #include "cwe/io/atomic_file.hpp"
 #include "cwe/io/engagement_plot.hpp"
 #include "cwe/io/force_plot.hpp"
+#include "cwe/io/cl_sink.hpp"
 #include "cwe/io/mesh_io.hpp"
+#include "cwe/job/run.hpp"
 #include "cwe/simulation/simulation.hpp"
 #include "cwe/toolpath/cl_sampling.hpp"
 #include "cwe/toolpath/toolpath_reader.hpp"
@@ -210,21 +212,111 @@ void add_simulate_command(CLI::App& app, SimulateCommandOptions& options) {
 
 namespace {
 
-// Adds one operation's removal figures to the job's.
-void merge(RemovalSummary& job, const RemovalSummary& op, int move_offset) {
-  job.moves += op.moves;
-  job.feed_moves += op.feed_moves;
-  job.rapid_moves += op.rapid_moves;
-  job.cutting_moves += op.cutting_moves;
-  job.linear_pieces += op.linear_pieces;
-  job.deviation_bound = std::max(job.deviation_bound, op.deviation_bound);
-  for (RapidCut cut : op.rapid_cuts) {
-    cut.move += move_offset;
-    job.rapid_cuts.push_back(cut);
+// engagement.csv, engagement.jsonl and (with forces) forces.csv, streamed to temporary files that
+// replace the targets when committed.
+class EngagementFiles : public ClSink {
+ public:
+  EngagementFiles(const std::filesystem::path& folder, bool forces, const ReportUnit& unit)
+      : unit_(unit), csv_(folder / "engagement.csv"), jsonl_(folder / "engagement.jsonl") {
+    csv_.append(unit.header(kCsvHeader));
+    if (forces) {
+      forces_.emplace(folder / "forces.csv");
+      forces_->append(unit.header(kForcesCsvHeader));
+    }
   }
-  job.removed_by_move.insert(job.removed_by_move.end(), op.removed_by_move.begin(),
-                             op.removed_by_move.end());
-}
+  void add(const ClResult& r) override {
+    csv_block_ += csv_row(r.index, r.cl, r.state, r.map, r.operation + 1, r.tool, unit_);
+    jsonl_block_ += jsonl_line(r.index, r.cl, r.map, unit_);
+    if (forces_ && r.forces != nullptr) {
+      forces_block_ += forces_csv_row(r.index, r.cl, r.operation + 1, r.tool, r.feed_rate,
+                                      *r.forces, unit_);
+    }
+    flush(false);
+  }
+  void finish() { flush(true); }
+  void commit() {
+    csv_.commit();
+    jsonl_.commit();
+    if (forces_) forces_->commit();
+  }
+
+ private:
+  // Appended in blocks of about a megabyte.
+  void flush(bool force) {
+    if (!force && csv_block_.size() + jsonl_block_.size() + forces_block_.size() < (1u << 20)) {
+      return;
+    }
+    csv_.append(csv_block_);
+    jsonl_.append(jsonl_block_);
+    if (forces_) forces_->append(forces_block_);
+    csv_block_.clear();
+    jsonl_block_.clear();
+    forces_block_.clear();
+  }
+
+  ReportUnit unit_;
+  AtomicFileWriter csv_, jsonl_;
+  std::optional<AtomicFileWriter> forces_;
+  std::string csv_block_, jsonl_block_, forces_block_;
+};
+
+// maps/ (the chosen CLs' engagement maps and path.png along the job) and force_curves/.
+class Figures : public ClSink {
+ public:
+  Figures(const std::filesystem::path& folder, MapChoice maps, MapChoice curves, bool forces)
+      : maps_(std::move(maps)), curves_(std::move(curves)), map_folder_(folder, "maps") {
+    if (forces) curve_folder_.emplace(folder, "force_curves");
+  }
+  bool wants_curve(std::size_t index, bool engaged) override {
+    curve_ = curves_.chosen(index, engaged);
+    return curve_;
+  }
+  void add(const ClResult& r) override {
+    const std::size_t k = r.index;
+    const EngagementMap& map = r.map;
+    along_.push_back({static_cast<int>(k), map.engaged, degrees(map.phi_entry),
+                      degrees(map.phi_exit), map.axial_depth});
+    const std::string place =
+        fmt::format("CL {} · move {} ({} line {})", k, r.cl.move + 1,
+                    std::filesystem::path(r.file).filename().string(), r.cl.line);
+    const std::string name = fmt::format("cl_{:06d}", k);
+    if (r.forces != nullptr && curve_ && curve_folder_) {
+      const ClForces& f = *r.forces;
+      const ForcePlotInfo info{fmt::format("{} · fz {:.4f} mm · {:.0f} rev/min", place,
+                                           f.feed_per_tooth, f.spindle_speed)};
+      curve_folder_->write(name + ".csv", force_curve_csv(f.curve));
+      curve_folder_->write(name + ".png", force_curve_png(f.curve, info));
+      curve_folder_->write(name + ".svg", force_curve_svg(f.curve, info));
+      ++curves_written_;
+    }
+    curve_ = false;
+    if (!maps_.chosen(k, map.engaged)) return;
+    const MapPlotInfo info{fmt::format("{} · {}", place, r.cutter.name()),
+                           0.5 * r.cutter.diameter(), r.cutter.flute_length()};
+    map_folder_.write(name + ".png", engagement_map_png(map, info));
+    map_folder_.write(name + ".svg", engagement_map_svg(map, info));
+    ++maps_written_;
+  }
+  // Draws the path plot.
+  void finish(const std::string& title) {
+    map_folder_.write("path.png", engagement_path_png(along_, title));
+    map_folder_.write("path.svg", engagement_path_svg(along_, title));
+  }
+  void commit() {
+    map_folder_.commit();
+    if (curve_folder_) curve_folder_->commit();
+  }
+  std::size_t maps_written() const { return maps_written_; }
+  std::size_t curves_written() const { return curves_written_; }
+
+ private:
+  MapChoice maps_, curves_;
+  OutputFolder map_folder_;
+  std::optional<OutputFolder> curve_folder_;
+  std::vector<PathPlotPoint> along_;
+  bool curve_ = false;  // the CL being added asked for its curve
+  std::size_t maps_written_ = 0, curves_written_ = 0;
+};
 
 }  // namespace
 
@@ -252,125 +344,42 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   MapChoice curves =
       parse_maps(job.forces ? options.force_curves : "none", cl_count, "--force-curves");
   const StockSpec stock_spec = parse_stock_spec(options.stock, SourceLocation{"--stock"});
-  TriDexel stock = make_stock(stock_spec, simulation);
+  TriDexel initial_stock = make_stock(stock_spec, simulation);  // before any output is opened
   const ReportUnit unit = ReportUnit::of(options.report_units);
-  const TriDexel::Volume initial = stock.volume();
   const std::filesystem::path folder(options.out);
 
   ProgressBar bar(options.quiet ? nullptr : progress);
-  std::size_t all_moves = 0;
-  for (const PreparedOperation& op : operations) all_moves += op.read.toolpath.moves.size();
-  RemovalSummary removal;
-  std::vector<RemovalSummary> per_operation;
-  // Engagement outputs, streamed to temporary files that replace the targets at the end.
-  std::optional<AtomicFileWriter> csv, jsonl;
-  std::optional<OutputFolder> map_folder, curve_folder;
-  std::vector<PathPlotPoint> along;
-  std::size_t engaged_cls = 0, maps_written = 0;
-  double deepest = 0.0, largest_area = 0.0;
+  std::optional<EngagementFiles> files;
+  std::optional<Figures> figures;
+  std::vector<ClSink*> sinks;
   if (!options.stock_only) {
-    csv.emplace(folder / "engagement.csv");
-    jsonl.emplace(folder / "engagement.jsonl");
-    map_folder.emplace(folder, "maps");
-    csv->append(unit.header(kCsvHeader));
+    files.emplace(folder, job.forces.has_value(), unit);
+    figures.emplace(folder, maps, curves, job.forces.has_value());
+    sinks = {&*files, &*figures};
   }
-  // Forces: forces.csv and the chosen curves.
-  std::optional<AtomicFileWriter> forces_csv;
-  std::size_t curves_written = 0;
-  ForceExtremes extremes;
-  if (job.forces) {
-    forces_csv.emplace(folder / "forces.csv");
-    forces_csv->append(unit.header(kForcesCsvHeader));
-    curve_folder.emplace(folder, "force_curves");
-  }
-  std::string csv_block, jsonl_block, forces_block;  // appended in blocks of about a megabyte
-  const auto flush = [&](bool force) {
-    if (!force && csv_block.size() + jsonl_block.size() + forces_block.size() < (1u << 20)) {
-      return;
-    }
-    csv->append(csv_block);
-    jsonl->append(jsonl_block);
-    if (forces_csv) forces_csv->append(forces_block);
-    csv_block.clear();
-    jsonl_block.clear();
-    forces_block.clear();
-  };
-  std::size_t moves_before = 0, cls_before = 0;
-  for (std::size_t o = 0; o < operations.size(); ++o) {
-    const PreparedOperation& op = operations[o];
-    const Toolpath& path = op.read.toolpath;
-    const auto report = [&](std::size_t done, std::size_t) { bar(moves_before + done, all_moves); };
-    if (options.stock_only) {
-      per_operation.push_back(remove_toolpath(stock, op.cutter, path, simulation, report));
-    } else {
-      const auto sink = [&](std::size_t index, const ClPoint& cl, const ToolState& state,
-                            const EngagementMap& map) {
-        const std::size_t k = cls_before + index;
-        ClPoint global = cl;
-        global.move += static_cast<int>(moves_before);
-        csv_block += csv_row(k, global, state, map, op.operation + 1, op.tool, unit);
-        jsonl_block += jsonl_line(k, global, map, unit);
-        along.push_back({static_cast<int>(k), map.engaged, degrees(map.phi_entry),
-                         degrees(map.phi_exit), map.axial_depth});
-        if (map.engaged) ++engaged_cls;
-        deepest = std::max(deepest, map.axial_depth);
-        largest_area = std::max(largest_area, map.area);
-        const Move& move = path.moves[static_cast<std::size_t>(cl.move)];
-        const std::string file =
-            move.source >= 0 && static_cast<std::size_t>(move.source) < path.sources.size()
-                ? path.sources[static_cast<std::size_t>(move.source)]
-                : op.path;
-        const std::string place =
-            fmt::format("CL {} · move {} ({} line {})", k, global.move + 1,
-                        std::filesystem::path(file).filename().string(), cl.line);
-        const std::string name = fmt::format("cl_{:06d}", k);
-        if (op.forces) {
-          const bool curve = curves.chosen(k, map.engaged);
-          const double spindle = spindle_speed(move, *job.forces);
-          const ClForces f = op.forces->evaluate(
-              map, state,
-              feed_per_tooth(feed_rate(move, *job.forces), op.forces->flutes(), spindle), spindle,
-              curve);
-          forces_block +=
-              forces_csv_row(k, global, op.operation + 1, op.tool, feed_rate(move, *job.forces), f,
-                             unit);
-          extremes.add(f, k, file, cl.line);
-          if (curve) {
-            const ForcePlotInfo info{fmt::format("{} · fz {:.4f} mm · {:.0f} rev/min", place,
-                                                 f.feed_per_tooth, f.spindle_speed)};
-            curve_folder->write(name + ".csv", force_curve_csv(f.curve));
-            curve_folder->write(name + ".png", force_curve_png(f.curve, info));
-            curve_folder->write(name + ".svg", force_curve_svg(f.curve, info));
-            ++curves_written;
-          }
-        }
-        flush(false);
-        if (!maps.chosen(k, map.engaged)) return;
-        const MapPlotInfo info{fmt::format("{} · {}", place, op.cutter.name()),
-                               0.5 * op.cutter.diameter(), op.cutter.flute_length()};
-        map_folder->write(name + ".png", engagement_map_png(map, info));
-        map_folder->write(name + ".svg", engagement_map_svg(map, info));
-        ++maps_written;
-      };
-      per_operation.push_back(simulate_engagement(stock, op.cutter, path, simulation, op.sampling,
-                                                  EngagementOptions{}, sink, report));
-    }
-    merge(removal, per_operation.back(), static_cast<int>(moves_before));
-    moves_before += path.moves.size();
-    cls_before += op.cl_points;
-  }
+  JobResult run = run_job(job, std::move(initial_stock), !options.stock_only, sinks,
+                          [&](std::size_t done, std::size_t total) { bar(done, total); });
   if (!options.stock_only) {
-    flush(true);
+    files->finish();
     const std::string title =
         operations.size() == 1
             ? fmt::format("Engagement along {} with {}",
                           std::filesystem::path(operations[0].path).filename().string(),
                           operations[0].cutter.name())
             : fmt::format("Engagement along {} operations", operations.size());
-    map_folder->write("path.png", engagement_path_png(along, title));
-    map_folder->write("path.svg", engagement_path_svg(along, title));
+    figures->finish(title);
   }
-  const TriDexel::Volume final_volume = stock.volume();
+  TriDexel& stock = run.stock;
+  const TriDexel::Volume& initial = run.initial_volume;
+  const RemovalSummary& removal = run.removal;
+  const std::vector<RemovalSummary>& per_operation = run.per_operation;
+  const ForceExtremes& extremes = run.extremes;
+  const std::size_t engaged_cls = run.engaged_cl_points;
+  const double deepest = run.deepest, largest_area = run.largest_area;
+  const std::size_t maps_written = figures ? figures->maps_written() : 0;
+  const std::size_t curves_written = figures ? figures->curves_written() : 0;
+  const std::size_t cl_points = run.cl_points;
+  const TriDexel::Volume& final_volume = run.final_volume;
   const TriDexel::Memory memory = stock.memory();
   const int stride =
       options.mesh_stride > 0 ? options.mesh_stride : dexel_mesh_stride(stock, kStockMeshTriangles);
@@ -432,7 +441,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
     EngagementOptions engagement;
     engagement.contact = simulation.effective_tolerance();  // as simulate_engagement takes it
     const DexelEngagement grid(operations.front().cutter, simulation.resolution, engagement);
-    summary["engagement"] = {{"cl_points", along.size()},
+    summary["engagement"] = {{"cl_points", cl_points},
                              {"engaged_cl_points", engaged_cls},
                              {"disc_height_mm", grid.disc_height()},
                              {"phi_step_deg", degrees(grid.phi_step())},
@@ -483,11 +492,8 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   summary["toolpath_warnings"] = warnings;
 
   // Everything is computed: commit the outputs, each whole; the summary last.
-  if (csv) csv->commit();
-  if (jsonl) jsonl->commit();
-  if (map_folder) map_folder->commit();
-  if (forces_csv) forces_csv->commit();
-  if (curve_folder) curve_folder->commit();
+  if (files) files->commit();
+  if (figures) figures->commit();
   const std::string title =
       fmt::format("cwe in-process stock after {}", summary["path"].get<std::string>());
   write_file_atomically(folder / "stock.stl", stl_binary(mesh, title));
@@ -514,7 +520,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
     fmt::print(out,
                "  engagement  {} cutter locations, {} engaged; deepest {:.{}f} {}, largest "
                "contact {:.{}f} {}²\n",
-               along.size(), engaged_cls, unit.length(deepest), 2 + unit.extra_decimals,
+               cl_points, engaged_cls, unit.length(deepest), 2 + unit.extra_decimals,
                unit.name, unit.area(largest_area), 1 + 2 * unit.extra_decimals, unit.name);
   }
   if (job.forces) {

@@ -1,0 +1,51 @@
+#pragma once
+// A prepared job run on its stock: every operation in order on the one workpiece, the engagement
+// (and forces) at each cutter location handed to sinks, and the figures a report needs.
+
+#include <cstddef>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cwe/io/cl_sink.hpp"
+#include "cwe/job/job.hpp"
+#include "cwe/simulation/simulation.hpp"
+#include "cwe/workpiece/dexel/tri_dexel.hpp"
+
+namespace cwe {
+
+// The largest force, torque and power of a job, and where they occur.
+struct ForceExtremes {
+  struct Extreme {
+    double value = 0.0;
+    std::size_t cl = 0;
+    std::string file;
+    int line = 0;
+  };
+  Extreme force, torque, power, chip;  // peak resultant N, peak torque N·m, mean power W, mm
+  std::size_t cutting = 0;             // CLs where some flute cut a chip
+  void add(const ClForces& f, std::size_t cl, const std::string& file, int line);
+};
+
+struct JobResult {
+  explicit JobResult(TriDexel workpiece) : stock(std::move(workpiece)) {}
+  TriDexel stock;  // the in-process workpiece after the job
+  TriDexel::Volume initial_volume, final_volume;
+  RemovalSummary removal;  // of the whole job (move indices over all operations)
+  std::vector<RemovalSummary> per_operation;
+  // With engagement:
+  std::size_t cl_points = 0, engaged_cl_points = 0;
+  double deepest = 0.0;       // largest axial depth, mm
+  double largest_area = 0.0;  // largest engaged area, mm²
+  ForceExtremes extremes;     // with forces
+};
+
+// Runs `job` on `stock` (make_stock of the job's stock, at its resolution): with `engagement`,
+// every operation through simulate_engagement, each CL's engagement (and forces) handed to every
+// sink in turn; without, removal only (remove_toolpath, batched). `progress` gets (moves done,
+// moves of the job).
+JobResult run_job(const PreparedJob& job, TriDexel stock, bool engagement,
+                  std::span<ClSink* const> sinks, const Progress& progress = {});
+
+}  // namespace cwe

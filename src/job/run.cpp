@@ -1,0 +1,101 @@
+#include "cwe/job/run.hpp"
+
+#include <algorithm>
+#include <utility>
+
+#include "cwe/engagement/dexel_engagement.hpp"
+
+namespace cwe {
+namespace {
+
+// Adds one operation's removal figures to the job's.
+void merge(RemovalSummary& job, const RemovalSummary& op, int move_offset) {
+  job.moves += op.moves;
+  job.feed_moves += op.feed_moves;
+  job.rapid_moves += op.rapid_moves;
+  job.cutting_moves += op.cutting_moves;
+  job.linear_pieces += op.linear_pieces;
+  job.deviation_bound = std::max(job.deviation_bound, op.deviation_bound);
+  for (RapidCut cut : op.rapid_cuts) {
+    cut.move += move_offset;
+    job.rapid_cuts.push_back(cut);
+  }
+  job.removed_by_move.insert(job.removed_by_move.end(), op.removed_by_move.begin(),
+                             op.removed_by_move.end());
+}
+
+}  // namespace
+
+void ForceExtremes::add(const ClForces& f, std::size_t cl, const std::string& file, int line) {
+  if (f.cutting) ++cutting;
+  const auto update = [&](Extreme& e, double value) {
+    if (value > e.value) e = {value, cl, file, line};
+  };
+  update(force, f.peak_resultant);
+  update(torque, f.peak_torque);
+  update(power, f.mean_power);
+  update(chip, f.max_chip);
+}
+
+JobResult run_job(const PreparedJob& job, TriDexel stock, bool engagement,
+                  std::span<ClSink* const> sinks, const Progress& progress) {
+  const SimulationOptions& simulation = job.simulation;
+  JobResult result(std::move(stock));
+  result.initial_volume = result.stock.volume();
+  std::size_t all_moves = 0;
+  for (const PreparedOperation& op : job.operations) all_moves += op.read.toolpath.moves.size();
+  std::size_t moves_before = 0, cls_before = 0;
+  for (const PreparedOperation& op : job.operations) {
+    const Toolpath& path = op.read.toolpath;
+    const auto report = [&](std::size_t done, std::size_t) {
+      if (progress) progress(moves_before + done, all_moves);
+    };
+    if (!engagement) {
+      result.per_operation.push_back(
+          remove_toolpath(result.stock, op.cutter, path, simulation, report));
+    } else {
+      std::size_t sampled = 0;
+      const auto sink = [&](std::size_t index, const ClPoint& cl, const ToolState& state,
+                            const EngagementMap& map) {
+        const std::size_t k = cls_before + index;
+        sampled = std::max(sampled, index + 1);
+        ClPoint global = cl;
+        global.move += static_cast<int>(moves_before);
+        ++result.cl_points;
+        if (map.engaged) ++result.engaged_cl_points;
+        result.deepest = std::max(result.deepest, map.axial_depth);
+        result.largest_area = std::max(result.largest_area, map.area);
+        const Move& move = path.moves[static_cast<std::size_t>(cl.move)];
+        const std::string& file =
+            move.source >= 0 && static_cast<std::size_t>(move.source) < path.sources.size()
+                ? path.sources[static_cast<std::size_t>(move.source)]
+                : op.path;
+        std::optional<ClForces> forces;
+        double feed = 0.0;
+        if (op.forces) {
+          const bool curve = std::any_of(sinks.begin(), sinks.end(), [&](ClSink* s) {
+            return s->wants_curve(k, map.engaged);
+          });
+          const double spindle = spindle_speed(move, *job.forces);
+          feed = feed_rate(move, *job.forces);
+          forces = op.forces->evaluate(
+              map, state, feed_per_tooth(feed, op.forces->flutes(), spindle), spindle, curve);
+          result.extremes.add(*forces, k, file, cl.line);
+        }
+        const ClResult at{k,  global, state, map, op.cutter, op.operation, op.tool, file,
+                          forces ? &*forces : nullptr, feed};
+        for (ClSink* s : sinks) s->add(at);
+      };
+      result.per_operation.push_back(simulate_engagement(result.stock, op.cutter, path,
+                                                         simulation, op.sampling,
+                                                         EngagementOptions{}, sink, report));
+      cls_before += sampled;
+    }
+    merge(result.removal, result.per_operation.back(), static_cast<int>(moves_before));
+    moves_before += path.moves.size();
+  }
+  result.final_volume = result.stock.volume();
+  return result;
+}
+
+}  // namespace cwe
