@@ -10,7 +10,6 @@
 #include <vector>
 
 #include "cwe/job/job.hpp"
-#include "force_outputs.hpp"
 #include "simulate_command.hpp"
 
 namespace cwe::app {

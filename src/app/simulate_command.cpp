@@ -1,7 +1,5 @@
 #include "simulate_command.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <charconv>
 #include <chrono>
@@ -20,8 +18,6 @@
 #include "cwe/core/error.hpp"
 #include "cwe/core/text_file.hpp"
 #include "cwe/io/atomic_file.hpp"
-#include "cwe/io/engagement_plot.hpp"
-#include "cwe/io/force_plot.hpp"
 #include "cwe/io/cl_sink.hpp"
 #include "cwe/io/mesh_io.hpp"
 #include "cwe/job/run.hpp"
@@ -29,7 +25,7 @@
 #include "cwe/toolpath/cl_sampling.hpp"
 #include "cwe/toolpath/toolpath_reader.hpp"
 #include "cwe/workpiece/dexel/dexel_mesh.hpp"
-#include "force_outputs.hpp"
+#include "cwe/io/cl_writers.hpp"
 #include "job_file.hpp"
 
 namespace cwe::app {
@@ -37,24 +33,6 @@ namespace {
 
 // Rapid moves listed by line in the report (all are counted).
 constexpr std::size_t kRapidCutsListed = 10;
-
-// Which CLs get a map figure: every:N, cl:i,j,… (indices from 0), none, or (empty) about ten
-// spread over the path: in each tenth of the CLs, its first engaged one.
-struct MapChoice {
-  std::size_t every = 0;        // 0: none by period
-  std::vector<std::size_t> cl;  // sorted
-  bool engaged_only = false;    // the default: each period's first engaged CL
-  bool due = false;             // (default) a period began and has no map yet
-  bool chosen(std::size_t k, bool engaged) {
-    if (engaged_only) {
-      due = due || k % every == 0;
-      if (!due || !engaged) return false;
-      due = false;
-      return true;
-    }
-    return (every > 0 && k % every == 0) || std::binary_search(cl.begin(), cl.end(), k);
-  }
-};
 
 MapChoice parse_maps(const std::string& text, std::size_t cl_count, const char* option = "--maps") {
   const SourceLocation where{option};
@@ -95,93 +73,7 @@ MapChoice parse_maps(const std::string& text, std::size_t cl_count, const char* 
   throw InputError(where, fmt::format("'{}': expected every:N, cl:i,j,… or none", text));
 }
 
-// An output folder (maps/, force_curves/) written whole or not at all: files go to a temporary
-// folder that replaces <out>/<name> only when the job has finished.
-class OutputFolder {
- public:
-  OutputFolder(const std::filesystem::path& out, const std::string& name)
-      : target_(out / name),
-        temporary_(out / (name + ".tmp-" + std::to_string(static_cast<long>(::getpid())))) {}
-  OutputFolder(const OutputFolder&) = delete;
-  OutputFolder& operator=(const OutputFolder&) = delete;
-  ~OutputFolder() {
-    std::error_code ec;
-    if (!committed_) std::filesystem::remove_all(temporary_, ec);
-  }
-  void write(const std::string& name, std::string_view bytes) {
-    write_file_atomically(temporary_ / name, bytes);
-  }
-  void commit() {
-    std::error_code ec;
-    std::filesystem::create_directories(temporary_, ec);
-    std::filesystem::remove_all(target_, ec);
-    std::filesystem::rename(temporary_, target_, ec);
-    if (ec) {
-      throw InputError(SourceLocation{target_.string()},
-                       "cannot write the output folder: " + ec.message());
-    }
-    committed_ = true;
-  }
-
- private:
-  std::filesystem::path target_, temporary_;
-  bool committed_ = false;
-};
-
 double degrees(double radians) { return radians * 180.0 / kPi; }
-
-// One engagement.jsonl line: the engaged discs and rings, angles in degrees, heights and radii in
-// `unit`.
-std::string jsonl_line(std::size_t k, const ClPoint& cl, const EngagementMap& map,
-                       const ReportUnit& unit) {
-  const int e = unit.extra_decimals;
-  const auto intervals = [](const std::vector<Interval>& phi) {
-    std::string out = "[";
-    for (std::size_t i = 0; i < phi.size(); ++i) {
-      out += fmt::format("{}[{:.3f},{:.3f}]", i ? "," : "", degrees(phi[i].lo), degrees(phi[i].hi));
-    }
-    return out + "]";
-  };
-  std::string line = fmt::format(R"({{"cl":{},"move":{},"discs":[)", k, cl.move + 1);
-  bool first = true;
-  for (const DiscEngagement& disc : map.discs) {
-    if (disc.phi.empty()) continue;
-    line += fmt::format(R"({}{{"z0":{:.{}f},"z1":{:.{}f},"intervals":{}}})", first ? "" : ",",
-                        unit.length(disc.z0), 4 + e, unit.length(disc.z1), 4 + e,
-                        intervals(disc.phi));
-    first = false;
-  }
-  line += R"(],"bottom":{"rings":[)";
-  first = true;
-  for (const RingEngagement& ring : map.rings) {
-    if (ring.phi.empty()) continue;
-    line += fmt::format(R"({}{{"r0":{:.{}f},"r1":{:.{}f},"intervals":{}}})", first ? "" : ",",
-                        unit.length(ring.r0), 4 + e, unit.length(ring.r1), 4 + e,
-                        intervals(ring.phi));
-    first = false;
-  }
-  return line + "]}}\n";
-}
-
-constexpr const char* kCsvHeader =
-    "cl,move,line,x,y,z,i,j,k,feed_x,feed_y,feed_z,engaged,phi_entry_deg,phi_exit_deg,"
-    "axial_depth_mm,area_mm2,u,path_mm,motion,operation,tool\n";
-
-// Lengths in `unit`.
-std::string csv_row(std::size_t k, const ClPoint& cl, const ToolState& state,
-                    const EngagementMap& map, std::size_t operation, int tool,
-                    const ReportUnit& unit) {
-  const int p = 4 + unit.extra_decimals;
-  const Vec3 at = cl.position / unit.mm;
-  return fmt::format(
-      "{},{},{},{:.{}f},{:.{}f},{:.{}f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{},"
-      "{:.3f},{:.3f},{:.{}f},{:.{}f},{:.6f},{:.{}f},{},{},{}\n",
-      k, cl.move + 1, cl.line, at.x(), p, at.y(), p, at.z(), p, cl.axis.x(), cl.axis.y(),
-      cl.axis.z(), cl.feed_direction.x(), cl.feed_direction.y(), cl.feed_direction.z(),
-      map.engaged ? 1 : 0, degrees(map.phi_entry), degrees(map.phi_exit),
-      unit.length(map.axial_depth), p, unit.area(map.area), p + unit.extra_decimals, cl.u,
-      unit.length(cl.path_length), p, to_string(state.motion), operation, tool);
-}
 
 }  // namespace
 
@@ -209,116 +101,6 @@ void add_simulate_command(CLI::App& app, SimulateCommandOptions& options) {
   cmd->add_flag("--stock-only", options.stock_only,
                 "Material removal only: no engagement outputs (faster)");
 }
-
-namespace {
-
-// engagement.csv, engagement.jsonl and (with forces) forces.csv, streamed to temporary files that
-// replace the targets when committed.
-class EngagementFiles : public ClSink {
- public:
-  EngagementFiles(const std::filesystem::path& folder, bool forces, const ReportUnit& unit)
-      : unit_(unit), csv_(folder / "engagement.csv"), jsonl_(folder / "engagement.jsonl") {
-    csv_.append(unit.header(kCsvHeader));
-    if (forces) {
-      forces_.emplace(folder / "forces.csv");
-      forces_->append(unit.header(kForcesCsvHeader));
-    }
-  }
-  void add(const ClResult& r) override {
-    csv_block_ += csv_row(r.index, r.cl, r.state, r.map, r.operation + 1, r.tool, unit_);
-    jsonl_block_ += jsonl_line(r.index, r.cl, r.map, unit_);
-    if (forces_ && r.forces != nullptr) {
-      forces_block_ += forces_csv_row(r.index, r.cl, r.operation + 1, r.tool, r.feed_rate,
-                                      *r.forces, unit_);
-    }
-    flush(false);
-  }
-  void finish() { flush(true); }
-  void commit() {
-    csv_.commit();
-    jsonl_.commit();
-    if (forces_) forces_->commit();
-  }
-
- private:
-  // Appended in blocks of about a megabyte.
-  void flush(bool force) {
-    if (!force && csv_block_.size() + jsonl_block_.size() + forces_block_.size() < (1u << 20)) {
-      return;
-    }
-    csv_.append(csv_block_);
-    jsonl_.append(jsonl_block_);
-    if (forces_) forces_->append(forces_block_);
-    csv_block_.clear();
-    jsonl_block_.clear();
-    forces_block_.clear();
-  }
-
-  ReportUnit unit_;
-  AtomicFileWriter csv_, jsonl_;
-  std::optional<AtomicFileWriter> forces_;
-  std::string csv_block_, jsonl_block_, forces_block_;
-};
-
-// maps/ (the chosen CLs' engagement maps and path.png along the job) and force_curves/.
-class Figures : public ClSink {
- public:
-  Figures(const std::filesystem::path& folder, MapChoice maps, MapChoice curves, bool forces)
-      : maps_(std::move(maps)), curves_(std::move(curves)), map_folder_(folder, "maps") {
-    if (forces) curve_folder_.emplace(folder, "force_curves");
-  }
-  bool wants_curve(std::size_t index, bool engaged) override {
-    curve_ = curves_.chosen(index, engaged);
-    return curve_;
-  }
-  void add(const ClResult& r) override {
-    const std::size_t k = r.index;
-    const EngagementMap& map = r.map;
-    along_.push_back({static_cast<int>(k), map.engaged, degrees(map.phi_entry),
-                      degrees(map.phi_exit), map.axial_depth});
-    const std::string place =
-        fmt::format("CL {} · move {} ({} line {})", k, r.cl.move + 1,
-                    std::filesystem::path(r.file).filename().string(), r.cl.line);
-    const std::string name = fmt::format("cl_{:06d}", k);
-    if (r.forces != nullptr && curve_ && curve_folder_) {
-      const ClForces& f = *r.forces;
-      const ForcePlotInfo info{fmt::format("{} · fz {:.4f} mm · {:.0f} rev/min", place,
-                                           f.feed_per_tooth, f.spindle_speed)};
-      curve_folder_->write(name + ".csv", force_curve_csv(f.curve));
-      curve_folder_->write(name + ".png", force_curve_png(f.curve, info));
-      curve_folder_->write(name + ".svg", force_curve_svg(f.curve, info));
-      ++curves_written_;
-    }
-    curve_ = false;
-    if (!maps_.chosen(k, map.engaged)) return;
-    const MapPlotInfo info{fmt::format("{} · {}", place, r.cutter.name()),
-                           0.5 * r.cutter.diameter(), r.cutter.flute_length()};
-    map_folder_.write(name + ".png", engagement_map_png(map, info));
-    map_folder_.write(name + ".svg", engagement_map_svg(map, info));
-    ++maps_written_;
-  }
-  // Draws the path plot.
-  void finish(const std::string& title) {
-    map_folder_.write("path.png", engagement_path_png(along_, title));
-    map_folder_.write("path.svg", engagement_path_svg(along_, title));
-  }
-  void commit() {
-    map_folder_.commit();
-    if (curve_folder_) curve_folder_->commit();
-  }
-  std::size_t maps_written() const { return maps_written_; }
-  std::size_t curves_written() const { return curves_written_; }
-
- private:
-  MapChoice maps_, curves_;
-  OutputFolder map_folder_;
-  std::optional<OutputFolder> curve_folder_;
-  std::vector<PathPlotPoint> along_;
-  bool curve_ = false;  // the CL being added asked for its curve
-  std::size_t maps_written_ = 0, curves_written_ = 0;
-};
-
-}  // namespace
 
 int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
                          std::ostream* progress) {

@@ -1,0 +1,222 @@
+#include "cwe/io/cl_writers.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <system_error>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "cwe/core/error.hpp"
+#include "cwe/core/text_file.hpp"
+#include "cwe/io/force_plot.hpp"
+
+namespace cwe {
+namespace {
+
+double degrees(double radians) { return radians * 180.0 / kPi; }
+
+}  // namespace
+
+OutputFolder::OutputFolder(const std::filesystem::path& out, const std::string& name)
+    : target_(out / name),
+      temporary_(out / (name + ".tmp-" + std::to_string(static_cast<long>(::getpid())))) {}
+
+OutputFolder::~OutputFolder() {
+  std::error_code ec;
+  if (!committed_) std::filesystem::remove_all(temporary_, ec);
+}
+
+void OutputFolder::write(const std::string& name, std::string_view bytes) {
+  write_file_atomically(temporary_ / name, bytes);
+}
+
+void OutputFolder::commit() {
+  std::error_code ec;
+  std::filesystem::create_directories(temporary_, ec);
+  std::filesystem::remove_all(target_, ec);
+  std::filesystem::rename(temporary_, target_, ec);
+  if (ec) {
+    throw InputError(SourceLocation{target_.string()},
+                     "cannot write the output folder: " + ec.message());
+  }
+  committed_ = true;
+}
+
+const char* const kForcesCsvHeader =
+    "cl,move,feed_per_tooth_mm,mean_fx_n,mean_fy_n,mean_fz_n,peak_fx_n,peak_fy_n,peak_fz_n,"
+    "peak_resultant_n,mean_torque_nm,peak_torque_nm,mean_power_w,line,operation,feed_mm_min,"
+    "spindle_rpm,max_chip_mm,mean_world_fx_n,mean_world_fy_n,mean_world_fz_n,peak_world_fx_n,"
+    "peak_world_fy_n,peak_world_fz_n,tool\n";
+
+ReportUnit ReportUnit::of(const std::string& units) {
+  if (units != "in") return {};
+  return {kMillimetresPerInch, 1, "in"};
+}
+
+std::string ReportUnit::header(std::string mm_header) const {
+  for (std::size_t at = mm_header.find("mm"); at != std::string::npos;
+       at = mm_header.find("mm", at + name.size())) {
+    mm_header.replace(at, 2, name);
+  }
+  return mm_header;
+}
+
+std::string forces_csv_row(std::size_t k, const ClPoint& cl, std::size_t operation, int tool,
+                           double feed_rate, const ClForces& f, const ReportUnit& unit) {
+  const int e = unit.extra_decimals;
+  return fmt::format(
+      "{},{},{:.{}f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.5f},{:.5f},{:.3f},{},{},"
+      "{:.{}f},{:.1f},{:.{}f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{}\n",
+      k, cl.move + 1, unit.length(f.feed_per_tooth), 6 + e, f.mean_force.x(), f.mean_force.y(),
+      f.mean_force.z(), f.peak_force.x(), f.peak_force.y(), f.peak_force.z(), f.peak_resultant,
+      f.mean_torque, f.peak_torque, f.mean_power, cl.line, operation, unit.length(feed_rate),
+      3 + e, f.spindle_speed, unit.length(f.max_chip), 6 + e, f.mean_force_world.x(),
+      f.mean_force_world.y(), f.mean_force_world.z(), f.peak_force_world.x(),
+      f.peak_force_world.y(), f.peak_force_world.z(), tool);
+}
+
+// One engagement.jsonl line: the engaged discs and rings, angles in degrees, heights and radii in
+// `unit`.
+std::string engagement_jsonl_line(std::size_t k, const ClPoint& cl, const EngagementMap& map,
+                       const ReportUnit& unit) {
+  const int e = unit.extra_decimals;
+  const auto intervals = [](const std::vector<Interval>& phi) {
+    std::string out = "[";
+    for (std::size_t i = 0; i < phi.size(); ++i) {
+      out += fmt::format("{}[{:.3f},{:.3f}]", i ? "," : "", degrees(phi[i].lo), degrees(phi[i].hi));
+    }
+    return out + "]";
+  };
+  std::string line = fmt::format(R"({{"cl":{},"move":{},"discs":[)", k, cl.move + 1);
+  bool first = true;
+  for (const DiscEngagement& disc : map.discs) {
+    if (disc.phi.empty()) continue;
+    line += fmt::format(R"({}{{"z0":{:.{}f},"z1":{:.{}f},"intervals":{}}})", first ? "" : ",",
+                        unit.length(disc.z0), 4 + e, unit.length(disc.z1), 4 + e,
+                        intervals(disc.phi));
+    first = false;
+  }
+  line += R"(],"bottom":{"rings":[)";
+  first = true;
+  for (const RingEngagement& ring : map.rings) {
+    if (ring.phi.empty()) continue;
+    line += fmt::format(R"({}{{"r0":{:.{}f},"r1":{:.{}f},"intervals":{}}})", first ? "" : ",",
+                        unit.length(ring.r0), 4 + e, unit.length(ring.r1), 4 + e,
+                        intervals(ring.phi));
+    first = false;
+  }
+  return line + "]}}\n";
+}
+
+const char* const kEngagementCsvHeader =
+    "cl,move,line,x,y,z,i,j,k,feed_x,feed_y,feed_z,engaged,phi_entry_deg,phi_exit_deg,"
+    "axial_depth_mm,area_mm2,u,path_mm,motion,operation,tool\n";
+
+// Lengths in `unit`.
+std::string engagement_csv_row(std::size_t k, const ClPoint& cl, const ToolState& state,
+                               const EngagementMap& map, std::size_t operation, int tool,
+                               const ReportUnit& unit) {
+  const int p = 4 + unit.extra_decimals;
+  const Vec3 at = cl.position / unit.mm;
+  return fmt::format(
+      "{},{},{},{:.{}f},{:.{}f},{:.{}f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{},"
+      "{:.3f},{:.3f},{:.{}f},{:.{}f},{:.6f},{:.{}f},{},{},{}\n",
+      k, cl.move + 1, cl.line, at.x(), p, at.y(), p, at.z(), p, cl.axis.x(), cl.axis.y(),
+      cl.axis.z(), cl.feed_direction.x(), cl.feed_direction.y(), cl.feed_direction.z(),
+      map.engaged ? 1 : 0, degrees(map.phi_entry), degrees(map.phi_exit),
+      unit.length(map.axial_depth), p, unit.area(map.area), p + unit.extra_decimals, cl.u,
+      unit.length(cl.path_length), p, to_string(state.motion), operation, tool);
+}
+
+EngagementFiles::EngagementFiles(const std::filesystem::path& folder, bool forces,
+                                 const ReportUnit& unit)
+    : unit_(unit), csv_(folder / "engagement.csv"), jsonl_(folder / "engagement.jsonl") {
+  csv_.append(unit.header(kEngagementCsvHeader));
+  if (forces) {
+    forces_.emplace(folder / "forces.csv");
+    forces_->append(unit.header(kForcesCsvHeader));
+  }
+}
+
+void EngagementFiles::add(const ClResult& r) {
+  csv_block_ += engagement_csv_row(r.index, r.cl, r.state, r.map, r.operation + 1, r.tool, unit_);
+  jsonl_block_ += engagement_jsonl_line(r.index, r.cl, r.map, unit_);
+  if (forces_ && r.forces != nullptr) {
+    forces_block_ +=
+        forces_csv_row(r.index, r.cl, r.operation + 1, r.tool, r.feed_rate, *r.forces, unit_);
+  }
+  flush(false);
+}
+
+void EngagementFiles::finish() { flush(true); }
+
+void EngagementFiles::commit() {
+  csv_.commit();
+  jsonl_.commit();
+  if (forces_) forces_->commit();
+}
+
+void EngagementFiles::flush(bool force) {
+  if (!force && csv_block_.size() + jsonl_block_.size() + forces_block_.size() < (1u << 20)) {
+    return;
+  }
+  csv_.append(csv_block_);
+  jsonl_.append(jsonl_block_);
+  if (forces_) forces_->append(forces_block_);
+  csv_block_.clear();
+  jsonl_block_.clear();
+  forces_block_.clear();
+}
+
+Figures::Figures(const std::filesystem::path& folder, MapChoice maps, MapChoice curves,
+                 bool forces)
+    : maps_(std::move(maps)), curves_(std::move(curves)), map_folder_(folder, "maps") {
+  if (forces) curve_folder_.emplace(folder, "force_curves");
+}
+
+bool Figures::wants_curve(std::size_t index, bool engaged) {
+  curve_ = curves_.chosen(index, engaged);
+  return curve_;
+}
+
+void Figures::add(const ClResult& r) {
+  const std::size_t k = r.index;
+  const EngagementMap& map = r.map;
+  along_.push_back({static_cast<int>(k), map.engaged, degrees(map.phi_entry),
+                    degrees(map.phi_exit), map.axial_depth});
+  const std::string place =
+      fmt::format("CL {} · move {} ({} line {})", k, r.cl.move + 1,
+                  std::filesystem::path(r.file).filename().string(), r.cl.line);
+  const std::string name = fmt::format("cl_{:06d}", k);
+  if (r.forces != nullptr && curve_ && curve_folder_) {
+    const ClForces& f = *r.forces;
+    const ForcePlotInfo info{fmt::format("{} · fz {:.4f} mm · {:.0f} rev/min", place,
+                                         f.feed_per_tooth, f.spindle_speed)};
+    curve_folder_->write(name + ".csv", force_curve_csv(f.curve));
+    curve_folder_->write(name + ".png", force_curve_png(f.curve, info));
+    curve_folder_->write(name + ".svg", force_curve_svg(f.curve, info));
+    ++curves_written_;
+  }
+  curve_ = false;
+  if (!maps_.chosen(k, map.engaged)) return;
+  const MapPlotInfo info{fmt::format("{} · {}", place, r.cutter.name()),
+                         0.5 * r.cutter.diameter(), r.cutter.flute_length()};
+  map_folder_.write(name + ".png", engagement_map_png(map, info));
+  map_folder_.write(name + ".svg", engagement_map_svg(map, info));
+  ++maps_written_;
+}
+
+void Figures::finish(const std::string& title) {
+  map_folder_.write("path.png", engagement_path_png(along_, title));
+  map_folder_.write("path.svg", engagement_path_svg(along_, title));
+}
+
+void Figures::commit() {
+  map_folder_.commit();
+  if (curve_folder_) curve_folder_->commit();
+}
+
+
+}  // namespace cwe
