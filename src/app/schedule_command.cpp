@@ -16,6 +16,8 @@
 #include "cwe/core/error.hpp"
 #include "cwe/core/text_file.hpp"
 #include "cwe/io/atomic_file.hpp"
+#include "cwe/job/feed_allowance.hpp"
+#include "cwe/job/run.hpp"
 #include "cwe/process/feed_schedule.hpp"
 #include "cwe/toolpath/feed_rewrite.hpp"
 #include "job_file.hpp"
@@ -23,10 +25,6 @@
 namespace cwe::app {
 
 namespace {
-
-// Scheduled feeds stay this fraction below the admissible ones, so that rounding the feed to the
-// program's number format never tips a cutter location over the limit.
-constexpr double kSafety = 1e-5;
 
 // One operation's result: the program text and what changed.
 // One operation's schedule.
@@ -152,46 +150,26 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
   TriDexel stock =
       make_stock(parse_stock_spec(sim.stock, SourceLocation{"--stock"}), job.simulation);
   ProgressBar bar(sim.quiet ? nullptr : progress);
-  std::size_t all_moves = 0, moves_before = 0;
+  std::size_t all_moves = 0;
   for (const PreparedOperation& op : job.operations) all_moves += op.read.toolpath.moves.size();
+  FeedAllowance allowance(all_moves, limit, bounds);
+  ClSink* const sinks[] = {&allowance};
+  run_job(job, std::move(stock), RunOptions{true, false}, sinks,
+          [&](std::size_t done, std::size_t total) { bar(done, total); });
 
   std::vector<ScheduledProgram> programs;
+  std::size_t moves_before = 0;
   for (std::size_t o = 0; o < job.operations.size(); ++o) {
     const PreparedOperation& op = job.operations[o];
     const Toolpath& path = op.read.toolpath;
-    const ForceModel& model = *op.forces;
-    // The largest feed rate each move's cutter locations allow (mm/min); unset: not sampled.
-    std::vector<std::optional<double>> allowed(path.moves.size());
-    const auto sink = [&](std::size_t, const ClPoint& cl, const ToolState& state,
-                          const EngagementMap& map) {
-      const Move& move = path.moves[static_cast<std::size_t>(cl.move)];
-      std::optional<double>& best = allowed[static_cast<std::size_t>(cl.move)];
-      const double programmed = feed_rate(move, *job.forces);
-      if (!(programmed > 0.0)) return;
-      const double spindle = spindle_speed(move, *job.forces);
-      double highest = programmed * bounds.max_scale;
-      if (bounds.max_feed) highest = std::min(highest, *bounds.max_feed);
-      const double c_max = feed_per_tooth(highest, model.flutes(), spindle);
-      const Vec3 v = state.tip_velocity_tcs();
-      double feed = std::numeric_limits<double>::infinity();
-      if (v.norm() > 0.0 && map.engaged) {
-        const double c = max_feed_per_tooth(model, map, v.normalized(), spindle, limit, c_max);
-        if (c < c_max) feed = c * model.flutes() * spindle * (1.0 - kSafety);
-      }
-      best = std::min(best.value_or(feed), feed);
-    };
-    const auto report = [&](std::size_t done, std::size_t) { bar(moves_before + done, all_moves); };
-    simulate_engagement(stock, op.cutter, path, job.simulation, op.sampling, EngagementOptions{},
-                        sink, report);
-    moves_before += path.moves.size();
-
+    const auto allowed = [&](std::size_t i) { return allowance.allowed()[moves_before + i]; };
     std::vector<MoveFeed> feeds;
     std::vector<std::size_t> index;  // feed moves scheduled, into path.moves
     for (std::size_t i = 0; i < path.moves.size(); ++i) {
       const Move& m = path.moves[i];
       const double programmed = feed_rate(m, *job.forces);
       if (!(programmed > 0.0)) continue;
-      feeds.push_back({programmed, allowed[i], m.length()});
+      feeds.push_back({programmed, allowed(i), m.length()});
       index.push_back(i);
     }
     ScheduledProgram program;
@@ -207,6 +185,7 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
       }
     }
     programs.push_back(std::move(program));
+    moves_before += path.moves.size();
   }
   std::vector<std::string> texts;
   for (const ScheduledFile& file : files) {

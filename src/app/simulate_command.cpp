@@ -139,7 +139,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
     figures.emplace(folder, maps, curves, job.forces.has_value());
     sinks = {&*files, &*figures};
   }
-  JobResult run = run_job(job, std::move(initial_stock), !options.stock_only, sinks,
+  JobResult run = run_job(job, std::move(initial_stock), RunOptions{!options.stock_only}, sinks,
                           [&](std::size_t done, std::size_t total) { bar(done, total); });
   if (!options.stock_only) {
     files->finish();

@@ -37,7 +37,7 @@ void ForceExtremes::add(const ClForces& f, std::size_t cl, const std::string& fi
   update(chip, f.max_chip);
 }
 
-JobResult run_job(const PreparedJob& job, TriDexel stock, bool engagement,
+JobResult run_job(const PreparedJob& job, TriDexel stock, const RunOptions& options,
                   std::span<ClSink* const> sinks, const Progress& progress) {
   const SimulationOptions& simulation = job.simulation;
   JobResult result(std::move(stock));
@@ -50,7 +50,7 @@ JobResult run_job(const PreparedJob& job, TriDexel stock, bool engagement,
     const auto report = [&](std::size_t done, std::size_t) {
       if (progress) progress(moves_before + done, all_moves);
     };
-    if (!engagement) {
+    if (!options.engagement) {
       result.per_operation.push_back(
           remove_toolpath(result.stock, op.cutter, path, simulation, report));
     } else {
@@ -71,19 +71,32 @@ JobResult run_job(const PreparedJob& job, TriDexel stock, bool engagement,
                 ? path.sources[static_cast<std::size_t>(move.source)]
                 : op.path;
         std::optional<ClForces> forces;
-        double feed = 0.0;
+        double feed = 0.0, spindle = 0.0;
         if (op.forces) {
+          spindle = spindle_speed(move, *job.forces);
+          feed = feed_rate(move, *job.forces);
+        }
+        if (op.forces && options.forces) {
           const bool curve = std::any_of(sinks.begin(), sinks.end(), [&](ClSink* s) {
             return s->wants_curve(k, map.engaged);
           });
-          const double spindle = spindle_speed(move, *job.forces);
-          feed = feed_rate(move, *job.forces);
           forces = op.forces->evaluate(
               map, state, feed_per_tooth(feed, op.forces->flutes(), spindle), spindle, curve);
           result.extremes.add(*forces, k, file, cl.line);
         }
-        const ClResult at{k,  global, state, map, op.cutter, op.operation, op.tool, file,
-                          forces ? &*forces : nullptr, feed};
+        const ClResult at{k,
+                          global,
+                          state,
+                          map,
+                          op.cutter,
+                          op.operation,
+                          op.tool,
+                          file,
+                          move,
+                          op.forces ? &*op.forces : nullptr,
+                          feed,
+                          spindle,
+                          forces ? &*forces : nullptr};
         for (ClSink* s : sinks) s->add(at);
       };
       result.per_operation.push_back(simulate_engagement(result.stock, op.cutter, path,

@@ -10,6 +10,7 @@
 #include "cwe/process/force_model.hpp"
 #include "cwe/tool/cutter.hpp"
 #include "cwe/toolpath/cl_sampling.hpp"
+#include "cwe/toolpath/move.hpp"
 
 namespace cwe {
 
@@ -23,8 +24,13 @@ struct ClResult {
   std::size_t operation = 0;  // the job's program, from 0
   int tool = 0;               // the tool number (0: the program loads none)
   const std::string& file;    // the source file of the move
-  const ClForces* forces = nullptr;  // with a force model
-  double feed_rate = 0.0;            // mm/min of the move, as the force model takes it
+  const Move& move;           // the move of the CL
+  // With a force model: the model, the feed rate (mm/min) and spindle speed (rev/min) of the
+  // move as it takes them, and the forces when the run evaluates them.
+  const ForceModel* force_model = nullptr;
+  double feed_rate = 0.0;
+  double spindle_speed = 0.0;
+  const ClForces* forces = nullptr;
 };
 
 class ClSink {

@@ -41,11 +41,15 @@ struct JobResult {
   ForceExtremes extremes;     // with forces
 };
 
-// Runs `job` on `stock` (make_stock of the job's stock, at its resolution): with `engagement`,
-// every operation through simulate_engagement, each CL's engagement (and forces) handed to every
-// sink in turn; without, removal only (remove_toolpath, batched). `progress` gets (moves done,
-// moves of the job).
-JobResult run_job(const PreparedJob& job, TriDexel stock, bool engagement,
+struct RunOptions {
+  bool engagement = true;  // false: removal only (remove_toolpath, batched), no sinks called
+  bool forces = true;      // evaluate the forces at each CL (when the job has a force model)
+};
+
+// Runs `job` on `stock` (make_stock of the job's stock, at its resolution): every operation in
+// order, with engagement through simulate_engagement, each CL's engagement (and forces) handed to
+// every sink in turn. `progress` gets (moves done, moves of the job).
+JobResult run_job(const PreparedJob& job, TriDexel stock, const RunOptions& options,
                   std::span<ClSink* const> sinks, const Progress& progress = {});
 
 }  // namespace cwe
