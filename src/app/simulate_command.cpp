@@ -21,6 +21,7 @@
 #include "cwe/io/cl_sink.hpp"
 #include "cwe/io/mesh_io.hpp"
 #include "cwe/job/run.hpp"
+#include "cwe/job/summary.hpp"
 #include "cwe/simulation/simulation.hpp"
 #include "cwe/toolpath/cl_sampling.hpp"
 #include "cwe/toolpath/toolpath_reader.hpp"
@@ -31,8 +32,6 @@
 namespace cwe::app {
 namespace {
 
-// Rapid moves listed by line in the report (all are counted).
-constexpr std::size_t kRapidCutsListed = 10;
 
 MapChoice parse_maps(const std::string& text, std::size_t cl_count, const char* option = "--maps") {
   const SourceLocation where{option};
@@ -72,8 +71,6 @@ MapChoice parse_maps(const std::string& text, std::size_t cl_count, const char* 
   }
   throw InputError(where, fmt::format("'{}': expected every:N, cl:i,j,… or none", text));
 }
-
-double degrees(double radians) { return radians * 180.0 / kPi; }
 
 }  // namespace
 
@@ -154,7 +151,6 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   TriDexel& stock = run.stock;
   const TriDexel::Volume& initial = run.initial_volume;
   const RemovalSummary& removal = run.removal;
-  const std::vector<RemovalSummary>& per_operation = run.per_operation;
   const ForceExtremes& extremes = run.extremes;
   const std::size_t engaged_cls = run.engaged_cl_points;
   const double deepest = run.deepest, largest_area = run.largest_area;
@@ -169,109 +165,20 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 
-  std::vector<std::string> tool_names, paths;
-  for (const PreparedOperation& op : operations) {
-    tool_names.push_back(op.cutter.name());
-    paths.push_back(op.path);
-  }
-  nlohmann::json summary;
-  summary["resolution_mm"] = simulation.resolution;
-  summary["moves"] = removal.moves;
-  summary["initial_volume_mm3"] = initial.mean();
-  summary["final_volume_mm3"] = final_volume.mean();
-  summary["removed_volume_mm3"] = initial.mean() - final_volume.mean();
-  summary["rays"] = stock.ray_count();
-  summary["peak_memory_bytes"] = memory.peak();
-  summary["seconds"] = seconds;
-  summary["tool"] = fmt::format("{}", fmt::join(tool_names, ", "));
-  summary["path"] = fmt::format("{}", fmt::join(paths, ", "));
-  summary["stock"] = options.stock;
-  summary["report_units"] = unit.name;
-  summary["threads"] = threads;
-  nlohmann::json ops = nlohmann::json::array();
-  for (std::size_t o = 0; o < operations.size(); ++o) {
-    ops.push_back({{"tool", operations[o].cutter.name()},
-                   {"tool_number", operations[o].tool},
-                   {"path", operations[o].path},
-                   {"moves", per_operation[o].moves},
-                   {"cl_points", operations[o].cl_points},
-                   {"cl_step_mm", operations[o].sampling.step}});
-    if (operations[o].forces) {
-      ops.back()["coefficients"] = operations[o].forces->coefficients().name;
-      ops.back()["flutes"] = operations[o].forces->flutes();
-      ops.back()["helix_deg"] = degrees(operations[o].forces->helix_angle());
-    }
-  }
-  summary["operations"] = ops;
-  summary["feed_moves"] = removal.feed_moves;
-  summary["rapid_moves"] = removal.rapid_moves;
-  summary["cutting_moves"] = removal.cutting_moves;
-  summary["linear_sweeps"] = removal.linear_pieces;
-  summary["tolerance_mm"] = simulation.effective_tolerance();
-  summary["deviation_bound_mm"] = removal.deviation_bound;
-  summary["final_volume_by_family_mm3"] = final_volume.by_family;
-  summary["volume_spread_mm3"] = final_volume.spread();
-  summary["bytes_per_ray"] =
-      static_cast<double>(memory.total()) / static_cast<double>(stock.ray_count());
-  summary["stock_mesh"] = {{"file", "stock.stl"},
-                           {"stride", stride},
-                           {"lattice_mm", stride * simulation.resolution},
-                           {"triangles", mesh.triangles.size()},
-                           {"volume_mm3", mesh.volume()}};
-  if (options.ply) summary["stock_mesh"]["ply"] = "stock.ply";
-  if (!options.stock_only) {
-    EngagementOptions engagement;
-    engagement.contact = simulation.effective_tolerance();  // as simulate_engagement takes it
-    const DexelEngagement grid(operations.front().cutter, simulation.resolution, engagement);
-    summary["engagement"] = {{"cl_points", cl_points},
-                             {"engaged_cl_points", engaged_cls},
-                             {"disc_height_mm", grid.disc_height()},
-                             {"phi_step_deg", degrees(grid.phi_step())},
-                             {"contact_mm", grid.contact()},
-                             {"max_axial_depth_mm", deepest},
-                             {"max_area_mm2", largest_area},
-                             {"maps", maps_written},
-                             {"files", {"engagement.csv", "engagement.jsonl", "maps/"}}};
-  }
-  if (job.forces) {
-    const auto extreme = [](const ForceExtremes::Extreme& e) {
-      return nlohmann::json{{"value", e.value}, {"cl", e.cl}, {"file", e.file}, {"line", e.line}};
-    };
-    const ForceModel& model = *operations.front().forces;
-    summary["forces"] = {{"coefficients", coefficient_names(job)},
-                         {"coefficients_source", coefficient_names(job, true)},
-                         {"angle_step_deg", 360.0 / model.samples()},
-                         {"runout_mm", job.forces->model.runout.offset},
-                         {"runout_angle_deg", degrees(job.forces->model.runout.angle)},
-                         {"spindle_rpm", job.forces->spindle ? nlohmann::json(*job.forces->spindle)
-                                                             : nlohmann::json("from the program")},
-                         {"cutting_cl_points", extremes.cutting},
-                         {"max_peak_resultant_n", extreme(extremes.force)},
-                         {"max_peak_torque_nm", extreme(extremes.torque)},
-                         {"max_mean_power_w", extreme(extremes.power)},
-                         {"max_chip_mm", extreme(extremes.chip)},
-                         {"curves", curves_written},
-                         {"files", {"forces.csv", "force_curves/"}}};
-  }
-  nlohmann::json rapids = nlohmann::json::array();
-  for (std::size_t i = 0; i < removal.rapid_cuts.size() && i < kRapidCutsListed; ++i) {
-    const RapidCut& cut = removal.rapid_cuts[i];
-    rapids.push_back({{"move", cut.move + 1},
-                      {"file", cut.location.source},
-                      {"line", cut.location.line},
-                      {"removed_mm3", cut.volume}});
-  }
-  summary["rapid_cuts"] = {{"count", removal.rapid_cuts.size()}, {"first", rapids}};
-  nlohmann::json warnings = nlohmann::json::array();
+  JobSummary extras;
+  extras.stock = options.stock;
+  extras.report_units = unit.name;
+  extras.seconds = seconds;
+  extras.mesh_stride = stride;
+  extras.mesh = &mesh;
+  extras.ply = options.ply;
+  extras.engagement = !options.stock_only;
+  extras.maps = maps_written;
+  extras.curves = curves_written;
+  const std::string summary_text = job_summary(job, run, extras);
+  const nlohmann::json summary = nlohmann::json::parse(summary_text);
   std::size_t warning_count = 0;
-  for (const PreparedOperation& op : operations) {
-    for (const Diagnostic& d : op.read.toolpath.warnings) {
-      warnings.push_back(
-          {{"file", d.location.source}, {"line", d.location.line}, {"message", d.message}});
-      ++warning_count;
-    }
-  }
-  summary["toolpath_warnings"] = warnings;
+  for (const PreparedOperation& op : operations) warning_count += op.read.toolpath.warnings.size();
 
   // Everything is computed: commit the outputs, each whole; the summary last.
   if (files) files->commit();
@@ -280,7 +187,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
       fmt::format("cwe in-process stock after {}", summary["path"].get<std::string>());
   write_file_atomically(folder / "stock.stl", stl_binary(mesh, title));
   if (options.ply) write_file_atomically(folder / "stock.ply", ply_ascii(mesh, title));
-  write_file_atomically(folder / "summary.json", summary.dump(2) + "\n");
+  write_file_atomically(folder / "summary.json", summary_text);
 
   for (const PreparedOperation& op : operations) {
     fmt::print(out, "cwe simulate: {} moves of {} with {}\n", op.read.toolpath.moves.size(),
