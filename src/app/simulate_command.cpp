@@ -99,96 +99,33 @@ void add_simulate_command(CLI::App& app, SimulateCommandOptions& options) {
                 "Material removal only: no engagement outputs (faster)");
 }
 
-int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
-                         std::ostream* progress) {
-  const auto started = std::chrono::steady_clock::now();
-  read_job(options);
-  require(options.out, "output folder", "--out");
-  check_units(options.report_units, "--report-units");
-  PreparedJob job = prepare_job(options, !options.stock_only);
-  const SimulationOptions& simulation = job.simulation;
-  const int threads = job.threads;
-  const tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
-                                        static_cast<std::size_t>(threads));
-  std::vector<PreparedOperation>& operations = job.operations;
-  const std::size_t cl_count = job.cl_count;
-  if (options.stock_only && job.forces) {
-    throw InputError(SourceLocation{"--forces"},
-                     "forces need the engagement, which --stock-only skips; drop one of them");
-  }
-  MapChoice maps = parse_maps(options.stock_only ? "none" : options.maps, cl_count);
-  if (!job.forces && !options.force_curves.empty() && options.force_curves != "none") {
-    throw InputError(SourceLocation{"--force-curves"}, "force curves need --forces");
-  }
-  MapChoice curves =
-      parse_maps(job.forces ? options.force_curves : "none", cl_count, "--force-curves");
-  const StockSpec stock_spec = parse_stock_spec(options.stock, SourceLocation{"--stock"});
-  TriDexel initial_stock = make_stock(stock_spec, simulation);  // before any output is opened
-  const ReportUnit unit = ReportUnit::of(options.report_units);
-  const std::filesystem::path folder(options.out);
+namespace {
 
-  ProgressBar bar(options.quiet ? nullptr : progress);
-  std::optional<EngagementFiles> files;
-  std::optional<Figures> figures;
-  std::vector<ClSink*> sinks;
-  if (!options.stock_only) {
-    files.emplace(folder, job.forces.has_value(), unit);
-    figures.emplace(folder, maps, curves, job.forces.has_value());
-    sinks = {&*files, &*figures};
-  }
-  JobResult run = run_job(job, std::move(initial_stock), RunOptions{!options.stock_only}, sinks,
-                          [&](std::size_t done, std::size_t total) { bar(done, total); });
-  if (!options.stock_only) {
-    files->finish();
-    const std::string title =
-        operations.size() == 1
-            ? fmt::format("Engagement along {} with {}",
-                          std::filesystem::path(operations[0].path).filename().string(),
-                          operations[0].cutter.name())
-            : fmt::format("Engagement along {} operations", operations.size());
-    figures->finish(title);
-  }
-  TriDexel& stock = run.stock;
+// The terminal report of a run: what ran, volumes, engagement and force extremes, accuracy,
+// time, warnings and where the outputs are (lengths in `unit`).
+void print_report(std::ostream& out, const SimulateCommandOptions& options,
+                  const PreparedJob& job, const JobResult& run, const nlohmann::json& summary,
+                  const ReportUnit& unit) {
+  const std::vector<PreparedOperation>& operations = job.operations;
+  const SimulationOptions& simulation = job.simulation;
+  const TriDexel& stock = run.stock;
   const TriDexel::Volume& initial = run.initial_volume;
+  const TriDexel::Volume& final_volume = run.final_volume;
   const RemovalSummary& removal = run.removal;
   const ForceExtremes& extremes = run.extremes;
-  const std::size_t engaged_cls = run.engaged_cl_points;
-  const double deepest = run.deepest, largest_area = run.largest_area;
-  const std::size_t maps_written = figures ? figures->maps_written() : 0;
-  const std::size_t curves_written = figures ? figures->curves_written() : 0;
-  const std::size_t cl_points = run.cl_points;
-  const TriDexel::Volume& final_volume = run.final_volume;
   const TriDexel::Memory memory = stock.memory();
-  const int stride =
-      options.mesh_stride > 0 ? options.mesh_stride : dexel_mesh_stride(stock, kStockMeshTriangles);
-  const TriangleMesh mesh = dexel_mesh(stock, stride);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-
-  JobSummary extras;
-  extras.stock = options.stock;
-  extras.report_units = unit.name;
-  extras.seconds = seconds;
-  extras.mesh_stride = stride;
-  extras.mesh = &mesh;
-  extras.ply = options.ply;
-  extras.engagement = !options.stock_only;
-  extras.maps = maps_written;
-  extras.curves = curves_written;
-  const std::string summary_text = job_summary(job, run, extras);
-  const nlohmann::json summary = nlohmann::json::parse(summary_text);
+  const std::size_t cl_points = run.cl_points, engaged_cls = run.engaged_cl_points;
+  const double deepest = run.deepest, largest_area = run.largest_area;
+  const double seconds = summary["seconds"].get<double>();
+  const int threads = job.threads;
+  const std::size_t triangles = summary["stock_mesh"]["triangles"].get<std::size_t>();
+  const int stride = summary["stock_mesh"]["stride"].get<int>();
+  const std::size_t maps_written =
+      summary.contains("engagement") ? summary["engagement"]["maps"].get<std::size_t>() : 0;
+  const std::size_t curves_written =
+      summary.contains("forces") ? summary["forces"]["curves"].get<std::size_t>() : 0;
   std::size_t warning_count = 0;
   for (const PreparedOperation& op : operations) warning_count += op.read.toolpath.warnings.size();
-
-  // Everything is computed: commit the outputs, each whole; the summary last.
-  if (files) files->commit();
-  if (figures) figures->commit();
-  const std::string title =
-      fmt::format("cwe in-process stock after {}", summary["path"].get<std::string>());
-  write_file_atomically(folder / "stock.stl", stl_binary(mesh, title));
-  if (options.ply) write_file_atomically(folder / "stock.ply", ply_ascii(mesh, title));
-  write_file_atomically(folder / "summary.json", summary_text);
-
   for (const PreparedOperation& op : operations) {
     fmt::print(out, "cwe simulate: {} moves of {} with {}\n", op.read.toolpath.moves.size(),
                op.path, op.cutter.name());
@@ -255,8 +192,93 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
              "  {}{}/stock.stl (machined stock, {} triangles on a {:g} mm lattice){}, "
              "{}/summary.json\n",
              options.stock_only ? "outputs     " : "            ", options.out,
-             mesh.triangles.size(), stride * simulation.resolution,
+             triangles, stride * simulation.resolution,
              options.ply ? fmt::format(", {}/stock.ply", options.out) : std::string(), options.out);
+}
+
+}  // namespace
+
+int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
+                         std::ostream* progress) {
+  const auto started = std::chrono::steady_clock::now();
+  read_job(options);
+  require(options.out, "output folder", "--out");
+  check_units(options.report_units, "--report-units");
+  PreparedJob job = prepare_job(options, !options.stock_only);
+  const SimulationOptions& simulation = job.simulation;
+  const int threads = job.threads;
+  const tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
+                                        static_cast<std::size_t>(threads));
+  std::vector<PreparedOperation>& operations = job.operations;
+  const std::size_t cl_count = job.cl_count;
+  if (options.stock_only && job.forces) {
+    throw InputError(SourceLocation{"--forces"},
+                     "forces need the engagement, which --stock-only skips; drop one of them");
+  }
+  MapChoice maps = parse_maps(options.stock_only ? "none" : options.maps, cl_count);
+  if (!job.forces && !options.force_curves.empty() && options.force_curves != "none") {
+    throw InputError(SourceLocation{"--force-curves"}, "force curves need --forces");
+  }
+  MapChoice curves =
+      parse_maps(job.forces ? options.force_curves : "none", cl_count, "--force-curves");
+  const StockSpec stock_spec = parse_stock_spec(options.stock, SourceLocation{"--stock"});
+  TriDexel initial_stock = make_stock(stock_spec, simulation);  // before any output is opened
+  const ReportUnit unit = ReportUnit::of(options.report_units);
+  const std::filesystem::path folder(options.out);
+
+  ProgressBar bar(options.quiet ? nullptr : progress);
+  std::optional<EngagementFiles> files;
+  std::optional<Figures> figures;
+  std::vector<ClSink*> sinks;
+  if (!options.stock_only) {
+    files.emplace(folder, job.forces.has_value(), unit);
+    figures.emplace(folder, maps, curves, job.forces.has_value());
+    sinks = {&*files, &*figures};
+  }
+  JobResult run = run_job(job, std::move(initial_stock), RunOptions{!options.stock_only}, sinks,
+                          [&](std::size_t done, std::size_t total) { bar(done, total); });
+  if (!options.stock_only) {
+    files->finish();
+    const std::string title =
+        operations.size() == 1
+            ? fmt::format("Engagement along {} with {}",
+                          std::filesystem::path(operations[0].path).filename().string(),
+                          operations[0].cutter.name())
+            : fmt::format("Engagement along {} operations", operations.size());
+    figures->finish(title);
+  }
+  TriDexel& stock = run.stock;
+  const std::size_t maps_written = figures ? figures->maps_written() : 0;
+  const std::size_t curves_written = figures ? figures->curves_written() : 0;
+  const int stride =
+      options.mesh_stride > 0 ? options.mesh_stride : dexel_mesh_stride(stock, kStockMeshTriangles);
+  const TriangleMesh mesh = dexel_mesh(stock, stride);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+
+  JobSummary extras;
+  extras.stock = options.stock;
+  extras.report_units = unit.name;
+  extras.seconds = seconds;
+  extras.mesh_stride = stride;
+  extras.mesh = &mesh;
+  extras.ply = options.ply;
+  extras.engagement = !options.stock_only;
+  extras.maps = maps_written;
+  extras.curves = curves_written;
+  const std::string summary_text = job_summary(job, run, extras);
+  const nlohmann::json summary = nlohmann::json::parse(summary_text);
+
+  // Everything is computed: commit the outputs, each whole; the summary last.
+  if (files) files->commit();
+  if (figures) figures->commit();
+  const std::string title =
+      fmt::format("cwe in-process stock after {}", summary["path"].get<std::string>());
+  write_file_atomically(folder / "stock.stl", stl_binary(mesh, title));
+  if (options.ply) write_file_atomically(folder / "stock.ply", ply_ascii(mesh, title));
+  write_file_atomically(folder / "summary.json", summary_text);
+
+  print_report(out, options, job, run, summary, unit);
   return 0;
 }
 
