@@ -33,6 +33,143 @@ struct ScheduledProgram {
   int first_exceeded_line = 0;
 };
 
+// A program to rewrite: its operations' feeds by line, and where the result goes.
+struct ScheduledFile {
+  std::string path;
+  ToolpathFormat format = ToolpathFormat::kGcode;
+  std::filesystem::path target;
+  LineFeeds lines;
+};
+
+// Where each scheduled program goes: --out itself for one program, else --out/<its name>; no
+// two programs to one file, and never over an input. A program that changes tools runs as
+// several operations (one per tool) and is written once, with the feeds of all of them.
+// `file_of` gets the file of each operation.
+std::vector<ScheduledFile> scheduled_files(const PreparedJob& job, const std::string& out,
+                                           std::vector<std::size_t>& file_of) {
+  std::vector<ScheduledFile> files;
+    for (const PreparedOperation& op : job.operations) {
+    const auto known = std::find_if(files.begin(), files.end(),
+                                    [&](const ScheduledFile& f) { return f.path == op.path; });
+    if (known != files.end()) {
+      file_of.push_back(static_cast<std::size_t>(known - files.begin()));
+      continue;
+    }
+    file_of.push_back(files.size());
+    files.push_back({op.path, op.read.format, {}, {}});
+  }
+  for (ScheduledFile& file : files) {
+    const PreparedOperation& op = *std::find_if(
+        job.operations.begin(), job.operations.end(),
+        [&](const PreparedOperation& o) { return o.path == file.path; });
+    const Toolpath& path = op.read.toolpath;
+    if (std::any_of(path.moves.begin(), path.moves.end(),
+                    [](const Move& m) { return m.source != 0; })) {
+      throw InputError(SourceLocation{op.path},
+                       "the program includes other files; scheduling rewrites one file only");
+    }
+    const std::filesystem::path target =
+        files.size() == 1
+            ? std::filesystem::path(out)
+            : std::filesystem::path(out) / std::filesystem::path(op.path).filename();
+    const auto same = [&](const std::filesystem::path& other) {
+      std::error_code ec;
+      return std::filesystem::weakly_canonical(target, ec) ==
+             std::filesystem::weakly_canonical(other, ec);
+    };
+    if (std::any_of(files.begin(), files.end(),
+                    [&](const ScheduledFile& f) { return !f.target.empty() && same(f.target); })) {
+      throw InputError(SourceLocation{"--out"},
+                       fmt::format("two operations would write {}: give their programs different "
+                                   "names",
+                                   target.string()));
+    }
+    for (const PreparedOperation& other : job.operations) {
+      if (same(other.path)) {
+        throw InputError(
+            SourceLocation{"--out"},
+            fmt::format("{} is an input program: write the schedule elsewhere", target.string()));
+      }
+    }
+    file.target = target;
+  }
+  return files;
+}
+
+// Each operation's schedule from the feeds its moves allow; the new feeds go to their file's lines.
+std::vector<ScheduledProgram> schedule_operations(const PreparedJob& job,
+                                                  const FeedAllowance& allowance,
+                                                  const ScheduleOptions& bounds,
+                                                  std::vector<ScheduledFile>& files,
+                                                  const std::vector<std::size_t>& file_of) {
+  std::vector<ScheduledProgram> programs;
+  std::size_t moves_before = 0;
+  for (std::size_t o = 0; o < job.operations.size(); ++o) {
+    const PreparedOperation& op = job.operations[o];
+    const Toolpath& path = op.read.toolpath;
+    const auto allowed = [&](std::size_t i) { return allowance.allowed()[moves_before + i]; };
+    std::vector<MoveFeed> feeds;
+    std::vector<std::size_t> index;  // feed moves scheduled, into path.moves
+    for (std::size_t i = 0; i < path.moves.size(); ++i) {
+      const Move& m = path.moves[i];
+      const double programmed = feed_rate(m, *job.forces);
+      if (!(programmed > 0.0)) continue;
+      feeds.push_back({programmed, allowed(i), m.length()});
+      index.push_back(i);
+    }
+    ScheduledProgram program;
+    program.schedule = schedule_feeds(feeds, bounds);
+    LineFeeds& lines = files[file_of[o]].lines;
+    for (std::size_t f = 0; f < index.size(); ++f) {
+      const Move& m = path.moves[index[f]];
+      const ScheduledMove& s = program.schedule.moves[f];
+      auto [it, inserted] = lines.emplace(m.line, s.feed);
+      if (!inserted) it->second = std::min(it->second, s.feed);
+      if (s.limit_exceeded && program.first_exceeded_line == 0) {
+        program.first_exceeded_line = m.line;
+      }
+    }
+    programs.push_back(std::move(program));
+    moves_before += path.moves.size();
+  }
+  return programs;
+}
+
+// The terminal report: the limit, each operation's changes and the programs written.
+void print_schedule_report(std::ostream& out, const FeedLimit& limit, const PreparedJob& job,
+                           const std::vector<ScheduledProgram>& programs,
+                           const std::vector<ScheduledFile>& files) {
+  const char* unit = limit.quantity == FeedLimit::Quantity::kForce    ? "N"
+                     : limit.quantity == FeedLimit::Quantity::kTorque ? "N·m"
+                     : limit.quantity == FeedLimit::Quantity::kPower  ? "W"
+                                                                      : "mm";
+  fmt::print(out, "cwe schedule: limit {} {:g} {} ({})\n", to_string(limit.quantity), limit.value,
+             unit, coefficient_names(job));
+  for (std::size_t o = 0; o < programs.size(); ++o) {
+    const ScheduledProgram& p = programs[o];
+    const Schedule& s = p.schedule;
+    const double change = s.programmed_minutes > 0.0
+                              ? 100.0 * (s.scheduled_minutes / s.programmed_minutes - 1.0)
+                              : 0.0;
+    const PreparedOperation& op = job.operations[o];
+    fmt::print(out,
+               "  {}{}: {} feed moves, {} slowed, {} sped up; feed time {:.2f} min -> {:.2f} min "
+               "({:+.1f}%)\n",
+               op.path, op.tool != 0 ? fmt::format(" (tool {})", op.tool) : std::string(),
+               s.moves.size(), s.limited, s.raised, s.programmed_minutes, s.scheduled_minutes,
+               change);
+    if (s.exceeded > 0) {
+      fmt::print(out,
+                 "  warning: {} moves exceed the limit even at the lowest feed (first: line {}); "
+                 "lower --min-feed/--min-scale or the depth of cut\n",
+                 s.exceeded, p.first_exceeded_line);
+    }
+  }
+  for (const ScheduledFile& file : files) {
+    fmt::print(out, "  scheduled program: {}\n", file.target.string());
+  }
+}
+
 }  // namespace
 
 void add_schedule_command(CLI::App& app, ScheduleCommandOptions& options) {
@@ -89,62 +226,8 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
                      "no cutting coefficients: give --forces, put it in a job file, or give each "
                      "tool its \"forces\" in the tool table");
   }
-  // Where each scheduled program goes: --out itself for one program, else --out/<its name>; no
-  // two programs to one file, and never over an input. A program that changes tools runs as
-  // several operations (one per tool) and is written once, with the feeds of all of them.
-  struct ScheduledFile {
-    std::string path;
-    ToolpathFormat format = ToolpathFormat::kGcode;
-    std::filesystem::path target;
-    LineFeeds lines;
-  };
-  std::vector<ScheduledFile> files;
   std::vector<std::size_t> file_of;  // per operation
-  for (const PreparedOperation& op : job.operations) {
-    const auto known = std::find_if(files.begin(), files.end(),
-                                    [&](const ScheduledFile& f) { return f.path == op.path; });
-    if (known != files.end()) {
-      file_of.push_back(static_cast<std::size_t>(known - files.begin()));
-      continue;
-    }
-    file_of.push_back(files.size());
-    files.push_back({op.path, op.read.format, {}, {}});
-  }
-  for (ScheduledFile& file : files) {
-    const PreparedOperation& op = *std::find_if(
-        job.operations.begin(), job.operations.end(),
-        [&](const PreparedOperation& o) { return o.path == file.path; });
-    const Toolpath& path = op.read.toolpath;
-    if (std::any_of(path.moves.begin(), path.moves.end(),
-                    [](const Move& m) { return m.source != 0; })) {
-      throw InputError(SourceLocation{op.path},
-                       "the program includes other files; scheduling rewrites one file only");
-    }
-    const std::filesystem::path target =
-        files.size() == 1
-            ? std::filesystem::path(options.out)
-            : std::filesystem::path(options.out) / std::filesystem::path(op.path).filename();
-    const auto same = [&](const std::filesystem::path& other) {
-      std::error_code ec;
-      return std::filesystem::weakly_canonical(target, ec) ==
-             std::filesystem::weakly_canonical(other, ec);
-    };
-    if (std::any_of(files.begin(), files.end(),
-                    [&](const ScheduledFile& f) { return !f.target.empty() && same(f.target); })) {
-      throw InputError(SourceLocation{"--out"},
-                       fmt::format("two operations would write {}: give their programs different "
-                                   "names",
-                                   target.string()));
-    }
-    for (const PreparedOperation& other : job.operations) {
-      if (same(other.path)) {
-        throw InputError(
-            SourceLocation{"--out"},
-            fmt::format("{} is an input program: write the schedule elsewhere", target.string()));
-      }
-    }
-    file.target = target;
-  }
+  std::vector<ScheduledFile> files = scheduled_files(job, options.out, file_of);
   const tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
                                         static_cast<std::size_t>(job.threads));
   TriDexel stock =
@@ -157,36 +240,8 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
   run_job(job, std::move(stock), RunOptions{true, false}, sinks,
           [&](std::size_t done, std::size_t total) { bar(done, total); });
 
-  std::vector<ScheduledProgram> programs;
-  std::size_t moves_before = 0;
-  for (std::size_t o = 0; o < job.operations.size(); ++o) {
-    const PreparedOperation& op = job.operations[o];
-    const Toolpath& path = op.read.toolpath;
-    const auto allowed = [&](std::size_t i) { return allowance.allowed()[moves_before + i]; };
-    std::vector<MoveFeed> feeds;
-    std::vector<std::size_t> index;  // feed moves scheduled, into path.moves
-    for (std::size_t i = 0; i < path.moves.size(); ++i) {
-      const Move& m = path.moves[i];
-      const double programmed = feed_rate(m, *job.forces);
-      if (!(programmed > 0.0)) continue;
-      feeds.push_back({programmed, allowed(i), m.length()});
-      index.push_back(i);
-    }
-    ScheduledProgram program;
-    program.schedule = schedule_feeds(feeds, bounds);
-    LineFeeds& lines = files[file_of[o]].lines;
-    for (std::size_t f = 0; f < index.size(); ++f) {
-      const Move& m = path.moves[index[f]];
-      const ScheduledMove& s = program.schedule.moves[f];
-      auto [it, inserted] = lines.emplace(m.line, s.feed);
-      if (!inserted) it->second = std::min(it->second, s.feed);
-      if (s.limit_exceeded && program.first_exceeded_line == 0) {
-        program.first_exceeded_line = m.line;
-      }
-    }
-    programs.push_back(std::move(program));
-    moves_before += path.moves.size();
-  }
+  const std::vector<ScheduledProgram> programs =
+      schedule_operations(job, allowance, bounds, files, file_of);
   std::vector<std::string> texts;
   for (const ScheduledFile& file : files) {
     const std::string text = read_text_file(file.path, "toolpath");
@@ -201,35 +256,7 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
   if (files.size() > 1) std::filesystem::create_directories(options.out);
   for (std::size_t f = 0; f < files.size(); ++f) write_file_atomically(files[f].target, texts[f]);
 
-  const char* unit = limit.quantity == FeedLimit::Quantity::kForce    ? "N"
-                     : limit.quantity == FeedLimit::Quantity::kTorque ? "N·m"
-                     : limit.quantity == FeedLimit::Quantity::kPower  ? "W"
-                                                                      : "mm";
-  fmt::print(out, "cwe schedule: limit {} {:g} {} ({})\n", to_string(limit.quantity), limit.value,
-             unit, coefficient_names(job));
-  for (std::size_t o = 0; o < programs.size(); ++o) {
-    const ScheduledProgram& p = programs[o];
-    const Schedule& s = p.schedule;
-    const double change = s.programmed_minutes > 0.0
-                              ? 100.0 * (s.scheduled_minutes / s.programmed_minutes - 1.0)
-                              : 0.0;
-    const PreparedOperation& op = job.operations[o];
-    fmt::print(out,
-               "  {}{}: {} feed moves, {} slowed, {} sped up; feed time {:.2f} min -> {:.2f} min "
-               "({:+.1f}%)\n",
-               op.path, op.tool != 0 ? fmt::format(" (tool {})", op.tool) : std::string(),
-               s.moves.size(), s.limited, s.raised, s.programmed_minutes, s.scheduled_minutes,
-               change);
-    if (s.exceeded > 0) {
-      fmt::print(out,
-                 "  warning: {} moves exceed the limit even at the lowest feed (first: line {}); "
-                 "lower --min-feed/--min-scale or the depth of cut\n",
-                 s.exceeded, p.first_exceeded_line);
-    }
-  }
-  for (const ScheduledFile& file : files) {
-    fmt::print(out, "  scheduled program: {}\n", file.target.string());
-  }
+  print_schedule_report(out, limit, job, programs, files);
   return 0;
 }
 
