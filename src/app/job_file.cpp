@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
+#include <string_view>
+#include <utility>
+#include <variant>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -15,93 +19,163 @@
 
 namespace cwe::app {
 
-// Paths in the job are relative to the job file's folder.
-void read_job(SimulateCommandOptions& options) {
-  if (options.job_file.empty()) return;
-  const std::string text = read_text_file(options.job_file, "job file");
-  nlohmann::json job;
-  try {
-    job = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::exception& e) {  // parse errors, numbers beyond double range
-    throw InputError(SourceLocation{options.job_file}, fmt::format("not valid JSON: {}", e.what()));
-  }
-  if (!job.is_object()) throw InputError(SourceLocation{options.job_file}, "expected a JSON object");
-  const std::filesystem::path folder = std::filesystem::path(options.job_file).parent_path();
-  const auto where = [&](const std::string& key) {
-    return SourceLocation{fmt::format("{}: \"{}\"", options.job_file, key)};
-  };
-  // The job's keys, in the order the error lists them.
-  static const char* const kKeys[] = {
-      "units",  "report_units", "stock",    "tool",         "tools",
-      "tool_units",   "tool_for_all", "start",
-      "tool_change", "path",  "operations", "out",          "resolution",   "tolerance",
-      "threads", "mesh_stride", "ply",      "cl_step",      "maps",         "stock_only",
-      "forces", "spindle",    "feed",       "flutes",       "helix",        "force_step",
-      "runout", "force_curves", "comment"};
-  for (const auto& [key, value] : job.items()) {
-    if (std::find(std::begin(kKeys), std::end(kKeys), key) == std::end(kKeys)) {
-      throw InputError(where(key), fmt::format("unknown key; expected one of {}",
-                                               fmt::join(std::begin(kKeys), std::end(kKeys), ", ")));
+namespace {
+
+using Options = SimulateCommandOptions;
+
+// How a job key's value is read (the command line's value, when given, wins).
+enum class Kind {
+  kText,          // a string
+  kPath,          // a file, relative to the job file's folder
+  kStock,         // a path unless a box
+  kToolSpec,      // a path when it names a JSON tool file
+  kCoefficients,  // a path when it names a JSON file, else a bundled material
+  kNumber,        // a number (0 on the command line: not given)
+  kHelix,         // a number (< 0 on the command line: not given)
+  kCount,         // a whole number of at least 1
+  kFlag,          // true or false
+  kTools,         // a tool table: a file, or the table itself
+  kOperations,    // the programs with their tools
+  kComment,       // anything
+};
+
+using Field = std::variant<std::monostate, std::string Options::*, double Options::*,
+                           int Options::*, bool Options::*>;
+
+// One key of a JSON job file: its name, how it is read, the option it fills and, for counts,
+// what is expected.
+struct JobKey {
+  const char* name;
+  Kind kind;
+  Field field;
+  const char* expected = "";
+};
+
+// The job file's keys, in the order they are read (units first: the stock and an inline tool
+// table take it) and listed in errors.
+const JobKey kJobKeys[] = {
+    {"units", Kind::kText, &Options::units},
+    {"report_units", Kind::kText, &Options::report_units},
+    {"stock", Kind::kStock, &Options::stock},
+    {"tool", Kind::kToolSpec, &Options::tool},
+    {"path", Kind::kPath, &Options::path},
+    {"out", Kind::kPath, &Options::out},
+    {"tools", Kind::kTools, &Options::tools},
+    {"tool_units", Kind::kText, &Options::tool_units},
+    {"tool_for_all", Kind::kFlag, &Options::tool_for_all},
+    {"start", Kind::kText, &Options::start},
+    {"tool_change", Kind::kText, &Options::tool_change},
+    {"operations", Kind::kOperations, {}},
+    {"resolution", Kind::kNumber, &Options::resolution},
+    {"tolerance", Kind::kNumber, &Options::tolerance},
+    {"threads", Kind::kCount, &Options::threads, "expected a whole number of threads, at least 1"},
+    {"mesh_stride", Kind::kCount, &Options::mesh_stride, "expected a whole number, at least 1"},
+    {"ply", Kind::kFlag, &Options::ply},
+    {"stock_only", Kind::kFlag, &Options::stock_only},
+    {"cl_step", Kind::kNumber, &Options::cl_step},
+    {"maps", Kind::kText, &Options::maps},
+    {"forces", Kind::kCoefficients, &Options::forces},
+    {"spindle", Kind::kNumber, &Options::spindle},
+    {"feed", Kind::kNumber, &Options::feed},
+    {"force_step", Kind::kNumber, &Options::force_step},
+    {"flutes", Kind::kCount, &Options::flutes, "expected a whole number of flutes, at least 1"},
+    {"helix", Kind::kHelix, &Options::helix},
+    {"runout", Kind::kText, &Options::runout},
+    {"force_curves", Kind::kText, &Options::force_curves},
+    {"comment", Kind::kComment, {}},
+};
+
+// A job file being read into options.
+class JobFileReader {
+ public:
+  JobFileReader(Options& options, nlohmann::json job)
+      : options_(options),
+        job_(std::move(job)),
+        folder_(std::filesystem::path(options.job_file).parent_path()) {}
+
+  void read(const JobKey& key) {
+    if (!job_.contains(key.name)) return;
+    const nlohmann::json& value = job_[key.name];
+    switch (key.kind) {
+      case Kind::kText:
+      case Kind::kPath:
+      case Kind::kStock:
+      case Kind::kToolSpec:
+      case Kind::kCoefficients: {
+        std::string& field = options_.*std::get<std::string Options::*>(key.field);
+        if (!field.empty()) return;
+        if (!value.is_string()) throw InputError(where(key.name), "expected a string");
+        field = text(key.kind, value.get<std::string>());
+        return;
+      }
+      case Kind::kNumber:
+      case Kind::kHelix: {
+        double& field = options_.*std::get<double Options::*>(key.field);
+        if (key.kind == Kind::kNumber ? field != 0.0 : field >= 0.0) return;
+        if (!value.is_number()) throw InputError(where(key.name), "expected a number");
+        field = value.get<double>();
+        return;
+      }
+      case Kind::kCount: {
+        int& field = options_.*std::get<int Options::*>(key.field);
+        if (field != 0) return;
+        if (!value.is_number_integer() || value.get<long long>() < 1 ||
+            value.get<long long>() > std::numeric_limits<int>::max()) {
+          throw InputError(where(key.name), key.expected);
+        }
+        field = value.get<int>();
+        return;
+      }
+      case Kind::kFlag: {
+        bool& field = options_.*std::get<bool Options::*>(key.field);
+        if (field) return;
+        if (!value.is_boolean()) throw InputError(where(key.name), "expected true or false");
+        field = value.get<bool>();
+        return;
+      }
+      case Kind::kTools:
+        if (!options_.tools.empty()) return;
+        if (value.is_string()) {
+          options_.tools = text(Kind::kPath, value.get<std::string>());
+        } else {
+          options_.tool_table = tool_table_from_json(value, where(key.name).source, folder_,
+                                                     unit_length(options_.units));
+        }
+        return;
+      case Kind::kOperations:
+        if (options_.operations.empty() && options_.path.empty()) operations(value);
+        return;
+      case Kind::kComment:
+        return;
     }
   }
-  const auto text_of = [&](const char* key, std::string& field, bool is_path) {
-    if (!job.contains(key) || !field.empty()) return;
-    if (!job[key].is_string()) throw InputError(where(key), "expected a string");
-    std::string value = job[key].get<std::string>();
-    if (is_path && !value.empty() && std::filesystem::path(value).is_relative()) {
-      value = (folder / value).lexically_normal().string();
-    }
-    field = value;
-  };
-  const auto number_of = [&](const char* key, double& field) {
-    if (!job.contains(key) || field != 0.0) return;
-    if (!job[key].is_number()) throw InputError(where(key), "expected a number");
-    field = job[key].get<double>();
-  };
-  text_of("units", options.units, false);
-  text_of("report_units", options.report_units, false);
-  check_units(options.units, "--units");
-  // A stock given as a file is a path; a box is not.
-  if (job.contains("stock") && options.stock.empty()) {
-    if (!job["stock"].is_string()) throw InputError(where("stock"), "expected a string");
-    const std::string stock = job["stock"].get<std::string>();
-    text_of("stock", options.stock, stock.rfind("box:", 0) != 0);
+
+ private:
+  SourceLocation where(const std::string& key) const {
+    return SourceLocation{fmt::format("{}: \"{}\"", options_.job_file, key)};
   }
-  // A tool specification is a path only when it names a JSON tool file.
-  if (job.contains("tool") && options.tool.empty()) {
-    if (!job["tool"].is_string()) throw InputError(where("tool"), "expected a string");
-    const std::string tool = job["tool"].get<std::string>();
-    text_of("tool", options.tool, tool.size() > 5 && tool.ends_with(".json"));
+
+  std::string relative(const std::string& value) const {
+    if (value.empty() || !std::filesystem::path(value).is_relative()) return value;
+    return (folder_ / value).lexically_normal().string();
   }
-  text_of("path", options.path, true);
-  text_of("out", options.out, true);
-  // A tool table: a file (relative to the job) or the table itself.
-  if (job.contains("tools") && options.tools.empty()) {
-    if (job["tools"].is_string()) {
-      text_of("tools", options.tools, true);
-    } else {
-      options.tool_table = tool_table_from_json(job["tools"], where("tools").source, folder,
-                                                unit_length(options.units));
-    }
+
+  std::string text(Kind kind, const std::string& value) const {
+    const bool path = kind == Kind::kPath ||
+                      (kind == Kind::kStock && value.rfind("box:", 0) != 0) ||
+                      (kind == Kind::kToolSpec && value.size() > 5 && value.ends_with(".json")) ||
+                      (kind == Kind::kCoefficients && value.ends_with(".json"));
+    return path ? relative(value) : value;
   }
-  text_of("tool_units", options.tool_units, false);
-  text_of("start", options.start, false);
-  text_of("tool_change", options.tool_change, false);
-  if (job.contains("tool_for_all") && !options.tool_for_all) {
-    if (!job["tool_for_all"].is_boolean()) {
-      throw InputError(where("tool_for_all"), "expected true or false");
-    }
-    options.tool_for_all = job["tool_for_all"].get<bool>();
-  }
-  // Operations: toolpaths run one after the other on the same stock, each with its tool.
-  if (job.contains("operations") && options.operations.empty() && options.path.empty()) {
-    const nlohmann::json& list = job["operations"];
+
+  // Toolpaths run one after the other on the same stock, each with its tool.
+  void operations(const nlohmann::json& list) {
     if (!list.is_array() || list.empty()) {
       throw InputError(where("operations"), "expected a non-empty array of {\"tool\", \"path\"}");
     }
     for (std::size_t k = 0; k < list.size(); ++k) {
       const nlohmann::json& op = list[k];
-      const SourceLocation at{fmt::format("{}: \"operations\"[{}]", options.job_file, k)};
+      const SourceLocation at{fmt::format("{}: \"operations\"[{}]", options_.job_file, k)};
       if (!op.is_object()) throw InputError(at, "expected an object {\"tool\", \"path\"}");
       for (const auto& [key, value] : op.items()) {
         if (key != "tool" && key != "path" && key != "comment") {
@@ -115,59 +189,44 @@ void read_job(SimulateCommandOptions& options) {
       if (op.contains("tool") && !op["tool"].is_string()) {
         throw InputError(at, "expected \"tool\" to be a string");
       }
-      Operation operation;
-      operation.path = op["path"].get<std::string>();
-      if (std::filesystem::path(operation.path).is_relative()) {
-        operation.path = (folder / operation.path).lexically_normal().string();
-      }
-      operation.tool = op.value("tool", std::string());
-      if (operation.tool.size() > 5 && operation.tool.ends_with(".json") &&
-          std::filesystem::path(operation.tool).is_relative()) {
-        operation.tool = (folder / operation.tool).lexically_normal().string();
-      }
-      options.operations.push_back(operation);
+      options_.operations.push_back({text(Kind::kToolSpec, op.value("tool", std::string())),
+                                     relative(op["path"].get<std::string>())});
     }
   }
-  number_of("resolution", options.resolution);
-  number_of("tolerance", options.tolerance);
-  // A whole number of at least 1 (0 in `field`: not given on the command line).
-  const auto count_of = [&](const char* key, int& field, const char* expected) {
-    if (!job.contains(key) || field != 0) return;
-    if (!job[key].is_number_integer() || job[key].get<int>() < 1) {
-      throw InputError(where(key), expected);
+
+  Options& options_;
+  nlohmann::json job_;
+  std::filesystem::path folder_;
+};
+
+}  // namespace
+
+// Paths in the job are relative to the job file's folder.
+void read_job(SimulateCommandOptions& options) {
+  if (options.job_file.empty()) return;
+  const std::string text = read_text_file(options.job_file, "job file");
+  nlohmann::json job;
+  try {
+    job = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {  // parse errors, numbers beyond double range
+    throw InputError(SourceLocation{options.job_file}, fmt::format("not valid JSON: {}", e.what()));
+  }
+  if (!job.is_object()) throw InputError(SourceLocation{options.job_file}, "expected a JSON object");
+  for (const auto& [key, value] : job.items()) {
+    const auto known = std::find_if(std::begin(kJobKeys), std::end(kJobKeys),
+                                    [&](const JobKey& k) { return key == k.name; });
+    if (known == std::end(kJobKeys)) {
+      std::vector<std::string> names;
+      for (const JobKey& k : kJobKeys) names.emplace_back(k.name);
+      throw InputError(SourceLocation{fmt::format("{}: \"{}\"", options.job_file, key)},
+                       fmt::format("unknown key; expected one of {}", fmt::join(names, ", ")));
     }
-    field = job[key].get<int>();
-  };
-  count_of("threads", options.threads, "expected a whole number of threads, at least 1");
-  count_of("mesh_stride", options.mesh_stride, "expected a whole number, at least 1");
-  if (job.contains("ply") && !options.ply) {
-    if (!job["ply"].is_boolean()) throw InputError(where("ply"), "expected true or false");
-    options.ply = job["ply"].get<bool>();
   }
-  if (job.contains("stock_only") && !options.stock_only) {
-    if (!job["stock_only"].is_boolean()) {
-      throw InputError(where("stock_only"), "expected true or false");
-    }
-    options.stock_only = job["stock_only"].get<bool>();
+  JobFileReader reader(options, std::move(job));
+  for (const JobKey& key : kJobKeys) {
+    reader.read(key);
+    if (std::string_view(key.name) == "units") check_units(options.units, "--units");
   }
-  number_of("cl_step", options.cl_step);
-  text_of("maps", options.maps, false);
-  // A coefficient set is a path only when it names a JSON file.
-  if (job.contains("forces") && options.forces.empty()) {
-    if (!job["forces"].is_string()) throw InputError(where("forces"), "expected a string");
-    const std::string forces = job["forces"].get<std::string>();
-    text_of("forces", options.forces, forces.ends_with(".json"));
-  }
-  number_of("spindle", options.spindle);
-  number_of("feed", options.feed);
-  number_of("force_step", options.force_step);
-  count_of("flutes", options.flutes, "expected a whole number of flutes, at least 1");
-  if (job.contains("helix") && options.helix < 0.0) {
-    if (!job["helix"].is_number()) throw InputError(where("helix"), "expected a number");
-    options.helix = job["helix"].get<double>();
-  }
-  text_of("runout", options.runout, false);
-  text_of("force_curves", options.force_curves, false);
 }
 
 void add_job_options(CLI::App* cmd, SimulateCommandOptions& options) {

@@ -1181,5 +1181,22 @@ TEST(CliTools, FreeCadTwoToolProgram) {
   EXPECT_EQ(tools, (std::set<std::string>{"1", "4"}));
 }
 
+// Every key of a job file is checked for its kind; a count beyond int is refused, never wrapped.
+TEST(CliSimulate, JobFileValuesAreChecked) {
+  const auto dir = scratch_dir("job_values");
+  std::filesystem::create_directories(dir);
+  for (const char* bad : {R"("threads": 4294967297)", R"("threads": 0)", R"("flutes": 2.5)",
+                          R"("ply": "yes")", R"("resolution": "fine")", R"("stock": 5)",
+                          R"("helix": "steep")", R"("maps": 10)"}) {
+    std::ofstream(dir / "job.json")
+        << "{\"stock\": \"box:0,0,0,10,10,10\", \"tool\": \"flat:4\", \"path\": \"p.ngc\", "
+           "\"out\": \"out\", " << bad << "}";
+    const Result r = run_cwe({"simulate", (dir / "job.json").string()});
+    EXPECT_EQ(r.status, 2) << bad;
+    const std::string key = std::string(bad).substr(1, std::string(bad).find('"', 1) - 1);
+    EXPECT_NE(r.err.find("job.json: \"" + key + "\""), std::string::npos) << bad << ": " << r.err;
+  }
+}
+
 }  // namespace
 }  // namespace cwe::app
