@@ -10,4 +10,5 @@ function(cwe_add_module)
                              PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
   target_link_libraries(cwe_${ARG_NAME} PUBLIC cwe_options ${ARG_DEPENDS}
                         PRIVATE ${ARG_PRIVATE_DEPENDS})
+  install(TARGETS cwe_${ARG_NAME} ARCHIVE DESTINATION "${CMAKE_INSTALL_LIBDIR}")
 endfunction()
