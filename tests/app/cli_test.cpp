@@ -473,7 +473,7 @@ TEST(CliForces, SlotForcesMatchTheClosedForm) {
   for (std::size_t i = 0; i < required.size(); ++i) EXPECT_EQ(rows[0][i], required[i]);
   EXPECT_EQ(rows.size(), read_csv(dir / "out" / "engagement.csv").size());
   // CL 40 is mid-slot (x ≈ 15): full immersion 0..180°, a = 3 mm, c = 600/(4·10000) = 0.015 mm.
-  // Closed forms (ALGORITHMS.md §6) with the bundled Al7075-T6 set.
+  // Closed forms (docs/forces.md) with the bundled Al7075-T6 set.
   const std::vector<std::string>& row = rows[41];
   ASSERT_EQ(row[0], "40");
   const double ktc = 767.01, krc = 168.8, kte = 27.7, kre = 26.6;

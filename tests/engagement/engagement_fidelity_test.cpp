@@ -277,7 +277,7 @@ TEST(EngagementFidelity, ToolEdgeAlongTheStockFace) {
   for (const Sample& s : run("-6")) EXPECT_FALSE(s.map.engaged) << s.cl.position.x();
 }
 
-// The step-down slot's second level loads the cutter like a 3 mm slot (ALGORITHMS.md §6's
+// The step-down slot's second level loads the cutter like a 3 mm slot (docs/forces.md's
 // closed form), not like a 6 mm one.
 TEST(EngagementFidelity, StepDownForcesAreThoseOfTheNewLevel) {
   const std::vector<Sample> samples = simulate(kStepDownSlot, "flat:10,20");

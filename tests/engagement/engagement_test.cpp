@@ -1,5 +1,5 @@
 // Engagement maps against closed forms: slotting, up- and down-milling, half immersion, ball-end
-// ramps, a plunge (ALGORITHMS.md §5; the conventions of DESIGN.md).
+// ramps, a plunge (docs/engagement.md; the conventions of docs/architecture.md).
 #include "cwe/engagement/dexel_engagement.hpp"
 
 #include <gtest/gtest.h>

@@ -20,7 +20,7 @@ inline CuttingCoefficients test_coefficients() {
   return k;
 }
 
-// Closed-form mean forces of a flat end mill between φ_st and φ_ex (ALGORITHMS.md §6, derived
+// Closed-form mean forces of a flat end mill between φ_st and φ_ex (docs/forces.md, derived
 // by integrating the element forces over [φ_st, φ_ex] and dividing by 2π; z with this model's
 // sign, dF_z = −dF_a on a cylinder).
 inline Vec3 closed_form_mean(const CuttingCoefficients& k, int flutes, double a, double c, double st,

@@ -84,7 +84,8 @@ TEST(Cutter, RejectsImpossibleOptions) {
   EXPECT_INPUT_ERROR(Cutter(p, options), "shank diameter 0");
 }
 
-// φ convention of DESIGN.md: φ = 0 along +y, φ = 90° along +x (clockwise seen from the shank).
+// φ convention of docs/architecture.md: φ = 0 along +y, φ = 90° along +x (clockwise seen from the
+// shank).
 TEST(Cutter, EngagementAngleConvention) {
   const Cutter c = cutter_from_spec("flat:10");
   EXPECT_TRUE(c.point(1, 0.0, 0.5).isApprox(Vec3(0, 5, 15), 1e-12));

@@ -1,6 +1,6 @@
 #pragma once
 // Cutter–workpiece engagement (CWE) at one cutter location, in the cutter's parameter plane
-// (DESIGN.md conventions; ALGORITHMS.md §5).
+// (docs/architecture.md conventions; docs/engagement.md).
 //
 // A point P of the cutter surface is engaged when it moves into the material (f = N·V > 0: the
 // forward part of the feasible contact surface; grazing points, f = 0, are not engaged) and the

@@ -7,8 +7,8 @@
 // made of) and the backward set f < 0. The feasible contact surface (FCS) is f ≥ 0.
 //
 // For a surface of revolution, at profile point (ρ, z) with outward profile normal (n_ρ, n_z)
-// and engagement angle φ (DESIGN.md), in TCS components (ALGORITHMS.md §3, restating eq. 3.58,
-// 5.25, 5.33, 5.39 in one form):
+// and engagement angle φ (docs/architecture.md), in TCS components (the seed thesis, Aras 2008, eq.
+// 3.58, 5.25, 5.33, 5.39 in one form):
 //     f(φ) = a sin φ + b cos φ + c,
 //     a = n_ρ V_x - k ω_y,  b = n_ρ V_y + k ω_x,  c = n_z V_z,  k = ρ n_z - z n_ρ,
 // so the grazing angles of each profile point come in closed form (solve_sin_cos).

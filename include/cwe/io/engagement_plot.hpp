@@ -7,8 +7,8 @@
 // SVG surface, so both outputs show the same picture. The functions return the file's bytes and
 // never write files or print: the caller decides where the bytes go (atomically).
 //
-// Conventions (DESIGN.md): φ is measured from +y of the tool frame, clockwise seen from the
-// shank; the front face (moving into material) is φ ∈ [0°, 180°], the back face (180°, 360°).
+// Conventions (docs/architecture.md): φ is measured from +y of the tool frame, clockwise seen from
+// the shank; the front face (moving into material) is φ ∈ [0°, 180°], the back face (180°, 360°).
 //
 // Errors: cwe::InputError for values that cannot be drawn (NaN anywhere, infinite heights, radii
 // or path values). Empty intervals (Interval::empty()) are skipped; intervals reaching outside

@@ -1,8 +1,9 @@
 #pragma once
 // The instantaneous motion of the cutter: its tool coordinate system (TCS) and velocities.
 //
-// TCS (DESIGN.md): origin at the tip F, z the tool axis (tip to shank), x the component of the
-// tip velocity perpendicular to z, y = z × x. For a pure axial motion (plunge or retract) or a
+// TCS (docs/architecture.md): origin at the tip F, z the tool axis (tip to shank), x the component
+// of the tip velocity perpendicular to z, y = z × x. For a pure axial motion (plunge or retract) or
+// a
 // tip at rest there is no such component: x is then the caller's `previous_x` projected
 // perpendicular to z when that is possible, else world X, else world Y (a stable, documented
 // fallback, never NaN).

@@ -1,6 +1,6 @@
 #pragma once
 // Cutting-force coefficients of the mechanistic (linear edge-force) milling model
-// (ALGORITHMS.md §6): shear terms K_tc, K_rc, K_ac in N/mm² (force per unit chip area) and edge
+// (docs/forces.md): shear terms K_tc, K_rc, K_ac in N/mm² (force per unit chip area) and edge
 // terms K_te, K_re, K_ae in N/mm (force per unit edge length), tangential, radial and axial.
 //
 // They come from a JSON file {"Ktc":…,"Krc":…,"Kac":…,"Kte":…,"Kre":…,"Kae":…} (extra keys

@@ -1,5 +1,5 @@
 #pragma once
-// Feed-rate scheduling (ALGORITHMS.md §6): the largest feed at each cutter location that keeps a
+// Feed-rate scheduling (docs/forces.md): the largest feed at each cutter location that keeps a
 // chosen quantity at or below a limit, and from those a feed per move of the program, within
 // minimum and maximum feeds and with a bounded change from one feed move to the next.
 //

@@ -1,5 +1,5 @@
 #pragma once
-// Mechanistic milling forces from an engagement map (ALGORITHMS.md §6; Altintas, Manufacturing
+// Mechanistic milling forces from an engagement map (docs/forces.md; Altintas, Manufacturing
 // Automation, ch. 2; Engin & Altintas 2001 for general cutters).
 //
 // The cutter is cut into edge elements: one per engaged axial disc of the map (side) and per

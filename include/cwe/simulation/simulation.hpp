@@ -1,6 +1,6 @@
 #pragma once
-// The main loop of DESIGN.md on the tri-dexel workpiece: per move, remove the volume the cutter
-// sweeps (envelope::MoveSweep, exact for linear 3-axis and 3+2 moves, subdivided within the
+// The main loop (docs/architecture.md) on the tri-dexel workpiece: per move, remove the volume the
+// cutter sweeps (envelope::MoveSweep, exact for linear 3-axis and 3+2 moves, subdivided within the
 // tolerance otherwise) from the stock, and keep the figures a report needs.
 //
 // Rapid moves are simulated like feed moves (the material they hit is gone on a real machine
@@ -74,7 +74,7 @@ using EngagementSink =
 
 // The main job: at each cutter location of the feed moves (sample_cl_points), the removal of the
 // motion up to the next location, and the engagement there: where that step's removal touches
-// the cutter, the workpiece having been cut by all motion before the location (DESIGN.md data
+// the cutter, the workpiece having been cut by all motion before the location (docs/architecture.md
 // flow; DexelEngagement). Rapid moves and moves without samples are removed whole. An
 // `engagement.contact` of 0 takes the sweep tolerance (options.effective_tolerance()).
 // The removal summary is that of remove_toolpath (the same workpiece results).

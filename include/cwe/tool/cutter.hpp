@@ -2,11 +2,12 @@
 // A milling cutter: a revolved Profile (the cutting part) plus the data a force model and a
 // collision check need (flutes, helix angle, shank).
 //
-// Everything here is in the tool coordinate system (TCS) of DESIGN.md: origin at the tip, z along
-// the axis towards the shank. A surface point is addressed by its patch, its engagement angle φ
+// Everything here is in the tool coordinate system (TCS) of docs/architecture.md: origin at the
+// tip, z along the axis towards the shank. A surface point is addressed by its patch, its
+// engagement angle φ
 // and its fraction u along the patch's profile piece; it sits at
 //     P(φ, u) = ρ(u)·(sin φ·x + cos φ·y) + z(u)·z
-// (φ measured from +y, clockwise seen from the shank; DESIGN.md "Conventions").
+// (φ measured from +y, clockwise seen from the shank; docs/architecture.md, "Conventions").
 //
 // Each profile piece becomes one patch: a flat bottom (horizontal line at the tip), a horizontal
 // step elsewhere, a cylinder, a cone, a sphere (arc centred on the axis) or a torus. The flat top

@@ -4,8 +4,8 @@
 // Each feed move is cut into n equal steps in u, n = max(⌈length / step⌉, ⌈axis turn /
 // angular_step⌉, 1), and sampled at the start of every step, u = k/n for k = 0 … n - 1: the
 // engagement at a sample sees the workpiece as cut up to that sample, and the step that follows
-// is then removed (DESIGN.md data flow). Zero-length moves that do not turn the axis give no
-// sample. Rapid moves are skipped unless asked for.
+// is then removed (docs/architecture.md, the data flow). Zero-length moves that do not turn the
+// axis give no sample. Rapid moves are skipped unless asked for.
 
 #include <vector>
 

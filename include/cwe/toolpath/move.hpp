@@ -2,8 +2,8 @@
 // One programmed motion of the tool, in the workpiece frame, in millimetres whatever the units of
 // the program it came from.
 //
-// Positions are the tool tip (DESIGN.md: the programs cwe reads are in tip coordinates), axes are
-// unit vectors from the tip towards the shank. A move is parameterised by u ∈ [0, 1]:
+// Positions are the tool tip (docs/architecture.md: the programs cwe reads are in tip coordinates),
+// axes are unit vectors from the tip towards the shank. A move is parameterised by u ∈ [0, 1]:
 //  - line: tip F(u) = start + u (end - start), axis slerped from start_axis to end_axis
 //    (a constant axis for 3-axis and 3+2 moves; simultaneous 5-axis otherwise; Aras 2008 §4.2.4);
 //  - arc / helix: tip F(u) = center + R(u·sweep)(start - center) + u·axial·normal, with R(θ) the
