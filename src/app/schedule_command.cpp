@@ -214,11 +214,11 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
   if (options.max_feed != 0.0) bounds.max_feed = options.max_feed;
   try {
     bounds.check();  // before the long part, not after it
-  } catch (const std::invalid_argument& e) {
+  } catch (const InputError& e) {
     throw InputError(SourceLocation{"cwe schedule"},
                      fmt::format("{} (--min-scale, --max-scale, --min-feed, --max-feed, "
                                  "--max-change)",
-                                 e.what()));
+                                 e.message()));
   }
   PreparedJob job = prepare_job(sim, false);
   if (!job.forces) {
@@ -245,11 +245,7 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
   std::vector<std::string> texts;
   for (const ScheduledFile& file : files) {
     const std::string text = read_text_file(file.path, "toolpath");
-    try {
-      texts.push_back(rewrite_feeds(text, file.format, file.lines, file.path));
-    } catch (const std::invalid_argument& e) {
-      throw InputError(SourceLocation{file.path}, e.what());
-    }
+    texts.push_back(rewrite_feeds(text, file.format, file.lines, file.path));
   }
 
   // Everything is computed: write the programs, each whole.

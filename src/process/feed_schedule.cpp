@@ -7,7 +7,6 @@
 #include <charconv>
 #include <cmath>
 #include <limits>
-#include <stdexcept>
 
 #include "cwe/core/error.hpp"
 
@@ -168,18 +167,18 @@ double max_feed_per_tooth(const ForceModel& model, const EngagementMap& map,
 
 void ScheduleOptions::check() const {
   if (!(min_scale > 0.0) || !(max_scale >= min_scale) || !std::isfinite(max_scale)) {
-    throw std::invalid_argument("feed bounds: need 0 < min scale <= max scale");
+    throw InputError("feed bounds: need 0 < min scale <= max scale");
   }
   for (const std::optional<double>& feed : {min_feed, max_feed}) {
     if (feed && !(*feed > 0.0 && std::isfinite(*feed))) {
-      throw std::invalid_argument("feed bounds: a minimum or maximum feed must be positive");
+      throw InputError("feed bounds: a minimum or maximum feed must be positive");
     }
   }
   if (min_feed && max_feed && *min_feed > *max_feed) {
-    throw std::invalid_argument("feed bounds: the minimum feed exceeds the maximum");
+    throw InputError("feed bounds: the minimum feed exceeds the maximum");
   }
   if (!(max_change >= 1.0) || !std::isfinite(max_change)) {
-    throw std::invalid_argument("the largest change between moves must be a ratio >= 1");
+    throw InputError("the largest change between moves must be a ratio >= 1");
   }
 }
 

@@ -9,7 +9,6 @@
 #include <charconv>
 #include <cmath>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -105,14 +104,15 @@ struct WrittenFeed {
 // `feed` (mm/min) in program units of `scale` mm, rounded to `decimals` decimals (more, up to
 // `most`, when that would be 0), down when `down` (a scheduled feed is never written above the
 // feed the schedule allows), else to the nearest, with no trailing zeros. Throws
-// std::invalid_argument when the number would be 0 or out of range.
+// InputError at the line when the number would be 0 or out of range.
 WrittenFeed write_feed(double feed, double scale, int decimals, int most, bool down,
                        const std::string& source, int line) {
   const double number = feed / scale;
   if (!(number <= kLargestInputValue)) {
-    throw std::invalid_argument(fmt::format(
-        "{}:{}: the feed rate {} mm/min is too large to write (more than {:g} program units)",
-        source, line, feed, kLargestInputValue));
+    throw InputError(SourceLocation{source, line},
+                     fmt::format("the feed rate {} mm/min is too large to write (more than {:g} "
+                                 "program units)",
+                                 feed, kLargestInputValue));
   }
   std::string text;
   double written = 0.0;
@@ -129,9 +129,9 @@ WrittenFeed write_feed(double feed, double scale, int decimals, int most, bool d
     written = parse_unsigned(text);
   }
   if (!(written > 0.0)) {
-    throw std::invalid_argument(
-        fmt::format("{}:{}: the feed rate {} mm/min is 0 when written with {} decimals", source,
-                    line, feed, std::max(decimals, most)));
+    throw InputError(SourceLocation{source, line},
+                     fmt::format("the feed rate {} mm/min is 0 when written with {} decimals", feed,
+                                 std::max(decimals, most)));
   }
   return {text, written * scale};
 }
@@ -151,14 +151,14 @@ FeedLines feed_lines(const Toolpath& path, const LineFeeds& feeds, const std::st
   }
   for (const auto& [line, feed] : feeds) {
     if (!(std::isfinite(feed) && feed > 0.0)) {
-      throw std::invalid_argument(
-          fmt::format("{}:{}: expected a feed rate > 0 mm/min for line {}, found {}", source, line,
-                      line, feed));
+      throw InputError(SourceLocation{source, line},
+                       fmt::format("expected a feed rate > 0 mm/min for line {}, found {}", line,
+                                   feed));
     }
     if (lines.feed.count(line) == 0) {
-      throw std::invalid_argument(
-          fmt::format("{}:{}: line {} has no feed move, so it cannot be given a feed rate", source,
-                      line, line));
+      throw InputError(SourceLocation{source, line},
+                       fmt::format("line {} has no feed move, so it cannot be given a feed rate",
+                                   line));
     }
   }
   return lines;

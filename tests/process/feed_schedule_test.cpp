@@ -149,7 +149,7 @@ TEST(Schedule, KeepsBoundsAndLargestChange) {
   EXPECT_EQ(fast.raised, 1);
 
   options.min_feed = 2000.0;
-  EXPECT_THROW(schedule_feeds(moves, options), std::invalid_argument);
+  EXPECT_THROW(schedule_feeds(moves, options), InputError);
 }
 
 }  // namespace

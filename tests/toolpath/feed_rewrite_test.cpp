@@ -241,23 +241,23 @@ TEST(FeedRewriteGcode, FWordsThatCannotBeRewrittenAreInputErrors) {
             "G21\nG1 X1 F1(c)00\nX2 F50\nM2\n");
 }
 
-TEST(FeedRewriteGcode, FeedsThatCannotBeWrittenAreInvalidArguments) {
+TEST(FeedRewriteGcode, FeedsThatCannotBeWrittenAreInputErrorsAtTheirLine) {
   const std::string text = "G21\nG0 X0 Z1\nG1 Z0 F100\n(comment)\nM2\n";
   const auto expect_invalid = [&](const LineFeeds& feeds, const std::string& expected) {
     try {
       rewrite_gcode(text, feeds);
       ADD_FAILURE() << "no error for " << expected;
-    } catch (const std::invalid_argument& e) {
+    } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
     }
   };
-  expect_invalid({{1, 100.0}}, "t.ngc:1: line 1 has no feed move");  // no motion
-  expect_invalid({{2, 100.0}}, "t.ngc:2: line 2 has no feed move");  // a rapid
-  expect_invalid({{4, 100.0}}, "t.ngc:4: line 4 has no feed move");  // a comment
-  expect_invalid({{9, 100.0}}, "t.ngc:9: line 9 has no feed move");  // past the end
-  expect_invalid({{0, 100.0}}, "t.ngc:0: line 0 has no feed move");
-  expect_invalid({{3, 0.0}}, "t.ngc:3: expected a feed rate > 0 mm/min");
-  expect_invalid({{3, -5.0}}, "t.ngc:3: expected a feed rate > 0 mm/min");
+  expect_invalid({{1, 100.0}}, "t.ngc:1: error: line 1 has no feed move");  // no motion
+  expect_invalid({{2, 100.0}}, "t.ngc:2: error: line 2 has no feed move");  // a rapid
+  expect_invalid({{4, 100.0}}, "t.ngc:4: error: line 4 has no feed move");  // a comment
+  expect_invalid({{9, 100.0}}, "t.ngc:9: error: line 9 has no feed move");  // past the end
+  expect_invalid({{0, 100.0}}, "t.ngc: error: line 0 has no feed move");
+  expect_invalid({{3, 0.0}}, "t.ngc:3: error: expected a feed rate > 0 mm/min");
+  expect_invalid({{3, -5.0}}, "t.ngc:3: error: expected a feed rate > 0 mm/min");
   expect_invalid({{3, std::numeric_limits<double>::infinity()}}, "expected a feed rate > 0");
   expect_invalid({{3, std::numeric_limits<double>::quiet_NaN()}}, "expected a feed rate > 0");
   expect_invalid({{3, 1e-5}}, "is 0 when written with 4 decimals");
@@ -454,7 +454,7 @@ TEST(FeedRewriteCldata, ContinuedRecordsGetTheFedratBeforeTheirFirstLine) {
             "FEDRAT/300.0000,MMPM\n"
             "GOTO/20,0,0\n");
   for (int inside : {4, 5, 6}) {
-    EXPECT_THROW(rewrite_cldata(text, {{inside, 150.0}}), std::invalid_argument) << inside;
+    EXPECT_THROW(rewrite_cldata(text, {{inside, 150.0}}), InputError) << inside;
   }
 }
 
@@ -465,8 +465,8 @@ TEST(FeedRewriteCldata, ArcsKeepTheirCircleNextToTheGoto) {
   EXPECT_EQ(rewrite_cldata_checked(text, {{4, 100.0}}),
             "FEDRAT/200\nGOTO/10,0,0\nFEDRAT/100,MMPM\nCIRCLE/0,0,0,0,0,1,10\nGOTO/0,10,0\n"
             "FEDRAT/200,MMPM\nGOTO/0,20,0\n");
-  EXPECT_THROW(rewrite_cldata(text, {{3, 100.0}}), std::invalid_argument);  // the CIRCLE
-  EXPECT_THROW(rewrite_cldata(text, {{1, 100.0}}), std::invalid_argument);  // the FEDRAT
+  EXPECT_THROW(rewrite_cldata(text, {{3, 100.0}}), InputError);  // the CIRCLE
+  EXPECT_THROW(rewrite_cldata(text, {{1, 100.0}}), InputError);  // the FEDRAT
   // A FEDRAT between the CIRCLE and its GOTO: the new one must come after it.
   const std::string between =
       "FEDRAT/200\nGOTO/10,0,0\nCIRCLE/0,0,0,0,0,1,10\nFEDRAT/300\nGOTO/0,10,0\n";

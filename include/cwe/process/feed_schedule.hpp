@@ -56,7 +56,7 @@ struct ScheduleOptions {
   // Largest ratio between the feeds of consecutive feed moves (≥ 1).
   double max_change = 1.5;
 
-  // Throws std::invalid_argument, saying which, unless 0 < min_scale ≤ max_scale (finite), the
+  // Throws cwe::InputError, saying which, unless 0 < min_scale ≤ max_scale (finite), the
   // feeds given are finite and positive with min_feed ≤ max_feed, and max_change is finite ≥ 1.
   void check() const;
 };

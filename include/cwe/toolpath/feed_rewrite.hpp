@@ -39,7 +39,7 @@
 // move.
 //
 // Errors:
-//  - std::invalid_argument for a `feeds` entry that cannot be written: a feed that is not a
+//  - cwe::InputError (source and line) for a `feeds` entry that cannot be written: a feed that is not a
 //    finite number > 0 (mm/min), one that rounds to 0 or exceeds kLargestInputValue in the
 //    program's number format, or a line that has no feed move (no motion, only rapids, a CIRCLE
 //    or FEDRAT record, the inside of a continued record, past the end). The message names the
