@@ -12,6 +12,14 @@
 namespace cwe {
 namespace {
 
+// A count of discs or rings within this of a whole number is that number (a 2 mm depth at
+// 0.1 mm discs is 20 discs, not 21 from 20.000000000000004).
+constexpr double kWholeCount = 1e-9;
+// |f| below this fraction of |a| + |b| + |c| is f = 0 (grazing, not engaged): the coefficients
+// are sums of a few products of unit-scale terms, good to ~1e-15 relative, so 1e-9 absorbs
+// their rounding while any real motion into the surface is far above it.
+constexpr double kGrazingRelative = 1e-9;
+
 // Bisection steps that place an interval end: the cell width / 2⁶.
 constexpr int kRefineSteps = 6;
 
@@ -102,7 +110,7 @@ DexelEngagement::DexelEngagement(const Cutter& cutter, double spacing,
   // Side discs: every height of the profile's non-horizontal pieces.
   const auto& segments = profile.segments();
   const double height = profile.height();
-  const int discs = static_cast<int>(std::ceil(height / disc_height_ - 1e-9));
+  const int discs = static_cast<int>(std::ceil(height / disc_height_ - kWholeCount));
   for (int k = 0; k < discs; ++k) {
     Band band;
     band.lo = k * disc_height_;
@@ -139,7 +147,7 @@ DexelEngagement::DexelEngagement(const Cutter& cutter, double spacing,
   const ProfileSegment& first = segments.front();
   if (first.is_horizontal() && first.start.y() == 0.0) {
     const double outer = first.max_radius();
-    const int rings = static_cast<int>(std::ceil(outer / disc_height_ - 1e-9));
+    const int rings = static_cast<int>(std::ceil(outer / disc_height_ - kWholeCount));
     for (int k = 0; k < rings; ++k) {
       Band band;
       band.lo = k * disc_height_;
@@ -177,7 +185,7 @@ std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const Removal
   const TangencyCoefficients f =
       tangency_coefficients(Vec2(band.rho, band.z), band.normal, v_tcs, w_tcs);
   // Grazing points (f = 0) are not engaged; f_min absorbs rounding of the coefficients.
-  const double f_min = 1e-9 * (std::abs(f.a) + std::abs(f.b) + std::abs(f.c));
+  const double f_min = kGrazingRelative * (std::abs(f.a) + std::abs(f.b) + std::abs(f.c));
   if (!(std::abs(f.a) + std::abs(f.b) + std::abs(f.c) > 0.0)) return {};
   // The ray read for P meets the tangent plane at Q, within s√(3/2) of P; a Q beyond the band's
   // own surface (past the bottom's rim, below the tip or above the flutes) says nothing of it.

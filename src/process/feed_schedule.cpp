@@ -9,10 +9,15 @@
 #include <limits>
 
 #include "cwe/core/error.hpp"
+#include "cwe/geometry/tolerance.hpp"
 
 namespace cwe {
 
 namespace {
+
+// The admissible feed per tooth is bisected to this fraction of its upper bound: 1e-9 of a feed
+// is far below any feed a program can state (4 to 5 significant digits).
+constexpr double kBisectionRelative = 1e-9;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
@@ -158,7 +163,7 @@ double max_feed_per_tooth(const ForceModel& model, const EngagementMap& map,
   if (c > 0.0 && within(value_at(c, false))) return c;
   // Not affine (runout) or rounding at the limit: bisect below, keeping the lower end admissible.
   double lo = 0.0, hi = c > 0.0 ? c : c_max;
-  for (int i = 0; i < 60 && hi - lo > 1e-9 * c_max; ++i) {
+  for (int i = 0; i < 60 && hi - lo > kBisectionRelative * c_max; ++i) {
     const double mid = 0.5 * (lo + hi);
     (within(value_at(mid, false)) ? lo : hi) = mid;
   }
@@ -211,10 +216,10 @@ Schedule schedule_feeds(const std::vector<MoveFeed>& moves, const ScheduleOption
     const MoveFeed& m = moves[i];
     ScheduledMove& s = out.moves[i];
     s.feed = feed[i];
-    s.limit_exceeded = m.allowed && *m.allowed < feed[i] * (1.0 - 1e-12);
+    s.limit_exceeded = m.allowed && *m.allowed < feed[i] * (1.0 - tol::kRelative);
     out.exceeded += s.limit_exceeded ? 1 : 0;
-    out.limited += feed[i] < m.programmed * (1.0 - 1e-12) ? 1 : 0;
-    out.raised += feed[i] > m.programmed * (1.0 + 1e-12) ? 1 : 0;
+    out.limited += feed[i] < m.programmed * (1.0 - tol::kRelative) ? 1 : 0;
+    out.raised += feed[i] > m.programmed * (1.0 + tol::kRelative) ? 1 : 0;
     if (m.programmed > 0.0) out.programmed_minutes += m.length / m.programmed;
     if (feed[i] > 0.0) out.scheduled_minutes += m.length / feed[i];
   }

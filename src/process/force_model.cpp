@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "cwe/core/error.hpp"
+#include "cwe/geometry/tolerance.hpp"
 
 namespace cwe {
 
@@ -105,7 +106,7 @@ class Revolution {
       for (const Interval& in : phi) {
         if (in.is_empty()) continue;
         thickest_chip(e, j, in);
-        if (in.hi - in.lo >= 2.0 * kPi * (1.0 - 1e-12)) {  // a full ring: every step, whole
+        if (in.hi - in.lo >= 2.0 * kPi * (1.0 - tol::kRelative)) {  // a full ring: every step, whole
           for (int k = 0; k < n_; ++k) {
             accumulate(e, j, sin_[k] * co + cos_[k] * so, cos_[k] * co - sin_[k] * so, 1.0, k);
           }
@@ -124,7 +125,7 @@ class Revolution {
           if (!(hi > lo)) continue;
           const int index = static_cast<int>(k % n_);
           double s, c;
-          if (hi - lo >= step_ * (1.0 - 1e-12)) {  // the whole step: θ = kΔ from the table
+          if (hi - lo >= step_ * (1.0 - tol::kRelative)) {  // the whole step: θ = kΔ from the table
             s = sin_[index] * co + cos_[index] * so;
             c = cos_[index] * co - sin_[index] * so;
           } else {
@@ -242,7 +243,7 @@ double feed_per_tooth(double feed_rate, int flutes, double spindle_speed) {
 ForceModel::ForceModel(const Cutter& cutter, CuttingCoefficients coefficients,
                        ForceModelOptions options)
     : profile_(cutter.profile()), coefficients_(std::move(coefficients)), runout_(options.runout) {
-  if (!(options.angle_step >= kMinAngleStep) || options.angle_step > kPi / 2.0 + 1e-12) {
+  if (!(options.angle_step >= kMinAngleStep) || options.angle_step > kPi / 2.0 * (1.0 + tol::kRelative)) {
     throw InputError(fmt::format("the spindle angle step must be in [0.01°, 90°], not {:g}°",
                                  options.angle_step * 180.0 / kPi));
   }

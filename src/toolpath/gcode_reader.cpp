@@ -23,6 +23,7 @@
 
 #include "cwe/core/text_file.hpp"
 #include "cwe/geometry/tolerance.hpp"
+#include "gcode_tolerance.hpp"
 
 namespace cwe {
 namespace {
