@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <utility>
 
-#include "cwe/engagement/dexel_engagement.hpp"
+#include "cwe/engagement/dexel_workpiece.hpp"
 
 namespace cwe {
 namespace {
@@ -42,6 +42,7 @@ JobResult run_job(const PreparedJob& job, TriDexel stock, const RunOptions& opti
   const SimulationOptions& simulation = job.simulation;
   JobResult result(std::move(stock));
   result.initial_volume = result.stock.volume();
+  DexelWorkpiece workpiece(result.stock);  // the workpiece seam (cwe/engagement/workpiece.hpp)
   std::size_t all_moves = 0;
   for (const PreparedOperation& op : job.operations) all_moves += op.read.toolpath.moves.size();
   std::size_t moves_before = 0, cls_before = 0;
@@ -52,7 +53,7 @@ JobResult run_job(const PreparedJob& job, TriDexel stock, const RunOptions& opti
     };
     if (!options.engagement) {
       result.per_operation.push_back(
-          remove_toolpath(result.stock, op.cutter, path, simulation, report));
+          remove_toolpath(workpiece, op.cutter, path, simulation, report));
     } else {
       std::size_t sampled = 0;
       const auto sink = [&](std::size_t index, const ClPoint& cl, const ToolState& state,
@@ -99,9 +100,9 @@ JobResult run_job(const PreparedJob& job, TriDexel stock, const RunOptions& opti
                           forces ? &*forces : nullptr};
         for (ClSink* s : sinks) s->add(at);
       };
-      result.per_operation.push_back(simulate_engagement(result.stock, op.cutter, path,
-                                                         simulation, op.sampling,
-                                                         EngagementOptions{}, sink, report));
+      result.per_operation.push_back(simulate_engagement(workpiece, op.cutter, path, simulation,
+                                                         op.sampling, EngagementOptions{}, sink,
+                                                         report));
       cls_before += sampled;
     }
     merge(result.removal, result.per_operation.back(), static_cast<int>(moves_before));

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include <fmt/format.h>
 
 #include "cwe/core/numbers.hpp"
+#include "cwe/engagement/dexel_workpiece.hpp"
 #include "cwe/io/mesh_io.hpp"
 
 namespace cwe {
@@ -62,13 +64,6 @@ TriDexel make_stock(const StockSpec& spec, const SimulationOptions& options) {
 
 namespace {
 
-// A linear sweep as a dexel cut: its box, its chords and, where it has one, its cheap reach.
-TriDexel::Cut cut_of(const LinearSweep& piece) {
-  TriDexel::Cut cut{piece.bounds(), [&piece](const Ray& ray) { return piece.chord(ray); }, {}};
-  if (piece.has_reach()) cut.reach = [&piece](const Ray& ray) { return piece.reach(ray); };
-  return cut;
-}
-
 // Counts a move and its removal into the summary.
 void record_move(RemovalSummary& summary, const Toolpath& path, std::size_t index, int pieces,
                  double deviation, double volume, double cell) {
@@ -93,31 +88,18 @@ void record_move(RemovalSummary& summary, const Toolpath& path, std::size_t inde
   }
 }
 
-// Removes one sweep; returns the volume removed. `record`, when given, receives what was taken.
-double remove_sweep(TriDexel& stock, const MoveSweep& sweep, RemovalRecord* record = nullptr) {
-  std::vector<TriDexel::Cut> cuts;
-  for (const LinearSweep& piece : sweep.pieces()) {
-    cuts.push_back(cut_of(piece));
-  }
-  double volume = 0.0;
-  for (const TriDexel::Removal& r : stock.remove(cuts, record)) volume += r.volume;
-  return volume;
-}
-
 }  // namespace
 
-RemovalSummary remove_toolpath(TriDexel& stock, const Cutter& cutter, const Toolpath& path,
+RemovalSummary remove_toolpath(Workpiece& stock, const Cutter& cutter, const Toolpath& path,
                                const SimulationOptions& options, const Progress& progress) {
   RemovalSummary summary;
   const ConvexParts parts(cutter, options.effective_tolerance());
   const std::size_t total = path.moves.size();
-  const double cell = std::pow(stock.spacing(), 3);
-  // Moves are removed in batches of about kBatchPieces linear pieces (TriDexel::remove with
-  // several cuts: the same result as one by one, in one parallel pass).
+  const double cell = stock.cell_volume();
+  // Moves are removed in batches of about kBatchPieces linear pieces (one pass of the
+  // workpiece: the same result as one by one).
   constexpr std::size_t kBatchPieces = 64;
   std::vector<MoveSweep> sweeps;
-  std::vector<TriDexel::Cut> cuts;
-  std::vector<std::size_t> owner;  // batch move of each cut
   for (std::size_t first = 0; first < total;) {
     sweeps.clear();
     std::size_t pieces = 0;
@@ -125,17 +107,7 @@ RemovalSummary remove_toolpath(TriDexel& stock, const Cutter& cutter, const Tool
       sweeps.emplace_back(parts, path.moves[i]);
       pieces += sweeps.back().pieces().size();
     }
-    cuts.clear();
-    owner.clear();
-    for (std::size_t m = 0; m < sweeps.size(); ++m) {
-      for (const LinearSweep& piece : sweeps[m].pieces()) {
-        cuts.push_back(cut_of(piece));
-        owner.push_back(m);
-      }
-    }
-    const std::vector<TriDexel::Removal> removed = stock.remove(cuts);
-    std::vector<double> volume(sweeps.size(), 0.0);
-    for (std::size_t k = 0; k < cuts.size(); ++k) volume[owner[k]] += removed[k].volume;
+    const std::vector<double> volume = stock.remove(sweeps);
     for (std::size_t m = 0; m < sweeps.size(); ++m) {
       record_move(summary, path, first + m, static_cast<int>(sweeps[m].pieces().size()),
                   sweeps[m].deviation_bound(), volume[m], cell);
@@ -146,7 +118,13 @@ RemovalSummary remove_toolpath(TriDexel& stock, const Cutter& cutter, const Tool
   return summary;
 }
 
-RemovalSummary simulate_engagement(TriDexel& stock, const Cutter& cutter, const Toolpath& path,
+RemovalSummary remove_toolpath(TriDexel& stock, const Cutter& cutter, const Toolpath& path,
+                               const SimulationOptions& options, const Progress& progress) {
+  DexelWorkpiece workpiece(stock);
+  return remove_toolpath(workpiece, cutter, path, options, progress);
+}
+
+RemovalSummary simulate_engagement(Workpiece& stock, const Cutter& cutter, const Toolpath& path,
                                    const SimulationOptions& options,
                                    const SamplingOptions& sampling,
                                    const EngagementOptions& engagement, const EngagementSink& sink,
@@ -158,13 +136,12 @@ RemovalSummary simulate_engagement(TriDexel& stock, const Cutter& cutter, const 
   // to the tolerance).
   EngagementOptions engagement_options = engagement;
   if (engagement_options.contact == 0.0) engagement_options.contact = options.effective_tolerance();
-  const DexelEngagement engage(cutter, stock.spacing(), engagement_options);
-  RemovalRecord step;
+  const std::unique_ptr<StepEngagement> engage = stock.engagement(cutter, engagement_options);
   SamplingOptions feed_only = sampling;
   feed_only.include_rapids = false;
   const std::vector<ClPoint> cls = sample_cl_points(path, feed_only);
   const std::size_t total = path.moves.size();
-  const double cell = std::pow(stock.spacing(), 3);
+  const double cell = stock.cell_volume();
   std::size_t next = 0;  // the next CL sample
   Vec3 previous_x = Vec3::Zero();
   for (std::size_t i = 0; i < total; ++i) {
@@ -173,11 +150,11 @@ RemovalSummary simulate_engagement(TriDexel& stock, const Cutter& cutter, const 
     while (end < cls.size() && cls[end].move == static_cast<int>(i)) ++end;
     int pieces = 0;
     double deviation = 0.0, volume = 0.0;
-    const auto remove_part = [&](double u0, double u1, RemovalRecord* record = nullptr) {
+    const auto remove_part = [&](double u0, double u1, bool record = false) {
       const MoveSweep sweep(parts, u0 == 0.0 && u1 == 1.0 ? move : move.part(u0, u1));
       pieces += static_cast<int>(sweep.pieces().size());
       deviation = std::max(deviation, sweep.deviation_bound());
-      volume += remove_sweep(stock, sweep, record);
+      volume += engage->remove(sweep, record);
     };
     if (next == end) {
       remove_part(0.0, 1.0);
@@ -188,8 +165,8 @@ RemovalSummary simulate_engagement(TriDexel& stock, const Cutter& cutter, const 
         // where that removal touches the cutter (CWE = FCS ∩ (W ∩ SV)).
         const ToolState state = tool_state(cls[k], previous_x);
         previous_x = state.tcs.x();
-        remove_part(cls[k].u, k + 1 < end ? cls[k + 1].u : 1.0, &step);
-        sink(k, cls[k], state, engage.at(stock, step, state));
+        remove_part(cls[k].u, k + 1 < end ? cls[k + 1].u : 1.0, true);
+        sink(k, cls[k], state, engage->at(state));
       }
     }
     next = end;
@@ -197,6 +174,16 @@ RemovalSummary simulate_engagement(TriDexel& stock, const Cutter& cutter, const 
     if (progress) progress(i + 1, total);
   }
   return summary;
+}
+
+RemovalSummary simulate_engagement(TriDexel& stock, const Cutter& cutter, const Toolpath& path,
+                                   const SimulationOptions& options,
+                                   const SamplingOptions& sampling,
+                                   const EngagementOptions& engagement, const EngagementSink& sink,
+                                   const Progress& progress) {
+  DexelWorkpiece workpiece(stock);
+  return simulate_engagement(workpiece, cutter, path, options, sampling, engagement, sink,
+                             progress);
 }
 
 }  // namespace cwe

@@ -7,9 +7,12 @@
 
 #include <cmath>
 #include <filesystem>
+#include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
+#include "cwe/engagement/dexel_workpiece.hpp"
 #include "cwe/geometry/triangle_mesh.hpp"
 #include "cwe/io/atomic_file.hpp"
 #include "cwe/io/mesh_io.hpp"
@@ -429,6 +432,97 @@ TEST(StockSpec, ParsesBoxesAndNamesErrors) {
                           "box:0,0,0,1,1,1:ft", "box::in"}) {
     EXPECT_THROW(parse_stock_spec(bad, SourceLocation{"--stock"}), InputError) << bad;
   }
+}
+
+// The workpiece seam (cwe/engagement/workpiece.hpp): the main loop asks a backend for nothing
+// but removal, steps and engagement. A backend that forwards to the tri-dexel one and counts its
+// calls gives the same results as the tri-dexel overload, with one recorded step and one
+// engagement query per cutter location.
+class CountingWorkpiece : public Workpiece {
+ public:
+  explicit CountingWorkpiece(TriDexel& stock) : inner_(stock) {}
+  double cell_volume() const override { return inner_.cell_volume(); }
+  std::vector<double> remove(std::span<const MoveSweep> sweeps) override {
+    batches += 1;
+    return inner_.remove(sweeps);
+  }
+  std::unique_ptr<StepEngagement> engagement(const Cutter& cutter,
+                                             const EngagementOptions& options) override {
+    struct Counting : StepEngagement {
+      Counting(std::unique_ptr<StepEngagement> inner, CountingWorkpiece& owner)
+          : inner(std::move(inner)), owner(owner) {}
+      double remove(const MoveSweep& sweep, bool record) override {
+        ++(record ? owner.recorded : owner.unrecorded);
+        return inner->remove(sweep, record);
+      }
+      EngagementMap at(const ToolState& state) const override {
+        ++owner.queries;
+        return inner->at(state);
+      }
+      std::unique_ptr<StepEngagement> inner;
+      CountingWorkpiece& owner;
+    };
+    contact = options.contact;
+    return std::make_unique<Counting>(inner_.engagement(cutter, options), *this);
+  }
+  int batches = 0, recorded = 0, unrecorded = 0, queries = 0;
+  double contact = -1.0;
+
+ private:
+  DexelWorkpiece inner_;
+};
+
+TEST(WorkpieceSeam, TheMainLoopGoesThroughTheBackend) {
+  Toolpath path;
+  path.sources = {"test"};
+  Move rapid;
+  rapid.mode = MotionMode::kRapid;
+  rapid.start = Vec3(-10, 15, 5);
+  rapid.end = Vec3(-10, 15, -2);
+  Move slot;
+  slot.start = rapid.end;
+  slot.end = Vec3(50, 15, -2);
+  slot.feed_rate = 600;
+  path.moves = {rapid, slot};
+  const Cutter cutter = cutter_from_spec("flat:10,20");
+  SimulationOptions options;
+  options.resolution = 0.25;
+  SamplingOptions sampling;
+  TriDexel a = TriDexel::from_box(kBlock, options.resolution);
+  TriDexel b = TriDexel::from_box(kBlock, options.resolution);
+  std::vector<EngagementMap> direct, through;
+  const auto keep = [](std::vector<EngagementMap>& maps) {
+    return [&maps](std::size_t, const ClPoint&, const ToolState&, const EngagementMap& map) {
+      maps.push_back(map);
+    };
+  };
+  const RemovalSummary sa =
+      simulate_engagement(a, cutter, path, options, sampling, EngagementOptions{}, keep(direct));
+  CountingWorkpiece counting(b);
+  const RemovalSummary sb = simulate_engagement(counting, cutter, path, options, sampling,
+                                                EngagementOptions{}, keep(through));
+  // 60 mm at 0.5 mm: 120 locations at the start of each step (cl_sampling.hpp), each with its
+  // recorded step and its query; the rapid, without locations, is removed whole.
+  ASSERT_EQ(direct.size(), 120u);
+  ASSERT_EQ(through.size(), direct.size());
+  EXPECT_EQ(counting.recorded, 120);
+  EXPECT_EQ(counting.queries, 120);
+  EXPECT_EQ(counting.unrecorded, 1);
+  EXPECT_EQ(counting.contact, options.effective_tolerance());  // the loop sets the default
+  for (std::size_t k = 0; k < direct.size(); ++k) {
+    EXPECT_EQ(direct[k].phi_entry, through[k].phi_entry) << k;
+    EXPECT_EQ(direct[k].phi_exit, through[k].phi_exit) << k;
+    EXPECT_EQ(direct[k].axial_depth, through[k].axial_depth) << k;
+  }
+  EXPECT_EQ(sa.removed_by_move, sb.removed_by_move);
+  EXPECT_EQ(a.volume().by_family, b.volume().by_family);
+  // Removal only: batched through the backend.
+  TriDexel c = TriDexel::from_box(kBlock, options.resolution);
+  CountingWorkpiece batched(c);
+  const RemovalSummary sc = remove_toolpath(batched, cutter, path, options);
+  EXPECT_EQ(batched.batches, 1);
+  EXPECT_NEAR(sc.removed_by_move[1] + sc.removed_by_move[0],
+              sa.removed_by_move[0] + sa.removed_by_move[1], 0.05);
 }
 
 }  // namespace

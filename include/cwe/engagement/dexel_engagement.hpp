@@ -45,12 +45,6 @@
 
 namespace cwe {
 
-struct EngagementOptions {
-  double disc_height = 0.0;  // mm; 0: the workpiece's ray spacing s
-  double phi_step = 0.0;     // rad; 0: an arc of s at the cutter's largest radius, ≤ 1°
-  double contact = 0.0;      // mm; 0: s/10 (the default sweep tolerance)
-};
-
 class DexelEngagement {
  public:
   // The grid for `cutter` on a workpiece of ray spacing `spacing`. Throws InputError for a

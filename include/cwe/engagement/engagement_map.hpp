@@ -57,4 +57,11 @@ struct EngagementMap {
   double area = 0.0;
 };
 
+// The grid of an extractor's maps, and how close removed material must come to count.
+struct EngagementOptions {
+  double disc_height = 0.0;  // mm; 0: the workpiece's resolution (dexel: the ray spacing s)
+  double phi_step = 0.0;     // rad; 0: an arc of s at the cutter's largest radius, ≤ 1°
+  double contact = 0.0;      // mm; 0: s/10 (the default sweep tolerance)
+};
+
 }  // namespace cwe

@@ -13,6 +13,7 @@
 
 #include "cwe/core/error.hpp"
 #include "cwe/engagement/dexel_engagement.hpp"
+#include "cwe/engagement/workpiece.hpp"
 #include "cwe/envelope/move_sweep.hpp"
 #include "cwe/tool/cutter.hpp"
 #include "cwe/toolpath/cl_sampling.hpp"
@@ -63,7 +64,11 @@ struct RemovalSummary {
 // Called after each move with (moves done, moves in all).
 using Progress = std::function<void(std::size_t, std::size_t)>;
 
-// Removes every move of `path` swept by `cutter` from `stock`, in order.
+// Removes every move of `path` swept by `cutter` from `stock`, in order (batched: several moves
+// to one pass of the workpiece).
+RemovalSummary remove_toolpath(Workpiece& stock, const Cutter& cutter, const Toolpath& path,
+                               const SimulationOptions& options, const Progress& progress = {});
+// The same on the tri-dexel workpiece (DexelWorkpiece).
 RemovalSummary remove_toolpath(TriDexel& stock, const Cutter& cutter, const Toolpath& path,
                                const SimulationOptions& options, const Progress& progress = {});
 
@@ -78,6 +83,12 @@ using EngagementSink =
 // flow; DexelEngagement). Rapid moves and moves without samples are removed whole. An
 // `engagement.contact` of 0 takes the sweep tolerance (options.effective_tolerance()).
 // The removal summary is that of remove_toolpath (the same workpiece results).
+RemovalSummary simulate_engagement(Workpiece& stock, const Cutter& cutter, const Toolpath& path,
+                                   const SimulationOptions& options,
+                                   const SamplingOptions& sampling,
+                                   const EngagementOptions& engagement, const EngagementSink& sink,
+                                   const Progress& progress = {});
+// The same on the tri-dexel workpiece (DexelWorkpiece).
 RemovalSummary simulate_engagement(TriDexel& stock, const Cutter& cutter, const Toolpath& path,
                                    const SimulationOptions& options,
                                    const SamplingOptions& sampling,

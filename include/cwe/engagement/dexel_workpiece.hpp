@@ -1,0 +1,28 @@
+#pragma once
+// The tri-dexel workpiece behind the workpiece seam (workpiece.hpp): removal by the exact ray
+// chords of each sweep's linear pieces (TriDexel::remove), engagement by DexelEngagement from
+// what the step removed (RemovalRecord).
+
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "cwe/engagement/workpiece.hpp"
+#include "cwe/workpiece/dexel/tri_dexel.hpp"
+
+namespace cwe {
+
+class DexelWorkpiece : public Workpiece {
+ public:
+  // Works on `stock`, which must outlive it.
+  explicit DexelWorkpiece(TriDexel& stock) : stock_(stock) {}
+  double cell_volume() const override;
+  std::vector<double> remove(std::span<const MoveSweep> sweeps) override;
+  std::unique_ptr<StepEngagement> engagement(const Cutter& cutter,
+                                             const EngagementOptions& options) override;
+
+ private:
+  TriDexel& stock_;
+};
+
+}  // namespace cwe

@@ -1,0 +1,67 @@
+#include "cwe/engagement/dexel_workpiece.hpp"
+
+#include <cmath>
+
+#include "cwe/engagement/dexel_engagement.hpp"
+#include "cwe/workpiece/dexel/removal_record.hpp"
+
+namespace cwe {
+namespace {
+
+// A linear sweep as a dexel cut: its box, its chords and, where it has one, its cheap reach.
+TriDexel::Cut cut_of(const LinearSweep& piece) {
+  TriDexel::Cut cut{piece.bounds(), [&piece](const Ray& ray) { return piece.chord(ray); }, {}};
+  if (piece.has_reach()) cut.reach = [&piece](const Ray& ray) { return piece.reach(ray); };
+  return cut;
+}
+
+class DexelStepEngagement : public StepEngagement {
+ public:
+  DexelStepEngagement(TriDexel& stock, const Cutter& cutter, const EngagementOptions& options)
+      : stock_(stock), engage_(cutter, stock.spacing(), options) {}
+
+  double remove(const MoveSweep& sweep, bool record) override {
+    std::vector<TriDexel::Cut> cuts;
+    for (const LinearSweep& piece : sweep.pieces()) cuts.push_back(cut_of(piece));
+    double volume = 0.0;
+    for (const TriDexel::Removal& r : stock_.remove(cuts, record ? &step_ : nullptr)) {
+      volume += r.volume;
+    }
+    return volume;
+  }
+
+  EngagementMap at(const ToolState& state) const override {
+    return engage_.at(stock_, step_, state);
+  }
+
+ private:
+  TriDexel& stock_;
+  DexelEngagement engage_;
+  RemovalRecord step_;
+};
+
+}  // namespace
+
+double DexelWorkpiece::cell_volume() const { return std::pow(stock_.spacing(), 3); }
+
+std::vector<double> DexelWorkpiece::remove(std::span<const MoveSweep> sweeps) {
+  std::vector<TriDexel::Cut> cuts;
+  std::vector<std::size_t> owner;  // sweep of each cut
+  for (std::size_t m = 0; m < sweeps.size(); ++m) {
+    for (const LinearSweep& piece : sweeps[m].pieces()) {
+      cuts.push_back(cut_of(piece));
+      owner.push_back(m);
+    }
+  }
+  const std::vector<TriDexel::Removal> removed = stock_.remove(cuts);
+  std::vector<double> volume(sweeps.size(), 0.0);
+  for (std::size_t k = 0; k < cuts.size(); ++k) volume[owner[k]] += removed[k].volume;
+  return volume;
+}
+
+std::unique_ptr<StepEngagement> DexelWorkpiece::engagement(const Cutter& cutter,
+                                                           const EngagementOptions& options) {
+  return std::make_unique<DexelStepEngagement>(stock_, cutter, options);
+}
+
+}  // namespace cwe
