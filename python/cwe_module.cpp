@@ -103,17 +103,28 @@ py::list intervals(const std::vector<Interval>& phi) {
   return out;
 }
 
-Run run(Job job, bool engagement) {
+// `progress` (None, or a callable taking moves done and moves in all) is called, holding the
+// GIL, each time another percent of the moves is done.
+Run run(Job job, bool engagement, const py::object& progress) {
   PreparedJob prepared = prepare_job(job, false);
   TriDexel stock = make_stock(parse_stock_spec(job.stock, SourceLocation{"stock"}),
                               prepared.simulation);
   auto columns = std::make_shared<Columns>();
   ClSink* const sinks[] = {columns.get()};
   std::shared_ptr<JobResult> result;
+  int shown = -1;
+  const Progress report = [&](std::size_t done, std::size_t total) {
+    if (progress.is_none() || total == 0) return;
+    const int percent = static_cast<int>(100 * done / total);
+    if (percent == shown) return;
+    shown = percent;
+    py::gil_scoped_acquire acquire;
+    progress(done, total);
+  };
   {
     py::gil_scoped_release release;
     result = std::make_shared<JobResult>(
-        run_job(prepared, std::move(stock), RunOptions{engagement}, sinks));
+        run_job(prepared, std::move(stock), RunOptions{engagement}, sinks, report));
   }
   JobSummary extras;
   extras.stock = job.stock;
@@ -226,7 +237,8 @@ PYBIND11_MODULE(_cwe, m) {
           },
           py::arg("stride") = 1);
 
-  m.def("_run", &run, py::arg("job"), py::arg("engagement") = true);
+  m.def("_run", &run, py::arg("job"), py::arg("engagement") = true,
+        py::arg("progress") = py::none());
 
   m.def(
       "_tool_profile",

@@ -15,6 +15,7 @@ Errors in the input raise cwe.InputError (a ValueError) with .file, .line, .colu
 """
 
 import json
+import sys
 
 import numpy as np
 
@@ -113,13 +114,33 @@ class Run:
         return self._raw.stock_mesh(stride)
 
 
-def run(job, engagement=True, **settings):
-    """Runs `job` (a Job, or the settings of one), with `settings` overriding its own. The GIL is
-    released while it runs."""
+def _interactive():
+    return sys.stderr.isatty() or "ipykernel" in sys.modules
+
+
+def _progress_bar(done, total):
+    """A one-line bar on standard error, redrawn in place."""
+    percent = 100 * done // total
+    filled = percent * 40 // 100
+    sys.stderr.write(f"\rremoving material [{'#' * filled}{' ' * (40 - filled)}] {percent:3d}%  "
+                     f"move {done}/{total}")
+    if done == total:
+        sys.stderr.write("\n")
+    sys.stderr.flush()
+
+
+def run(job, engagement=True, progress=None, **settings):
+    """Runs `job` (a Job, or the settings of one), with `settings` overriding its own.
+
+    `progress`: None (the default) shows a bar on standard error in a terminal or a notebook;
+    False shows none; a callable is called with (moves done, moves in all) at each percent. The
+    GIL is released while the job runs."""
     if not isinstance(job, Job):
         job = Job(**job) if isinstance(job, dict) else job
     job = job.copy().update(**settings) if settings else job.copy()
-    return Run(_cwe._run(job, engagement))
+    if progress is None:
+        progress = _progress_bar if _interactive() else False
+    return Run(_cwe._run(job, engagement, progress if progress else None))
 
 
 class Tool:

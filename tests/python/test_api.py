@@ -108,3 +108,10 @@ def test_tool_profile():
     ball = z <= 3.0
     assert np.allclose(rho[ball], np.sqrt(z[ball] * (6.0 - z[ball])), atol=1e-9)
     assert np.allclose(rho[~ball], 3.0)
+
+
+def test_progress_reaches_every_move(slot):
+    calls = []
+    cwe.run(slot_job(slot), progress=lambda done, total: calls.append((done, total)))
+    assert calls[-1] == (4, 4)  # the slot program's four moves
+    assert all(a[0] <= b[0] for a, b in zip(calls, calls[1:]))
