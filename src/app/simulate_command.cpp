@@ -101,6 +101,38 @@ void add_simulate_command(CLI::App& app, SimulateCommandOptions& options) {
 
 namespace {
 
+// Where the outputs of a run are.
+void print_outputs(std::ostream& out, const SimulateCommandOptions& options, bool forces,
+                   const nlohmann::json& summary) {
+  const std::size_t triangles = summary["stock_mesh"]["triangles"].get<std::size_t>();
+  const double lattice = summary["stock_mesh"]["lattice_mm"].get<double>();
+  const std::size_t maps_written =
+      summary.contains("engagement") ? summary["engagement"]["maps"].get<std::size_t>() : 0;
+  const std::size_t curves_written =
+      summary.contains("forces") ? summary["forces"]["curves"].get<std::size_t>() : 0;
+  if (!options.stock_only) {
+    fmt::print(out,
+               "  outputs     {0}/engagement.csv (one row per cutter location), "
+               "{0}/engagement.jsonl (per-disc angles),\n"
+               "              {0}/maps/ ({1} engagement maps, path.png along the path),\n",
+               options.out, maps_written);
+    if (forces) {
+      fmt::print(out,
+                 "              {0}/forces.csv (forces, torque, power per cutter location){1},\n",
+                 options.out,
+                 curves_written > 0
+                     ? fmt::format(", {}/force_curves/ ({} curves)", options.out, curves_written)
+                     : std::string());
+    }
+  }
+  fmt::print(out,
+             "  {}{}/stock.stl (machined stock, {} triangles on a {:g} mm lattice){}, "
+             "{}/summary.json\n",
+             options.stock_only ? "outputs     " : "            ", options.out,
+             triangles, lattice,
+             options.ply ? fmt::format(", {}/stock.ply", options.out) : std::string(), options.out);
+}
+
 // The terminal report of a run: what ran, volumes, engagement and force extremes, accuracy,
 // time, warnings and where the outputs are (lengths in `unit`).
 void print_report(std::ostream& out, const SimulateCommandOptions& options,
@@ -118,12 +150,6 @@ void print_report(std::ostream& out, const SimulateCommandOptions& options,
   const double deepest = run.deepest, largest_area = run.largest_area;
   const double seconds = summary["seconds"].get<double>();
   const int threads = job.threads;
-  const std::size_t triangles = summary["stock_mesh"]["triangles"].get<std::size_t>();
-  const int stride = summary["stock_mesh"]["stride"].get<int>();
-  const std::size_t maps_written =
-      summary.contains("engagement") ? summary["engagement"]["maps"].get<std::size_t>() : 0;
-  const std::size_t curves_written =
-      summary.contains("forces") ? summary["forces"]["curves"].get<std::size_t>() : 0;
   std::size_t warning_count = 0;
   for (const PreparedOperation& op : operations) warning_count += op.read.toolpath.warnings.size();
   for (const PreparedOperation& op : operations) {
@@ -173,27 +199,7 @@ void print_report(std::ostream& out, const SimulateCommandOptions& options,
     fmt::print(out, "  warning     the toolpath readers reported {} warnings; see summary.json\n",
                warning_count);
   }
-  if (!options.stock_only) {
-    fmt::print(out,
-               "  outputs     {0}/engagement.csv (one row per cutter location), "
-               "{0}/engagement.jsonl (per-disc angles),\n"
-               "              {0}/maps/ ({1} engagement maps, path.png along the path),\n",
-               options.out, maps_written);
-    if (job.forces) {
-      fmt::print(out,
-                 "              {0}/forces.csv (forces, torque, power per cutter location){1},\n",
-                 options.out,
-                 curves_written > 0
-                     ? fmt::format(", {}/force_curves/ ({} curves)", options.out, curves_written)
-                     : std::string());
-    }
-  }
-  fmt::print(out,
-             "  {}{}/stock.stl (machined stock, {} triangles on a {:g} mm lattice){}, "
-             "{}/summary.json\n",
-             options.stock_only ? "outputs     " : "            ", options.out,
-             triangles, stride * simulation.resolution,
-             options.ply ? fmt::format(", {}/stock.ply", options.out) : std::string(), options.out);
+  print_outputs(out, options, job.forces.has_value(), summary);
 }
 
 }  // namespace
