@@ -7,6 +7,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -148,8 +149,16 @@ PYBIND11_MODULE(_cwe, m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const InputError& e) {
-      py::object error = py::reinterpret_borrow<py::object>(input_error.ptr())(e.what());
-      error.attr("file") = e.location().source;
+      // The library names a setting by its command-line option; here it is a Job attribute.
+      SourceLocation where = e.location();
+      std::string text = e.what();
+      if (where.source.rfind("--", 0) == 0 && where.line == 0) {
+        where.source = where.source.substr(2);
+        std::replace(where.source.begin(), where.source.end(), '-', '_');
+        text = where.source + ": error: " + e.message();
+      }
+      py::object error = py::reinterpret_borrow<py::object>(input_error.ptr())(text);
+      error.attr("file") = where.source;
       error.attr("line") = e.location().line;
       error.attr("column") = e.location().column;
       error.attr("reason") = e.message();

@@ -99,6 +99,12 @@ def test_errors_are_exceptions_with_their_place(tmp_path):
         cwe.Tool("flat:-3")
     with pytest.raises(TypeError, match="stok"):
         cwe.Job(stok=STOCK)
+    # A setting is named as the Job attribute it is.
+    with pytest.raises(cwe.InputError, match="^stock: error: ") as error:
+        cwe.run(cwe.Job(stock="box:0,0,0,1,1", tool="flat:3", path=str(bad)))
+    assert error.value.file == "stock"
+    with pytest.raises(cwe.InputError, match="^tool_change: error: "):
+        cwe.run(cwe.Job(stock=STOCK, tool="flat:3", path=str(bad), tool_change="up"))
 
 
 def test_tool_profile():
