@@ -130,9 +130,6 @@ Run run(Job job, bool engagement, const py::object& progress) {
   JobSummary extras;
   extras.stock = job.stock;
   extras.engagement = engagement;
-  const TriangleMesh mesh;  // the summary's mesh figures are those of no mesh here
-  extras.mesh = &mesh;
-  extras.mesh_stride = 0;
   return Run{columns, result, job_summary(prepared, *result, extras)};
 }
 

@@ -100,7 +100,7 @@ class Run:
 
     @property
     def summary(self):
-        """summary.json as a dict (without the stock mesh's figures)."""
+        """summary.json as a dict (without "stock_mesh": no stock.stl is written)."""
         return json.loads(self._raw.summary_json)
 
     def discs(self, cl):

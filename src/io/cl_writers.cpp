@@ -89,24 +89,21 @@ std::string engagement_jsonl_line(std::size_t k, const ClPoint& cl, const Engage
     }
     return out + "]";
   };
+  // The engaged bands of one kind (discs z0–z1, rings r0–r1) as a JSON array's items.
+  const auto bands = [&](const auto& list, const char* lo, const char* hi, auto from, auto to) {
+    std::string out;
+    for (const auto& band : list) {
+      if (band.phi.empty()) continue;
+      out += fmt::format(R"({}{{"{}":{:.{}f},"{}":{:.{}f},"intervals":{}}})",
+                         out.empty() ? "" : ",", lo, unit.length(band.*from), 4 + e, hi,
+                         unit.length(band.*to), 4 + e, intervals(band.phi));
+    }
+    return out;
+  };
   std::string line = fmt::format(R"({{"cl":{},"move":{},"discs":[)", k, cl.move + 1);
-  bool first = true;
-  for (const DiscEngagement& disc : map.discs) {
-    if (disc.phi.empty()) continue;
-    line += fmt::format(R"({}{{"z0":{:.{}f},"z1":{:.{}f},"intervals":{}}})", first ? "" : ",",
-                        unit.length(disc.z0), 4 + e, unit.length(disc.z1), 4 + e,
-                        intervals(disc.phi));
-    first = false;
-  }
+  line += bands(map.discs, "z0", "z1", &DiscEngagement::z0, &DiscEngagement::z1);
   line += R"(],"bottom":{"rings":[)";
-  first = true;
-  for (const RingEngagement& ring : map.rings) {
-    if (ring.phi.empty()) continue;
-    line += fmt::format(R"({}{{"r0":{:.{}f},"r1":{:.{}f},"intervals":{}}})", first ? "" : ",",
-                        unit.length(ring.r0), 4 + e, unit.length(ring.r1), 4 + e,
-                        intervals(ring.phi));
-    first = false;
-  }
+  line += bands(map.rings, "r0", "r1", &RingEngagement::r0, &RingEngagement::r1);
   return line + "]}}\n";
 }
 

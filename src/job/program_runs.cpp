@@ -60,7 +60,7 @@ ReadToolpath read_program(const std::string& path, const EntryRules& rules) {
   return read_toolpath_file(path, gcode);
 }
 
-// A rapid of the tool of `like` from `from` to `to`, at `where`'s line; nullopt when they meet.
+// A rapid of the tool of `like` from `from` to `to`, at `line`; nullopt when they meet.
 std::optional<Move> rapid(const Move& like, const Vec3& from, const Vec3& to, int line) {
   if (from == to) return std::nullopt;
   Move m;
@@ -111,28 +111,26 @@ EntryRules entry_rules(const Job& options) {
   rules.clearance_z =
       (stock.is_box ? stock.box.max.z() : read_stl(stock.path).mesh.bounds().max.z()) +
       kStartClearance;
-  if (options.start == "origin") {
-    rules.start = EntryRules::Kind::kOrigin;
-  } else if (!options.start.empty() && options.start != "auto") {
-    const std::optional<Vec3> at = point_of(options.start);
-    if (!at) {
-      throw InputError(SourceLocation{"--start"},
-                       fmt::format("'{}': expected auto, origin or x,y,z", options.start));
+  // "auto" (or empty), the option's own word, or x,y,z in --units.
+  const auto parse = [&](const std::string& text, const char* option, const char* word,
+                         EntryRules::Kind word_kind, EntryRules::Kind& kind, Vec3& at) {
+    if (text.empty() || text == "auto") return;
+    if (text == word) {
+      kind = word_kind;
+      return;
     }
-    rules.start = EntryRules::Kind::kGiven;
-    rules.start_at = *at * unit_length(options.units);
-  }
-  if (options.tool_change == "stay") {
-    rules.change = EntryRules::Kind::kStay;
-  } else if (!options.tool_change.empty() && options.tool_change != "auto") {
-    const std::optional<Vec3> at = point_of(options.tool_change);
-    if (!at) {
-      throw InputError(SourceLocation{"--tool-change"},
-                       fmt::format("'{}': expected auto, stay or x,y,z", options.tool_change));
+    const std::optional<Vec3> point = point_of(text);
+    if (!point) {
+      throw InputError(SourceLocation{option},
+                       fmt::format("'{}': expected auto, {} or x,y,z", text, word));
     }
-    rules.change = EntryRules::Kind::kGiven;
-    rules.change_at = *at * unit_length(options.units);
-  }
+    kind = EntryRules::Kind::kGiven;
+    at = *point * unit_length(options.units);
+  };
+  parse(options.start, "--start", "origin", EntryRules::Kind::kOrigin, rules.start,
+        rules.start_at);
+  parse(options.tool_change, "--tool-change", "stay", EntryRules::Kind::kStay, rules.change,
+        rules.change_at);
   return rules;
 }
 

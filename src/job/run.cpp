@@ -78,9 +78,9 @@ JobResult run_job(const PreparedJob& job, TriDexel stock, const RunOptions& opti
           feed = feed_rate(move, *job.forces);
         }
         if (op.forces && options.forces) {
-          const bool curve = std::any_of(sinks.begin(), sinks.end(), [&](ClSink* s) {
-            return s->wants_curve(k, map.engaged);
-          });
+          // Every sink is asked (no short cut): a sink's choice may keep state from CL to CL.
+          bool curve = false;
+          for (ClSink* s : sinks) curve = s->wants_curve(k, map.engaged) || curve;
           forces = op.forces->evaluate(
               map, state, feed_per_tooth(feed, op.forces->flutes(), spindle), spindle, curve);
           result.extremes.add(*forces, k, file, cl.line);

@@ -69,12 +69,14 @@ std::string job_summary(const PreparedJob& job, const JobResult& run, const JobS
   summary["volume_spread_mm3"] = final_volume.spread();
   summary["bytes_per_ray"] =
       static_cast<double>(memory.total()) / static_cast<double>(stock.ray_count());
-  summary["stock_mesh"] = {{"file", "stock.stl"},
-                           {"stride", extras.mesh_stride},
-                           {"lattice_mm", extras.mesh_stride * simulation.resolution},
-                           {"triangles", extras.mesh->triangles.size()},
-                           {"volume_mm3", extras.mesh->volume()}};
-  if (extras.ply) summary["stock_mesh"]["ply"] = "stock.ply";
+  if (extras.mesh != nullptr) {
+    summary["stock_mesh"] = {{"file", "stock.stl"},
+                             {"stride", extras.mesh_stride},
+                             {"lattice_mm", extras.mesh_stride * simulation.resolution},
+                             {"triangles", extras.mesh->triangles.size()},
+                             {"volume_mm3", extras.mesh->volume()}};
+    if (extras.ply) summary["stock_mesh"]["ply"] = "stock.ply";
+  }
   if (extras.engagement) {
     EngagementOptions engagement;
     engagement.contact = simulation.effective_tolerance();  // as simulate_engagement takes it

@@ -18,7 +18,7 @@ struct JobSummary {
   double seconds = 0.0;            // wall time of the job
   bool engagement = true;          // the run extracted the engagement
   int mesh_stride = 1;             // of stock.stl
-  const TriangleMesh* mesh = nullptr;  // stock.stl's mesh
+  const TriangleMesh* mesh = nullptr;  // stock.stl's mesh; none: no stock_mesh entry
   bool ply = false;                // stock.ply written too
   std::size_t maps = 0, curves = 0;    // figures written
 };
