@@ -8,7 +8,9 @@
 //    which must see the workpiece between moves);
 //  - BallRaster: a 6 mm ball end mill finishing a curved surface, 1 mm segments along X at
 //    0.5 mm stepover, five passes (500 moves; every segment climbs or descends: the general
-//    chord construction).
+//    chord construction);
+//  - BullRaster: the same with a 10 mm bull-nose end mill of corner radius 2 (the swept grazing
+//    curves of the torus, followed by Brent's method per ray).
 // Counters: moves per second, bytes per ray (current) and peak bytes per ray, rays.
 #include <benchmark/benchmark.h>
 
@@ -109,5 +111,8 @@ BENCHMARK(BM_PocketOneByOne)->Arg(100)->Unit(benchmark::kMillisecond)->UseRealTi
 
 void BM_BallRaster(benchmark::State& state) { run_job(state, "ball:6,20", raster_job()); }
 BENCHMARK(BM_BallRaster)->Arg(100)->Arg(50)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_BullRaster(benchmark::State& state) { run_job(state, "bull:10,2,20", raster_job()); }
+BENCHMARK(BM_BullRaster)->Arg(100)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "cwe/geometry/intersect.hpp"
 #include "cwe/geometry/roots.hpp"
 #include "cwe/geometry/tolerance.hpp"
+#include "cwe/tool/piece_chord.hpp"
 
 namespace cwe {
 namespace {
@@ -44,13 +45,6 @@ bool solve_in_plane(const Vec3& d, const Vec3& D, const Vec3& rhs, double& t, do
   t = (b1 * a22 - a12 * b2) / det;
   lambda = (a11 * b2 - a12 * b1) / det;
   return true;
-}
-
-// Ray parameters with z0 ≤ z ≤ z1 (TCS heights).
-Interval height_slab(const Vec3& o, const Vec3& d, double z0, double z1) {
-  if (d.z() == 0.0) return o.z() >= z0 && o.z() <= z1 ? Interval::full() : Interval::empty();
-  const double a = (z0 - o.z()) / d.z(), b = (z1 - o.z()) / d.z();
-  return {std::min(a, b), std::max(a, b)};
 }
 
 // Narrows `chord` to the parameters where s0 + t·ds lies in [lo, hi].
@@ -170,27 +164,12 @@ LinearSweep::LinearSweep(const Cutter& cutter, const Vec3& start, const Vec3& en
       mode_ = Mode::kAxial;
     }
   }
-  if (vertical) {  // sections serve the closed forms and the culls of chord()
-    for (const auto& s : segments) {
-      Section section;
-      section.z0 = s.min_z();
-      section.z1 = s.max_z();
-      if (s.kind == ProfileSegment::Kind::kLine) {
-        section.r0 = s.start.x();
-        section.r1 = s.end.x();
-      } else {
-        section.arc = true;
-        section.center_r = s.center.x();
-        section.center_z = s.center.y();
-        section.radius = s.radius;
-      }
-      sections_.push_back(section);
-    }
+  if (vertical) {
     // The height of the widest section (R is concave: any maximiser serves).
     double widest = -1.0;
-    for (const Section& s : sections_) {
-      for (const double h : {s.z0, s.z1, std::clamp(s.center_z, s.z0, s.z1)}) {
-        const double r = section_radius(h);
+    for (const auto& s : segments) {
+      for (const double h : {s.min_z(), s.max_z(), std::clamp(s.center.y(), s.min_z(), s.max_z())}) {
+        const double r = cutter.profile().radius_at(h);
         if (r > widest) widest = r, widest_height_ = h;
       }
     }
@@ -204,99 +183,20 @@ LinearSweep::LinearSweep(const Cutter& cutter, const Vec3& start, const Vec3& en
 }
 
 Vec3 LinearSweep::grazing_point(int segment_index, int branch, double u, bool& exists) const {
-  // N·D = n_ρ (D_x sin φ + D_y cos φ) + n_z D_z = 0 on branch 0 (asin) or 1 (π - asin). Where no
-  // grazing angle exists (|sin φ| would exceed 1) the curve is continued with sin φ clamped, so
-  // that crossings near its end are still bracketed; `exists` says which case holds.
+  // The tangency function of a translation (tangency_coefficients with ω = 0) in amplitude-phase
+  // form, its phase fixed per move: N·D = n_ρ·lateral·sin(φ + phase) + n_z D_z = 0 on branch 0
+  // or 1, continued past the curve's end as sin_cos_branch says. Horizontal faces (n_ρ = 0)
+  // have no grazing curve.
   const ProfileSegment& segment =
       cutter_->profile().segments()[static_cast<std::size_t>(segment_index)];
   const Vec2 normal = segment.normal_at(u);
   const Vec2 p = segment.point_at(u);
   exists = false;
-  double phi = 0.0;
-  if (std::abs(normal.x()) > tol::kAngle) {  // horizontal faces have no grazing curve
-    double s = -normal.y() * delta_.z() / (normal.x() * lateral_);
-    exists = s >= -1.0 && s <= 1.0;
-    s = std::clamp(s, -1.0, 1.0);
-    const double base = std::asin(s);
-    phi = (branch == 0 ? base : kPi - base) - phase_;
-  }
+  const double phi = std::abs(normal.x()) > tol::kAngle
+                         ? sin_cos_branch(normal.x() * lateral_, phase_, normal.y() * delta_.z(),
+                                          branch, exists)
+                         : 0.0;
   return {p.x() * std::sin(phi), p.x() * std::cos(phi), p.y()};
-}
-
-Interval LinearSweep::tool_chord(const Vec3& o, const Vec3& d) const {
-  // A convex tool is the union of its pieces' solids stacked along the axis, each convex, so
-  // the hull of their chords is the tool's chord.
-  const Ray ray{o, d};
-  Hull hull;
-  for (const ProfileSegment& s : cutter_->profile().segments()) {
-    if (s.kind == ProfileSegment::Kind::kLine) {
-      if (s.is_horizontal()) {
-        hull.add(intersect(ray, Disc{Vec3(0.0, 0.0, s.start.y()), Vec3::UnitZ(), s.max_radius()}));
-      } else {
-        hull.add(intersect(ray, Frustum{Vec3(0.0, 0.0, s.start.y()), Vec3::UnitZ(), s.start.x(),
-                                        s.end.x(), s.end.y() - s.start.y()}));
-      }
-      continue;
-    }
-    const Interval band = height_slab(o, d, s.min_z(), s.max_z());
-    if (band.is_empty()) continue;
-    if (s.center.x() <= 0.0) {
-      hull.add(intersect(intersect(ray, Sphere{Vec3(0.0, 0.0, s.center.y()), s.radius}), band));
-      continue;
-    }
-    // Convex corner: the tube together with the core cylinder ρ ≤ c_ρ, within the band.
-    for (const Interval& i :
-         intersect(ray, Torus{Vec3(0.0, 0.0, s.center.y()), Vec3::UnitZ(), s.center.x(), s.radius}))
-      hull.add(intersect(i, band));
-    hull.add(intersect(ray, Frustum{Vec3(0.0, 0.0, s.min_z()), Vec3::UnitZ(), s.center.x(),
-                                    s.center.x(), s.max_z() - s.min_z()}));
-  }
-  return hull.interval();
-}
-
-double LinearSweep::section_radius(double h) const {
-  // Arcs of a convex profile lie right of their centres.
-  double r = 0.0;
-  for (const Section& s : sections_) {
-    if (h < s.z0 || h > s.z1) continue;
-    if (s.arc) {
-      const double dz = h - s.center_z;
-      r = std::max(r, s.center_r + std::sqrt(std::max(0.0, s.radius * s.radius - dz * dz)));
-    } else if (s.z0 == s.z1) {
-      r = std::max({r, s.r0, s.r1});
-    } else {
-      r = std::max(r, s.r0 + (s.r1 - s.r0) * ((h - s.z0) / (s.z1 - s.z0)));
-    }
-  }
-  return r;
-}
-
-Interval LinearSweep::heights_reaching(double r) const {
-  Hull hull;
-  for (const Section& s : sections_) {
-    if (!s.arc) {
-      if (s.z0 == s.z1) {
-        if (std::max(s.r0, s.r1) >= r) hull.add(s.z0);
-      } else if (s.r0 >= r && s.r1 >= r) {
-        hull.add(s.z0), hull.add(s.z1);
-      } else if (s.r0 >= r || s.r1 >= r) {
-        const double zc = std::clamp(s.z0 + (r - s.r0) / (s.r1 - s.r0) * (s.z1 - s.z0), s.z0, s.z1);
-        hull.add(s.r0 >= r ? Interval{s.z0, zc} : Interval{zc, s.z1});
-      }
-      continue;
-    }
-    // Convex arc: ρ(z) = c + √(R² - (z - c_z)²) ≥ r.
-    if (r <= s.center_r) {
-      hull.add(Interval{s.z0, s.z1});
-      continue;
-    }
-    const double excess = r - s.center_r;
-    const double w2 = s.radius * s.radius - excess * excess;
-    if (w2 < 0.0) continue;
-    const double w = std::sqrt(w2);
-    hull.add(intersect(Interval{s.center_z - w, s.center_z + w}, Interval{s.z0, s.z1}));
-  }
-  return hull.interval();
 }
 
 Interval LinearSweep::capsule_span(const Vec3& o, int along, double r) const {
@@ -330,7 +230,7 @@ Interval LinearSweep::level_chord(const Ray& ray) const {
   if (d.z() == 0.0) {
     const double h = o.z() - start_.z();
     if (!(h >= 0.0 && h <= profile.height())) return Interval::empty();
-    const double r = section_radius(h);
+    const double r = profile.radius_at(h);
     const int along = d.y() == 0.0 ? 0 : 1;
     if (d.squaredNorm() == 1.0 && d[1 - along] == 0.0) {
       // Along world X or Y: the capsule's extent on the ray's line, then t = ±(x - o_x).
@@ -347,7 +247,7 @@ Interval LinearSweep::level_chord(const Ray& ray) const {
   const Vec2 along = c1 - c0;
   const double length2 = along.squaredNorm();
   const double u = length2 > 0.0 ? std::clamp((q - c0).dot(along) / length2, 0.0, 1.0) : 0.0;
-  const Interval h = heights_reaching((q - c0 - u * along).norm());
+  const Interval h = cutter_->profile().heights_reaching((q - c0 - u * along).norm());
   if (h.is_empty()) return h;
   const double a = (start_.z() + h.lo - o.z()) / d.z(), b = (start_.z() + h.hi - o.z()) / d.z();
   return {std::min(a, b), std::max(a, b)};
@@ -362,10 +262,10 @@ Interval LinearSweep::axial_chord(const Ray& ray) const {
     // The heights above the tip that pass the ray's level during the move.
     const double a = std::max(0.0, o.z() - z_high), b = std::min(profile.height(), o.z() - z_low);
     if (!(a <= b)) return Interval::empty();
-    const double r = section_radius(std::clamp(widest_height_, a, b));
+    const double r = profile.radius_at(std::clamp(widest_height_, a, b));
     return disc_chord(o.head<2>(), d.head<2>(), start_.head<2>(), r);
   }
-  const Interval h = heights_reaching((o.head<2>() - start_.head<2>()).norm());
+  const Interval h = cutter_->profile().heights_reaching((o.head<2>() - start_.head<2>()).norm());
   if (h.is_empty()) return h;
   const double a = (z_low + h.lo - o.z()) / d.z(), b = (z_high + h.hi - o.z()) / d.z();
   return {std::min(a, b), std::max(a, b)};
@@ -395,7 +295,7 @@ Interval LinearSweep::chord(const Ray& ray) const {
     const double o = ray.origin[across];
     const double gap = o < a0 ? a0 - o : (o > a1 ? o - a1 : 0.0);
     if (gap > plan_radius_ * (1.0 + tol::kRelative) + tol::kLength) return Interval::empty();
-    const Interval heights = heights_reaching(gap);
+    const Interval heights = cutter_->profile().heights_reaching(gap);
     const double floor = std::min(start_.z(), end_.z()) + (heights.is_empty() ? 0.0 : heights.lo);
     if (ray.origin.z() < floor - tol::kLength * (1.0 + std::abs(floor) / tol::kModelScale)) {
       return Interval::empty();
@@ -417,7 +317,7 @@ Interval LinearSweep::reach(const Ray& ray) const {
   // Every tool point over plan point q stands at least h_lo(gap) above its tip (see chord()).
   const double gap = plan_gap(ray.origin);
   if (gap > plan_radius_ * (1.0 + tol::kRelative) + tol::kLength) return Interval::empty();
-  const Interval heights = heights_reaching(gap);
+  const Interval heights = cutter_->profile().heights_reaching(gap);
   const double floor = std::min(start_.z(), end_.z()) + (heights.is_empty() ? 0.0 : heights.lo);
   const double margin = tol::kLength * (1.0 + std::abs(floor) / tol::kModelScale);
   const double t = (floor - margin - ray.origin.z()) / d.z();
@@ -428,9 +328,11 @@ Interval LinearSweep::generic_chord(const Ray& ray) const {
   const Vec3 o = tcs_.to_local(ray.origin);
   const Vec3 d = tcs_.direction_to_local(ray.direction);
   Hull hull;
-  // The tool at the start and at the end.
-  hull.add(tool_chord(o, d));
-  hull.add(tool_chord(o - delta_, d));
+  // The tool at the start and at the end (a convex tool: the hull of its pieces' chords).
+  for (const Ray& at_end : {Ray{o, d}, Ray{o - delta_, d}}) {
+    for (const ProfileSegment& s : cutter_->profile().segments())
+      hull.add(convex_piece_chord(s, at_end));
+  }
 
   const Vec3 n = d.cross(delta_);
   if (n.norm() <= tol::kAngle * d.norm() * delta_.norm()) {

@@ -333,12 +333,21 @@ Roots solve_sin_cos(double a, double b, double c) {
     return roots;
   }
   if (gap < 0.0) return roots;           // |c| > ρ: no root
-  const double s = std::asin(-c / rho);  // |c/ρ| < 1 here
-  const double first = wrap_angle(polish_sin_cos(a, b, c, s - delta));
-  const double second = wrap_angle(polish_sin_cos(a, b, c, kPi - s - delta));
+  bool exists = true;  // |c/ρ| < 1 here
+  const double first = wrap_angle(polish_sin_cos(a, b, c, sin_cos_branch(rho, delta, c, 0, exists)));
+  const double second =
+      wrap_angle(polish_sin_cos(a, b, c, sin_cos_branch(rho, delta, c, 1, exists)));
   roots.push(first);
   if (second != first) roots.push(second);
   return roots;
+}
+
+double sin_cos_branch(double rho, double delta, double c, int branch, bool& exists) {
+  double s = -c / rho;
+  exists = s >= -1.0 && s <= 1.0;
+  s = std::clamp(s, -1.0, 1.0);
+  const double base = std::asin(s);
+  return (branch == 0 ? base : kPi - base) - delta;
 }
 
 std::optional<double> brent_root(const ScalarFunction& f, double a, double b, double tolerance) {

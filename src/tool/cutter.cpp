@@ -9,6 +9,7 @@
 #include "cwe/core/error.hpp"
 #include "cwe/geometry/intersect.hpp"
 #include "cwe/geometry/tolerance.hpp"
+#include "cwe/tool/piece_chord.hpp"
 
 namespace cwe {
 namespace {
@@ -24,34 +25,6 @@ PatchKind classify(const ProfileSegment& s) {
 
 Vec3 revolve(const Vec2& rho_z, double phi) {
   return {rho_z.x() * std::sin(phi), rho_z.x() * std::cos(phi), rho_z.y()};
-}
-
-// The solid frustum under a non-horizontal line piece.
-Frustum frustum_of(const ProfileSegment& s) {
-  Frustum f;
-  f.base = Vec3(0.0, 0.0, s.start.y());
-  f.axis = Vec3::UnitZ();
-  f.radius0 = s.start.x();
-  f.radius1 = s.end.x();
-  f.height = s.end.y() - s.start.y();
-  return f;
-}
-
-// The tube about the arc piece's centre circle.
-Torus torus_of(const ProfileSegment& s) {
-  Torus t;
-  t.center = Vec3(0.0, 0.0, s.center.y());
-  t.axis = Vec3::UnitZ();
-  t.major_radius = std::max(0.0, s.center.x());
-  t.minor_radius = s.radius;
-  return t;
-}
-
-// Ray parameters with z ∈ [z0, z1].
-Interval slab(const Ray& ray, double z0, double z1) {
-  const Interval below = intersect(ray, Plane{Vec3(0.0, 0.0, z1), Vec3::UnitZ()});
-  const Interval above = intersect(ray, Plane{Vec3(0.0, 0.0, z0), -Vec3::UnitZ()});
-  return cwe::intersect(below, above);
 }
 
 // Closure of a \ b for one interval a and sorted disjoint intervals b.
@@ -164,46 +137,38 @@ double Cutter::implicit_value(int patch, const Vec3& p) const {
 std::vector<Interval> Cutter::intersect_patch(int patch, const Ray& ray) const {
   const ProfileSegment& s = segment_of(patch);
   std::vector<Interval> out;
-  const auto keep = [&out](const Interval& i) {
+  if (s.kind == ProfileSegment::Kind::kLine || s.counterclockwise) {
+    const Interval chord = convex_piece_chord(s, ray);
+    if (!chord.is_empty()) out.push_back(chord);
+    return out;
+  }
+  // Concave corner: ρ ≤ c_ρ - √(r² - (z - c_z)²) is the core cylinder minus the tube.
+  const Interval band = height_slab(ray, s.min_z(), s.max_z());
+  if (band.is_empty()) return out;
+  std::vector<Interval> tube;
+  for (const Interval& i : cwe::intersect(ray, torus_of(s))) {
+    const Interval clipped = cwe::intersect(i, band);
+    if (!clipped.is_empty()) tube.push_back(clipped);
+  }
+  for (const Interval& i : subtract(core_chord(s, ray), tube)) {
     if (!i.is_empty()) out.push_back(i);
-  };
-  switch (patches_[static_cast<std::size_t>(patch)].kind) {
-    case PatchKind::kFlatBottom:
-    case PatchKind::kStep:
-      keep(cwe::intersect(ray, Disc{Vec3(0.0, 0.0, s.start.y()), Vec3::UnitZ(), s.max_radius()}));
-      break;
-    case PatchKind::kCylinder:
-    case PatchKind::kCone:
-      keep(cwe::intersect(ray, frustum_of(s)));
-      break;
-    case PatchKind::kSphere:
-    case PatchKind::kTorus: {
-      const Interval band = slab(ray, s.min_z(), s.max_z());
-      if (band.is_empty()) break;
-      const double inner = std::max(0.0, s.center.x());
-      const Interval core =
-          inner > 0.0 ? cwe::intersect(ray, Frustum{Vec3(0.0, 0.0, s.min_z()), Vec3::UnitZ(), inner,
-                                                    inner, s.max_z() - s.min_z()})
-                      : Interval::empty();
-      std::vector<Interval> tube;
-      for (const Interval& i : cwe::intersect(ray, torus_of(s))) {
-        const Interval clipped = cwe::intersect(i, band);
-        if (!clipped.is_empty()) tube.push_back(clipped);
-      }
-      if (s.counterclockwise) {
-        // Convex corner: ρ ≤ c_ρ + √(r² - (z - c_z)²) is the tube together with the core
-        // cylinder ρ ≤ c_ρ, within the band.
-        for (const Interval& i : tube) keep(i);
-        keep(core);
-      } else {
-        // Concave corner: ρ ≤ c_ρ - √(r² - (z - c_z)²) is the core cylinder minus the tube.
-        for (const Interval& i : subtract(core, tube)) keep(i);
-      }
-      break;
-    }
   }
   const double scale = ray.direction.norm();
   return normalize(std::move(out), scale > 0.0 ? tol::kLength / scale : 0.0);
+}
+
+Interval Cutter::hull_chord(const Ray& ray) const {
+  Interval chord = Interval::empty();
+  for (std::size_t i = 0; i < patches_.size(); ++i) {
+    const ProfileSegment& s = profile_.segments()[i];  // one patch per piece, in order
+    if (s.kind == ProfileSegment::Kind::kLine || s.counterclockwise) {
+      chord = hull(chord, convex_piece_chord(s, ray));
+    } else {
+      for (const Interval& part : intersect_patch(static_cast<int>(i), ray))
+        chord = hull(chord, part);
+    }
+  }
+  return chord;
 }
 
 std::vector<Interval> Cutter::intersect(const Ray& ray) const {

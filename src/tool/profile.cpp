@@ -113,12 +113,11 @@ double ProfileSegment::radius_at(double z) const {
     const double u = std::clamp((z - start.y()) / dz, 0.0, 1.0);
     return start.x() + u * (end.x() - start.x());
   }
-  // A z-monotone arc lies on one side of its centre: the right half (convex corner, ρ grows
-  // away from the centre) or the left half (concave corner).
-  const double mid = 0.5 * (start_angle() + end_angle());
-  const double side = std::cos(mid) >= 0.0 ? 1.0 : -1.0;
+  // A rising arc lies on one side of its centre: the right half when it turns counter-clockwise
+  // (a convex corner), the left half otherwise (a concave corner).
   const double dz = std::clamp(z - center.y(), -radius, radius);
-  return center.x() + side * std::sqrt(std::max(0.0, radius * radius - dz * dz));
+  const double w = std::sqrt(std::max(0.0, radius * radius - dz * dz));
+  return counterclockwise ? center.x() + w : center.x() - w;
 }
 
 ProfileSegment::Closest ProfileSegment::closest(const Vec2& q) const {
@@ -226,6 +225,47 @@ double Profile::radius_at(double z) const {
     if (z >= s.min_z() && z <= s.max_z()) r = std::max(r, s.radius_at(z));
   }
   return r;
+}
+
+Interval Profile::heights_reaching(double r) const {
+  Interval heights = Interval::empty();
+  for (const ProfileSegment& s : segments_) {
+    const double z0 = s.min_z(), z1 = s.max_z();
+    if (s.kind == ProfileSegment::Kind::kLine) {
+      const double r0 = s.start.x(), r1 = s.end.x();  // at z0 and z1: the profile rises
+      if (z0 == z1) {
+        if (std::max(r0, r1) >= r) heights = hull(heights, Interval::point(z0));
+      } else if (r0 >= r && r1 >= r) {
+        heights = hull(heights, Interval{z0, z1});
+      } else if (r0 >= r || r1 >= r) {
+        const double zc = std::clamp(z0 + (r - r0) / (r1 - r0) * (z1 - z0), z0, z1);
+        heights = hull(heights, r0 >= r ? Interval{z0, zc} : Interval{zc, z1});
+      }
+      continue;
+    }
+    // ρ(z) = c ± √(R² - (z - c_z)²) ≥ r: within w of c_z on a convex corner (+), beyond it on a
+    // concave one (-), where w² = R² - (r - c)².
+    const double excess = r - s.center.x();
+    const double w2 = s.radius * s.radius - excess * excess;
+    if (s.counterclockwise) {
+      if (excess <= 0.0) {
+        heights = hull(heights, Interval{z0, z1});
+      } else if (w2 >= 0.0) {
+        const double w = std::sqrt(w2);
+        heights = hull(heights, intersect(Interval{s.center.y() - w, s.center.y() + w}, {z0, z1}));
+      }
+      continue;
+    }
+    if (excess > 0.0) continue;  // the concave piece stays inside ρ = c
+    if (w2 <= 0.0) {
+      heights = hull(heights, Interval{z0, z1});
+      continue;
+    }
+    const double w = std::sqrt(w2);
+    heights = hull(heights, intersect(Interval{z0, z1}, {z0, s.center.y() - w}));
+    heights = hull(heights, intersect(Interval{z0, z1}, {s.center.y() + w, z1}));
+  }
+  return heights;
 }
 
 bool Profile::contains(double rho, double z) const {

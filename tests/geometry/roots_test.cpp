@@ -464,6 +464,30 @@ TEST(SinCos, RandomAgainstScan) {
   }
 }
 
+TEST(SinCos, BranchesAreTheRootsAndContinuePastThem) {
+  test::Random rng(16);
+  for (int trial = 0; trial < 500; ++trial) {
+    const double a = rng.uniform(-3.0, 3.0), b = rng.uniform(-3.0, 3.0), c = rng.uniform(-4.0, 4.0);
+    const double rho = std::hypot(a, b), delta = std::atan2(b, a);
+    const double size = std::abs(a) + std::abs(b) + std::abs(c);
+    for (int branch = 0; branch < 2; ++branch) {
+      bool exists = false;
+      const double phi = sin_cos_branch(rho, delta, c, branch, exists);
+      ASSERT_EQ(exists, std::abs(c) <= rho) << a << " " << b << " " << c;
+      if (exists) {
+        // Unpolished: asin's rounding near ±1 is amplified by 1/√(1 - s²); away from the
+        // tangent case a few hundred u·size covers it.
+        if (std::abs(c) < 0.99 * rho) {
+          EXPECT_LE(std::abs(sin_cos(a, b, c, phi)), 256 * kU * size);
+        }
+      } else {
+        // Continued with the sine clamped: the extremum of a sin φ + b cos φ nearest to -c.
+        EXPECT_NEAR(a * std::sin(phi) + b * std::cos(phi), c > 0.0 ? -rho : rho, 1e-12 * size);
+      }
+    }
+  }
+}
+
 TEST(SinCos, TangentNoRootAndConstant) {
   // 3 sin φ + 4 cos φ = 5 sin(φ + δ): touches -5 and +5 once each.
   for (const double c : {5.0, -5.0}) {

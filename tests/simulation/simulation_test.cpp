@@ -449,8 +449,8 @@ class CountingWorkpiece : public Workpiece {
   std::unique_ptr<StepEngagement> engagement(const Cutter& cutter,
                                              const EngagementOptions& options) override {
     struct Counting : StepEngagement {
-      Counting(std::unique_ptr<StepEngagement> inner, CountingWorkpiece& owner)
-          : inner(std::move(inner)), owner(owner) {}
+      Counting(std::unique_ptr<StepEngagement> wrapped, CountingWorkpiece& counter)
+          : inner(std::move(wrapped)), owner(counter) {}
       double remove(const MoveSweep& sweep, bool record) override {
         ++(record ? owner.recorded : owner.unrecorded);
         return inner->remove(sweep, record);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -178,6 +179,61 @@ TEST(Cutter, RayChordsAgreeWithPointSampling) {
         direction = Vec3(random.uniform(-1e-3, 1e-3), random.uniform(-1e-3, 1e-3), 1).normalized();
       if (k % 5 == 1) direction = Vec3(direction.x(), direction.y(), 0.0).normalized();
       expect_chords_match_sampling(c, Ray{through, direction}, 2 * (r + h), 4000);
+    }
+  }
+}
+
+TEST(Cutter, HullChordIsTheHullOfTheChords) {
+  test::Random random(12);
+  for (const Cutter& c : all_cutters()) {
+    SCOPED_TRACE(c.name());
+    const double r = c.bounding_cylinder().radius;
+    const double h = c.bounding_cylinder().z_max;
+    for (int k = 0; k < 2000; ++k) {
+      const Vec3 through(random.uniform(-r, r), random.uniform(-r, r), random.uniform(-1, h + 1));
+      Vec3 direction = random.unit_vector();
+      if (k % 4 == 1) direction = Vec3(direction.x(), direction.y(), 0.0).normalized();
+      if (k % 4 == 2) direction = Vec3::UnitZ();
+      const Ray ray{through, direction};
+      const std::vector<Interval> chords = c.intersect(ray);
+      const Interval hull_chord = c.hull_chord(ray);
+      ASSERT_EQ(hull_chord.is_empty(), chords.empty()) << k;
+      if (chords.empty()) continue;
+      // The same per-piece chords, merged differently: equal to rounding.
+      EXPECT_NEAR(hull_chord.lo, chords.front().lo, 1e-12 * (r + h)) << k;
+      EXPECT_NEAR(hull_chord.hi, chords.back().hi, 1e-12 * (r + h)) << k;
+    }
+  }
+}
+
+TEST(Profile, HeightsReachingAgreeWithSampledRadii) {
+  // Oracle: the lowest and highest of 20,001 sampled heights where the radius reaches r. The
+  // answer may extend past a sampled extreme by up to one sample spacing, never fall short.
+  constexpr int kSamples = 20000;
+  for (const Cutter& c : all_cutters()) {
+    SCOPED_TRACE(c.name());
+    const Profile& profile = c.profile();
+    const double spacing = profile.height() / kSamples;
+    for (int j = 0; j <= 40; ++j) {
+      const double r = profile.max_radius() * (1.05 * j / 40);
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (int k = 0; k <= kSamples; ++k) {
+        const double z = profile.height() * k / kSamples;
+        if (profile.radius_at(z) >= r) lo = std::min(lo, z), hi = std::max(hi, z);
+      }
+      const Interval heights = profile.heights_reaching(r);
+      if (lo > hi) {
+        // No sample reaches r: at most a sliver between samples does.
+        if (!heights.is_empty()) {
+          EXPECT_LE(heights.length(), spacing) << "r = " << r;
+        }
+        continue;
+      }
+      ASSERT_FALSE(heights.is_empty()) << "r = " << r;
+      EXPECT_LE(heights.lo, lo + 1e-12) << "r = " << r;
+      EXPECT_GE(heights.lo, lo - spacing) << "r = " << r;
+      EXPECT_GE(heights.hi, hi - 1e-12) << "r = " << r;
+      EXPECT_LE(heights.hi, hi + spacing) << "r = " << r;
     }
   }
 }

@@ -79,13 +79,8 @@ class LinearSweep {
   };
 
   Vec3 grazing_point(int segment, int branch, double u, bool& exists) const;
-  Interval tool_chord(const Vec3& o, const Vec3& d) const;
   Interval level_chord(const Ray& ray) const;
   Interval axial_chord(const Ray& ray) const;
-  // Heights above the tip where the tool's radius is at least r (empty if none).
-  Interval heights_reaching(double r) const;
-  // The tool's radius at height h above the tip (h within the profile).
-  double section_radius(double h) const;
   // Plan distance from a point to the tip's path (vertical tools).
   double plan_gap(const Vec3& p) const;
   // Level mode: the extent along world axis `along` (0 or 1) of the capsule of radius r about
@@ -109,19 +104,12 @@ class LinearSweep {
     double z0 = 0.0, z1 = 0.0;  // the piece's height range
   };
   std::vector<SpherePiece> spheres_;
-  // Closed-form modes (tool axis +Z): the tips in world coordinates, the profile pieces as
-  // radius functions of height, the height of the widest section and the tip's path in plan.
-  struct Section {
-    double z0 = 0.0, z1 = 0.0;  // height range
-    double r0 = 0.0, r1 = 0.0;  // lines: radius at z0 and z1
-    bool arc = false;           // arcs: ρ = centre_r + √(radius² - (z - centre_z)²)
-    double center_r = 0.0, center_z = 0.0, radius = 0.0;
-  };
+  // Closed-form modes (tool axis +Z): the tips in world coordinates, the height of the widest
+  // section and the tip's path in plan.
   Mode mode_ = Mode::kGeneric;
   bool vertical_axis_ = false;  // the tool stands along +Z (any move direction)
   double plan_radius_ = 0.0;    // the tool's largest radius
   Vec3 start_, end_;
-  std::vector<Section> sections_;
   double widest_height_ = 0.0;
   Vec2 path_start_ = Vec2::Zero(), path_along_ = Vec2::UnitX();
   double path_length_ = 0.0;

@@ -46,6 +46,13 @@ Roots solve_quadratic(double a, double b, double c);
 // (identically_zero). Roots are Newton-polished.
 Roots solve_sin_cos(double a, double b, double c);
 
+// One branch of that closed form, unpolished and unwrapped, given ρ and δ: the root of
+// ρ sin(φ + δ) + c = 0 at asin(-c/ρ) - δ (branch 0) or π - asin(-c/ρ) - δ (branch 1). Where no
+// root exists (|c| > |ρ|) the branch is continued with the sine clamped to ±1 and `exists` is
+// false, so that a curve of roots can be followed past its end (the linear sweep brackets
+// crossings with it). ρ ≠ 0.
+double sin_cos_branch(double rho, double delta, double c, int branch, bool& exists);
+
 // a t³ + b t² + c t + d = 0.
 Roots solve_cubic(double a, double b, double c, double d);
 

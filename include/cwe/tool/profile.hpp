@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "cwe/geometry/interval.hpp"
 #include "cwe/geometry/vec.hpp"
 
 namespace cwe {
@@ -49,7 +50,8 @@ struct ProfileSegment {
   double start_angle() const;
   double end_angle() const;
   // The ρ of this piece at height z (z within the piece's height range). For an arc the branch
-  // is the one the arc lies on. Horizontal lines return the larger ρ.
+  // is the one the arc lies on: the right of its centre when it turns counter-clockwise (the
+  // profile rises), the left otherwise. Horizontal lines return the larger ρ.
   double radius_at(double z) const;
   double min_z() const;
   double max_z() const;
@@ -79,6 +81,9 @@ class Profile {
 
   // Largest ρ of the solid at height z ∈ [0, height]; 0 outside.
   double radius_at(double z) const;
+  // The heights where the solid is at least r wide: one interval for a convex profile (the
+  // radius is then concave in z), the hull of them otherwise; empty if none.
+  Interval heights_reaching(double r) const;
   // Closed membership of a point (ρ, z) in the revolved solid.
   bool contains(double rho, double z) const;
 
