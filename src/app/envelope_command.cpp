@@ -15,9 +15,9 @@
 #include "cwe/io/atomic_file.hpp"
 #include "cwe/io/fcs_svg.hpp"
 #include "cwe/io/mesh_io.hpp"
+#include "cwe/job/tool_choice.hpp"
 #include "cwe/tool/tool_spec.hpp"
 #include "cwe/toolpath/toolpath_reader.hpp"
-#include "cwe/job/tool_choice.hpp"
 
 namespace cwe::app {
 namespace {
@@ -91,10 +91,10 @@ void add_envelope_command(CLI::App& app, EnvelopeCommandOptions& options) {
       ->capture_default_str();
 }
 
-int run_envelope_command(const EnvelopeCommandOptions& options, std::ostream& out) {
-  const ReadToolpath read = read_toolpath_file(options.path);
-  const Toolpath& path = read.toolpath;
-  const Cutter cutter = choose_cutter(options.tool, path, options.path);
+namespace {
+
+// The feed moves (0-based) of --moves, or of the whole program within the default limit.
+std::vector<int> selected_moves(const EnvelopeCommandOptions& options, const Toolpath& path) {
   const int count = static_cast<int>(path.moves.size());
   const std::optional<MoveRange> range = parse_range(options.moves, count);
   std::vector<int> selected;
@@ -113,8 +113,63 @@ int run_envelope_command(const EnvelopeCommandOptions& options, std::ostream& ou
                        fmt::format("{}: expected move fractions between 0 and 1", u));
     }
   }
+  return selected;
+}
+
+// The files of move i (0-based) added to `files`; its entry of envelope.json returned.
+// `previous_x` carries the tool frame's x axis from move to move.
+nlohmann::json envelope_of_move(const EnvelopeCommandOptions& options, const Cutter& cutter,
+                                const Move& move, int i, Vec3& previous_x,
+                                std::map<std::string, std::string>& files) {
+  const std::string stem = fmt::format("move-{}", i + 1);
   SweptVolumeOptions sweep_options;
   sweep_options.tolerance = options.tolerance;
+  const SweptVolume volume = swept_volume(cutter, move, sweep_options);
+  TriangleMesh mesh;
+  for (const TriangleMesh& piece : volume.pieces) mesh.append(piece);
+  const std::string label = fmt::format("cwe swept volume of move {} (line {})", i + 1, move.line);
+  files[stem + ".stl"] = stl_binary(mesh, label);
+  files[stem + ".ply"] = ply_ascii(mesh, label);
+
+  std::vector<std::vector<Vec3>> polylines;
+  nlohmann::json states = nlohmann::json::array();
+  for (const double u : {0.0, 0.5, 1.0}) {
+    const ToolState state = tool_state(move, u, previous_x);
+    if (u == 0.0) previous_x = state.tcs.x();
+    for (auto& p : grazing_polylines(grazing_points(cutter, state))) polylines.push_back(std::move(p));
+    states.push_back({{"u", u},
+                      {"motion", to_string(state.motion)},
+                      {"feed_angle_deg", radians_to_degrees(state.feed_angle)}});
+  }
+  for (const double u : options.fcs_at) {
+    const ToolState state = tool_state(move, u, previous_x);
+    files[fmt::format("{}-fcs-u{:g}.svg", stem, u)] = fcs_svg(
+        cutter, feasible_contact_surface(cutter, state),
+        fmt::format("Feasible contact surface, move {} (line {}) at u = {:g}: {}, feed angle {:.1f}°",
+                    i + 1, move.line, u, to_string(state.motion),
+                    radians_to_degrees(state.feed_angle)));
+  }
+  files[stem + "-grazing.obj"] = obj_polylines(
+      polylines, fmt::format("cwe grazing curves of move {} at u = 0, 0.5, 1", i + 1));
+  double pieces_volume = 0.0;
+  for (const TriangleMesh& piece : volume.pieces) pieces_volume += piece.volume();
+  return {{"move", i + 1},
+          {"line", move.line},
+          {"pieces", volume.pieces.size()},
+          {"triangles", mesh.triangles.size()},
+          {"volume_mm3",
+           volume.pieces.size() == 1 ? nlohmann::json(pieces_volume) : nlohmann::json(nullptr)},
+          {"deviation_bound_mm", volume.deviation_bound},
+          {"states", states}};
+}
+
+}  // namespace
+
+int run_envelope_command(const EnvelopeCommandOptions& options, std::ostream& out) {
+  const ReadToolpath read = read_toolpath_file(options.path);
+  const Toolpath& path = read.toolpath;
+  const Cutter cutter = choose_cutter(options.tool, path, options.path);
+  const std::vector<int> selected = selected_moves(options, path);
 
   // Compute everything first, then write: outputs are whole or absent.
   std::map<std::string, std::string> files;
@@ -125,48 +180,8 @@ int run_envelope_command(const EnvelopeCommandOptions& options, std::ostream& ou
   summary["moves"] = nlohmann::json::array();
   Vec3 previous_x = Vec3::Zero();
   for (const int i : selected) {
-    const Move& move = path.moves[static_cast<std::size_t>(i)];
-    const std::string stem = fmt::format("move-{}", i + 1);
-    const SweptVolume volume = swept_volume(cutter, move, sweep_options);
-    TriangleMesh mesh;
-    for (const TriangleMesh& piece : volume.pieces) mesh.append(piece);
-    const std::string label =
-        fmt::format("cwe swept volume of move {} (line {})", i + 1, move.line);
-    files[stem + ".stl"] = stl_binary(mesh, label);
-    files[stem + ".ply"] = ply_ascii(mesh, label);
-
-    std::vector<std::vector<Vec3>> polylines;
-    nlohmann::json states = nlohmann::json::array();
-    for (const double u : {0.0, 0.5, 1.0}) {
-      const ToolState state = tool_state(move, u, previous_x);
-      if (u == 0.0) previous_x = state.tcs.x();
-      for (auto& p : grazing_polylines(grazing_points(cutter, state)))
-        polylines.push_back(std::move(p));
-      states.push_back({{"u", u},
-                        {"motion", to_string(state.motion)},
-                        {"feed_angle_deg", radians_to_degrees(state.feed_angle)}});
-    }
-    for (const double u : options.fcs_at) {
-      const ToolState state = tool_state(move, u, previous_x);
-      files[fmt::format("{}-fcs-u{:g}.svg", stem, u)] = fcs_svg(
-          cutter, feasible_contact_surface(cutter, state),
-          fmt::format(
-              "Feasible contact surface, move {} (line {}) at u = {:g}: {}, feed angle {:.1f}°",
-              i + 1, move.line, u, to_string(state.motion), radians_to_degrees(state.feed_angle)));
-    }
-    files[stem + "-grazing.obj"] = obj_polylines(
-        polylines, fmt::format("cwe grazing curves of move {} at u = 0, 0.5, 1", i + 1));
-    double pieces_volume = 0.0;
-    for (const TriangleMesh& piece : volume.pieces) pieces_volume += piece.volume();
-    summary["moves"].push_back(
-        {{"move", i + 1},
-         {"line", move.line},
-         {"pieces", volume.pieces.size()},
-         {"triangles", mesh.triangles.size()},
-         {"volume_mm3",
-          volume.pieces.size() == 1 ? nlohmann::json(pieces_volume) : nlohmann::json(nullptr)},
-         {"deviation_bound_mm", volume.deviation_bound},
-         {"states", states}});
+    summary["moves"].push_back(envelope_of_move(
+        options, cutter, path.moves[static_cast<std::size_t>(i)], i, previous_x, files));
   }
   files["envelope.json"] = summary.dump(2) + "\n";
   for (const auto& [name, content] : files) {
@@ -176,12 +191,9 @@ int run_envelope_command(const EnvelopeCommandOptions& options, std::ostream& ou
              selected.size(), options.path, cutter.name(), options.tolerance, files.size(),
              options.out);
   fmt::print(out,
-             "  move-N.stl / .ply     closed swept volume (one closed shell per linear piece)\n");
-  fmt::print(out,
-             "  move-N-grazing.obj    grazing curves at the start, middle and end (polylines)\n");
-  fmt::print(out,
-             "  move-N-fcs-uU.svg     feasible contact surface at move fraction U (--fcs-at)\n");
-  fmt::print(out,
+             "  move-N.stl / .ply     closed swept volume (one closed shell per linear piece)\n"
+             "  move-N-grazing.obj    grazing curves at the start, middle and end (polylines)\n"
+             "  move-N-fcs-uU.svg     feasible contact surface at move fraction U (--fcs-at)\n"
              "  envelope.json         per move: pieces, triangles, volume, bound, motion class\n");
   return 0;
 }

@@ -53,71 +53,62 @@ void dump_cl_points(const std::vector<ClPoint>& points, std::ostream& out) {
   }
 }
 
-void print_summary(const std::string& file, const ReadToolpath& read,
-                   const PathCommandOptions& options, std::size_t cl_points, std::ostream& out) {
-  const Toolpath& path = read.toolpath;
+// What `cwe path` reports of a program, tallied over its moves.
+struct PathTally {
   int rapids = 0, lines = 0, arcs = 0, helices = 0, full_circles = 0, five_axis = 0, empty = 0;
   double feed_length = 0.0, rapid_length = 0.0;
   double feed_min = 0.0, feed_max = 0.0;
   bool any_feed = false;
   Aabb bounds;
   std::map<int, int> moves_per_tool;
-  std::map<std::pair<int, int>, int> spindles;  // (rpm, direction) → moves
+  std::map<std::pair<int, int>, int> spindles;  // (rpm, direction) → feed moves
+};
+
+PathTally tally(const Toolpath& path) {
+  PathTally t;
   for (std::size_t i = 0; i < path.moves.size(); ++i) {
     const Move& m = path.moves[i];
     const double length = m.length();
     // The first move starts at an assumed position (the origin), not a programmed one.
     if (i == 0 && !m.is_arc()) {
-      bounds.extend(m.end);
+      t.bounds.extend(m.end);
     } else {
-      bounds.extend(m.bounds());
+      t.bounds.extend(m.bounds());
     }
-    ++moves_per_tool[m.tool];
-    if (length <= tol::kLength && m.axis_angle() <= tol::kAngle) ++empty;
-    if (m.axis_angle() > tol::kAngle) ++five_axis;
+    ++t.moves_per_tool[m.tool];
+    if (length <= tol::kLength && m.axis_angle() <= tol::kAngle) ++t.empty;
+    if (m.axis_angle() > tol::kAngle) ++t.five_axis;
     if (m.is_rapid()) {
-      ++rapids;
-      rapid_length += length;
+      ++t.rapids;
+      t.rapid_length += length;
       continue;
     }
-    ++spindles[{static_cast<int>(std::lround(m.spindle_speed)), static_cast<int>(m.spindle)}];
-    feed_length += length;
+    ++t.spindles[{static_cast<int>(std::lround(m.spindle_speed)), static_cast<int>(m.spindle)}];
+    t.feed_length += length;
     if (m.is_arc()) {
-      ++arcs;
-      if (std::abs(m.axial) > tol::kLength) ++helices;
-      if (m.sweep >= kTwoPi - tol::kAngle) ++full_circles;
+      ++t.arcs;
+      if (std::abs(m.axial) > tol::kLength) ++t.helices;
+      if (m.sweep >= kTwoPi - tol::kAngle) ++t.full_circles;
     } else {
-      ++lines;
+      ++t.lines;
     }
-    feed_min = any_feed ? std::min(feed_min, m.feed_rate) : m.feed_rate;
-    feed_max = any_feed ? std::max(feed_max, m.feed_rate) : m.feed_rate;
-    any_feed = true;
+    t.feed_min = t.any_feed ? std::min(t.feed_min, m.feed_rate) : m.feed_rate;
+    t.feed_max = t.any_feed ? std::max(t.feed_max, m.feed_rate) : m.feed_rate;
+    t.any_feed = true;
   }
-  fmt::print(out, "Toolpath {} ({}, written in {})\n", file, to_string(read.format),
-             path.units == ProgramUnits::kMillimetres ? "millimetres" : "inches");
-  fmt::print(out,
-             "  moves           {}: {} rapid, {} linear feed, {} arc ({} helical, {} of a full "
-             "turn or more)\n",
-             path.moves.size(), rapids, lines, arcs, helices, full_circles);
-  if (five_axis > 0) fmt::print(out, "  5-axis moves    {} (tool axis turning)\n", five_axis);
-  if (empty > 0) fmt::print(out, "  zero-length     {} (no motion; not sampled)\n", empty);
-  fmt::print(out, "  feed length     {:.3f} mm\n", feed_length);
-  fmt::print(out, "  rapid length    {:.3f} mm\n", rapid_length);
-  if (!bounds.is_empty()) {
-    fmt::print(out,
-               "  tip bounds      X {:.3f} .. {:.3f}, Y {:.3f} .. {:.3f}, Z {:.3f} .. {:.3f} mm\n",
-               bounds.min.x(), bounds.max.x(), bounds.min.y(), bounds.max.y(), bounds.min.z(),
-               bounds.max.z());
-  }
-  if (any_feed) fmt::print(out, "  feed rates      {:.6g} .. {:.6g} mm/min\n", feed_min, feed_max);
-  for (const auto& [key, count] : spindles) {
+  return t;
+}
+
+// The spindle and tool lines of the summary.
+void print_spindles_and_tools(const Toolpath& path, const PathTally& t, std::ostream& out) {
+  for (const auto& [key, count] : t.spindles) {
     const char* dir = key.second == static_cast<int>(SpindleDirection::kClockwise) ? "CW"
                       : key.second == static_cast<int>(SpindleDirection::kCounterClockwise)
                           ? "CCW"
                           : "stopped";
     fmt::print(out, "  spindle         {} rpm {} ({} feed moves)\n", key.first, dir, count);
   }
-  for (const auto& [tool, count] : moves_per_tool) {
+  for (const auto& [tool, count] : t.moves_per_tool) {
     const auto def = path.tool_definitions.find(tool);
     // Where the program loads it (the line a tool table's errors name).
     std::string loaded;
@@ -131,6 +122,32 @@ void print_summary(const std::string& file, const ReadToolpath& read,
                count, loaded,
                def != path.tool_definitions.end() ? "  " + to_string(def->second) : "");
   }
+}
+
+void print_summary(const std::string& file, const ReadToolpath& read,
+                   const PathCommandOptions& options, std::size_t cl_points, std::ostream& out) {
+  const Toolpath& path = read.toolpath;
+  const PathTally t = tally(path);
+  fmt::print(out, "Toolpath {} ({}, written in {})\n", file, to_string(read.format),
+             path.units == ProgramUnits::kMillimetres ? "millimetres" : "inches");
+  fmt::print(out,
+             "  moves           {}: {} rapid, {} linear feed, {} arc ({} helical, {} of a full "
+             "turn or more)\n",
+             path.moves.size(), t.rapids, t.lines, t.arcs, t.helices, t.full_circles);
+  if (t.five_axis > 0) fmt::print(out, "  5-axis moves    {} (tool axis turning)\n", t.five_axis);
+  if (t.empty > 0) fmt::print(out, "  zero-length     {} (no motion; not sampled)\n", t.empty);
+  fmt::print(out, "  feed length     {:.3f} mm\n", t.feed_length);
+  fmt::print(out, "  rapid length    {:.3f} mm\n", t.rapid_length);
+  if (!t.bounds.is_empty()) {
+    const Aabb& b = t.bounds;
+    fmt::print(out,
+               "  tip bounds      X {:.3f} .. {:.3f}, Y {:.3f} .. {:.3f}, Z {:.3f} .. {:.3f} mm\n",
+               b.min.x(), b.max.x(), b.min.y(), b.max.y(), b.min.z(), b.max.z());
+  }
+  if (t.any_feed) {
+    fmt::print(out, "  feed rates      {:.6g} .. {:.6g} mm/min\n", t.feed_min, t.feed_max);
+  }
+  print_spindles_and_tools(path, t, out);
   fmt::print(out, "  CL points       {} (every {:g} mm of tip path and {:g} deg of axis turn)\n",
              cl_points, options.cl_step, options.cl_angle_deg);
   fmt::print(out, "  warnings        {}\n", path.warnings.size());

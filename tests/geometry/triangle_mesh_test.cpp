@@ -33,6 +33,50 @@ TEST(TriangleMesh, HullOfSpherePointsApproachesTheBall) {
   EXPECT_GT(hull.volume(), 0.97 * 4.0 / 3.0 * kPi * 27.0);
 }
 
+TEST(TriangleMesh, HullIsTheSameMeshWhateverTheInputOrder) {
+  // A 16-sided prism (two planar caps of 16 vertices, 16 planar side rectangles), as a swept
+  // cylinder gives, with points inside and on the faces: CGAL splits planar facets in an order
+  // of its own; the mesh written must depend on the point set only.
+  std::vector<Vec3> points;
+  for (int k = 0; k < 16; ++k) {
+    const double a = kTwoPi * k / 16;
+    for (const double z : {-5.0, 50.0}) points.emplace_back(7.5 * std::cos(a), 7.5 * std::sin(a), z);
+    points.emplace_back(3.0 * std::cos(a), 3.0 * std::sin(a), 10.0);  // inside
+    points.emplace_back(2.0 * std::cos(a), 2.0 * std::sin(a), 50.0);   // on the top cap
+  }
+  const TriangleMesh reference = convex_hull(points);
+  ASSERT_TRUE(check_closure(reference).closed());
+  EXPECT_EQ(reference.vertices.size(), 32u);
+  // 14 triangles per cap fan, 2 per side rectangle.
+  EXPECT_EQ(reference.triangles.size(), 2u * 14u + 16u * 2u);
+  test::Random random(5);
+  for (int trial = 0; trial < 20; ++trial) {
+    for (std::size_t i = points.size() - 1; i > 0; --i) {
+      std::swap(points[i], points[static_cast<std::size_t>(random.uniform(0.0, static_cast<double>(i) + 0.999))]);
+    }
+    const TriangleMesh hull = convex_hull(points);
+    ASSERT_EQ(hull.vertices, reference.vertices) << trial;
+    ASSERT_EQ(hull.triangles, reference.triangles) << trial;
+  }
+  // Each cap is a fan from its lowest vertex: every cap triangle holds that vertex.
+  for (const double z : {-5.0, 50.0}) {
+    int lowest = -1, cap_triangles = 0;
+    for (std::size_t v = 0; v < reference.vertices.size(); ++v) {
+      if (reference.vertices[v].z() == z && lowest < 0) lowest = static_cast<int>(v);
+    }
+    for (const auto& t : reference.triangles) {
+      if (reference.vertices[static_cast<std::size_t>(t[0])].z() != z ||
+          reference.vertices[static_cast<std::size_t>(t[1])].z() != z ||
+          reference.vertices[static_cast<std::size_t>(t[2])].z() != z) {
+        continue;
+      }
+      ++cap_triangles;
+      EXPECT_EQ(t[0], lowest) << "cap z = " << z;  // triangles start at their lowest vertex
+    }
+    EXPECT_EQ(cap_triangles, 14) << "cap z = " << z;
+  }
+}
+
 TEST(TriangleMesh, DegenerateInputGivesNoHull) {
   EXPECT_TRUE(convex_hull({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}).empty());
   EXPECT_TRUE(convex_hull({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 0)}).empty());
