@@ -11,26 +11,101 @@ namespace {
 
 double degrees(double radians) { return radians * 180.0 / kPi; }
 
+nlohmann::json operations_json(const PreparedJob& job, const JobResult& run) {
+  nlohmann::json ops = nlohmann::json::array();
+  for (std::size_t o = 0; o < job.operations.size(); ++o) {
+    const PreparedOperation& op = job.operations[o];
+    ops.push_back({{"tool", op.cutter.name()},
+                   {"tool_number", op.tool},
+                   {"path", op.path},
+                   {"moves", run.per_operation[o].moves},
+                   {"cl_points", op.cl_points},
+                   {"cl_step_mm", op.sampling.step}});
+    if (op.forces) {
+      ops.back()["coefficients"] = op.forces->coefficients().name;
+      ops.back()["flutes"] = op.forces->flutes();
+      ops.back()["helix_deg"] = degrees(op.forces->helix_angle());
+    }
+  }
+  return ops;
+}
+
+nlohmann::json engagement_json(const PreparedJob& job, const JobResult& run,
+                               const JobSummary& extras) {
+  EngagementOptions engagement;
+  engagement.contact = job.simulation.effective_tolerance();  // as simulate_engagement takes it
+  const DexelEngagement grid(job.operations.front().cutter, job.simulation.resolution, engagement);
+  return {{"cl_points", run.cl_points},
+          {"engaged_cl_points", run.engaged_cl_points},
+          {"disc_height_mm", grid.disc_height()},
+          {"phi_step_deg", degrees(grid.phi_step())},
+          {"contact_mm", grid.contact()},
+          {"max_axial_depth_mm", run.deepest},
+          {"max_area_mm2", run.largest_area},
+          {"maps", extras.maps},
+          {"files", {"engagement.csv", "engagement.jsonl", "maps/"}}};
+}
+
+nlohmann::json forces_json(const PreparedJob& job, const JobResult& run,
+                           const JobSummary& extras) {
+  const auto extreme = [](const ForceExtremes::Extreme& e) {
+    return nlohmann::json{{"value", e.value}, {"cl", e.cl}, {"file", e.file}, {"line", e.line}};
+  };
+  const ForceModel& model = *job.operations.front().forces;
+  const ForceExtremes& extremes = run.extremes;
+  return {{"coefficients", coefficient_names(job)},
+          {"coefficients_source", coefficient_names(job, true)},
+          {"angle_step_deg", 360.0 / model.samples()},
+          {"runout_mm", job.forces->model.runout.offset},
+          {"runout_angle_deg", degrees(job.forces->model.runout.angle)},
+          {"spindle_rpm", job.forces->spindle ? nlohmann::json(*job.forces->spindle)
+                                              : nlohmann::json("from the program")},
+          {"cutting_cl_points", extremes.cutting},
+          {"max_peak_resultant_n", extreme(extremes.force)},
+          {"max_peak_torque_nm", extreme(extremes.torque)},
+          {"max_mean_power_w", extreme(extremes.power)},
+          {"max_chip_mm", extreme(extremes.chip)},
+          {"curves", extras.curves},
+          {"files", {"forces.csv", "force_curves/"}}};
+}
+
+// The rapid moves that cut (the first kRapidCutsListed) and the programs' warnings.
+void add_rapid_cuts_and_warnings(const PreparedJob& job, const RemovalSummary& removal,
+                                 nlohmann::json& summary) {
+  nlohmann::json rapids = nlohmann::json::array();
+  for (std::size_t i = 0; i < removal.rapid_cuts.size() && i < kRapidCutsListed; ++i) {
+    const RapidCut& cut = removal.rapid_cuts[i];
+    rapids.push_back({{"move", cut.move + 1},
+                      {"file", cut.location.source},
+                      {"line", cut.location.line},
+                      {"removed_mm3", cut.volume}});
+  }
+  summary["rapid_cuts"] = {{"count", removal.rapid_cuts.size()}, {"first", rapids}};
+  nlohmann::json warnings = nlohmann::json::array();
+  for (const PreparedOperation& op : job.operations) {
+    for (const Diagnostic& d : op.read.toolpath.warnings) {
+      warnings.push_back(
+          {{"file", d.location.source}, {"line", d.location.line}, {"message", d.message}});
+    }
+  }
+  summary["toolpath_warnings"] = warnings;
+}
+
 }  // namespace
 
 std::string job_summary(const PreparedJob& job, const JobResult& run, const JobSummary& extras) {
   const SimulationOptions& simulation = job.simulation;
-  const std::vector<PreparedOperation>& operations = job.operations;
   const RemovalSummary& removal = run.removal;
-  const std::vector<RemovalSummary>& per_operation = run.per_operation;
   const TriDexel::Volume& initial = run.initial_volume;
   const TriDexel::Volume& final_volume = run.final_volume;
   const TriDexel& stock = run.stock;
   const TriDexel::Memory memory = stock.memory();
-  const ForceExtremes& extremes = run.extremes;
-  const std::size_t cl_points = run.cl_points, engaged_cls = run.engaged_cl_points;
-  const double deepest = run.deepest, largest_area = run.largest_area;
   std::vector<std::string> tool_names, paths;
-  for (const PreparedOperation& op : operations) {
+  for (const PreparedOperation& op : job.operations) {
     tool_names.push_back(op.cutter.name());
     paths.push_back(op.path);
   }
-  nlohmann::json summary;
+  nlohmann::json summary;  // keys sorted: the order of assignment does not show
   summary["resolution_mm"] = simulation.resolution;
   summary["moves"] = removal.moves;
   summary["initial_volume_mm3"] = initial.mean();
@@ -44,21 +119,7 @@ std::string job_summary(const PreparedJob& job, const JobResult& run, const JobS
   summary["stock"] = extras.stock;
   summary["report_units"] = extras.report_units;
   summary["threads"] = job.threads;
-  nlohmann::json ops = nlohmann::json::array();
-  for (std::size_t o = 0; o < operations.size(); ++o) {
-    ops.push_back({{"tool", operations[o].cutter.name()},
-                   {"tool_number", operations[o].tool},
-                   {"path", operations[o].path},
-                   {"moves", per_operation[o].moves},
-                   {"cl_points", operations[o].cl_points},
-                   {"cl_step_mm", operations[o].sampling.step}});
-    if (operations[o].forces) {
-      ops.back()["coefficients"] = operations[o].forces->coefficients().name;
-      ops.back()["flutes"] = operations[o].forces->flutes();
-      ops.back()["helix_deg"] = degrees(operations[o].forces->helix_angle());
-    }
-  }
-  summary["operations"] = ops;
+  summary["operations"] = operations_json(job, run);
   summary["feed_moves"] = removal.feed_moves;
   summary["rapid_moves"] = removal.rapid_moves;
   summary["cutting_moves"] = removal.cutting_moves;
@@ -77,57 +138,9 @@ std::string job_summary(const PreparedJob& job, const JobResult& run, const JobS
                              {"volume_mm3", extras.mesh->volume()}};
     if (extras.ply) summary["stock_mesh"]["ply"] = "stock.ply";
   }
-  if (extras.engagement) {
-    EngagementOptions engagement;
-    engagement.contact = simulation.effective_tolerance();  // as simulate_engagement takes it
-    const DexelEngagement grid(operations.front().cutter, simulation.resolution, engagement);
-    summary["engagement"] = {{"cl_points", cl_points},
-                             {"engaged_cl_points", engaged_cls},
-                             {"disc_height_mm", grid.disc_height()},
-                             {"phi_step_deg", degrees(grid.phi_step())},
-                             {"contact_mm", grid.contact()},
-                             {"max_axial_depth_mm", deepest},
-                             {"max_area_mm2", largest_area},
-                             {"maps", extras.maps},
-                             {"files", {"engagement.csv", "engagement.jsonl", "maps/"}}};
-  }
-  if (job.forces) {
-    const auto extreme = [](const ForceExtremes::Extreme& e) {
-      return nlohmann::json{{"value", e.value}, {"cl", e.cl}, {"file", e.file}, {"line", e.line}};
-    };
-    const ForceModel& model = *operations.front().forces;
-    summary["forces"] = {{"coefficients", coefficient_names(job)},
-                         {"coefficients_source", coefficient_names(job, true)},
-                         {"angle_step_deg", 360.0 / model.samples()},
-                         {"runout_mm", job.forces->model.runout.offset},
-                         {"runout_angle_deg", degrees(job.forces->model.runout.angle)},
-                         {"spindle_rpm", job.forces->spindle ? nlohmann::json(*job.forces->spindle)
-                                                             : nlohmann::json("from the program")},
-                         {"cutting_cl_points", extremes.cutting},
-                         {"max_peak_resultant_n", extreme(extremes.force)},
-                         {"max_peak_torque_nm", extreme(extremes.torque)},
-                         {"max_mean_power_w", extreme(extremes.power)},
-                         {"max_chip_mm", extreme(extremes.chip)},
-                         {"curves", extras.curves},
-                         {"files", {"forces.csv", "force_curves/"}}};
-  }
-  nlohmann::json rapids = nlohmann::json::array();
-  for (std::size_t i = 0; i < removal.rapid_cuts.size() && i < kRapidCutsListed; ++i) {
-    const RapidCut& cut = removal.rapid_cuts[i];
-    rapids.push_back({{"move", cut.move + 1},
-                      {"file", cut.location.source},
-                      {"line", cut.location.line},
-                      {"removed_mm3", cut.volume}});
-  }
-  summary["rapid_cuts"] = {{"count", removal.rapid_cuts.size()}, {"first", rapids}};
-  nlohmann::json warnings = nlohmann::json::array();
-  for (const PreparedOperation& op : operations) {
-    for (const Diagnostic& d : op.read.toolpath.warnings) {
-      warnings.push_back(
-          {{"file", d.location.source}, {"line", d.location.line}, {"message", d.message}});
-    }
-  }
-  summary["toolpath_warnings"] = warnings;
+  if (extras.engagement) summary["engagement"] = engagement_json(job, run, extras);
+  if (job.forces) summary["forces"] = forces_json(job, run, extras);
+  add_rapid_cuts_and_warnings(job, removal, summary);
   return summary.dump(2) + "\n";
 }
 

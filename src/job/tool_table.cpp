@@ -163,6 +163,68 @@ double quantity(const nlohmann::json& value, const SourceLocation& where, bool a
   return number * scale;
 }
 
+// The parameters of a FreeCAD tool bit, read as lengths (mm) or angles (degrees).
+struct BitParameters {
+  const std::string& path;
+  const nlohmann::json& p;
+  std::optional<double> get(const char* key, bool angle) const {
+    if (!p.contains(key)) return std::nullopt;
+    return quantity(p[key], SourceLocation{fmt::format("{}: \"{}\"", path, key)}, angle);
+  }
+  std::optional<double> length(const char* key) const { return get(key, false); }
+  std::optional<double> angle(const char* key) const { return get(key, true); }
+};
+
+// A chamfer or v-bit as a cwe profile tool: a cone from the flat tip (TipDiameter) at half the
+// CuttingEdgeAngle from the axis, as FreeCAD's shapes draw it. A chamfer mill's cone is
+// CuttingEdgeHeight tall (its Diameter is not its geometry), a v-bit's rises to its Diameter.
+std::string cone_bit_json(const nlohmann::json& bit, const std::string& shape,
+                          const BitParameters& p, double diameter, std::optional<double> height) {
+  const SourceLocation where{p.path};
+  const std::optional<double> included = p.angle("CuttingEdgeAngle");
+  if (!included || !(*included > 0.0 && *included < 180.0)) {
+    throw InputError(where, fmt::format("the {} bit needs a \"CuttingEdgeAngle\" between 0° "
+                                        "and 180°",
+                                        shape));
+  }
+  const double slope = std::tan(*included * kPi / 360.0);
+  const double tip = 0.5 * p.length("TipDiameter").value_or(0.0);
+  double top = 0.0;
+  if (shape == "chamfer") {
+    if (!height || !(*height > 0.0)) {
+      throw InputError(where, "the chamfer bit needs a positive \"CuttingEdgeHeight\"");
+    }
+    top = tip + *height * slope;
+  } else {
+    top = 0.5 * diameter;
+    if (!(top > tip)) throw InputError(where, "the v-bit's Diameter is not above its tip");
+    height = (top - tip) / slope;
+  }
+  const std::string name = bit.contains("name") && bit["name"].is_string()
+                               ? bit["name"].get<std::string>()
+                               : std::filesystem::path(p.path).stem().string();
+  nlohmann::json profile = nlohmann::json::array();
+  if (tip > 0.0) profile.push_back({{"line", {tip, 0.0}}});
+  profile.push_back({{"line", {top, *height}}});
+  return nlohmann::json{{"name", fmt::format("{} (FreeCAD {})", name, shape)}, {"profile", profile}}
+      .dump();
+}
+
+// Flutes, where FreeCAD 1.0 keeps them (0 if absent or not a whole count from 1 to 64).
+int freecad_flutes(const nlohmann::json& bit, const SourceLocation& where) {
+  int count = 0;
+  for (const char* group : {"parameter", "attribute"}) {
+    if (bit.contains(group) && bit[group].is_object() && bit[group].contains("Flutes")) {
+      const nlohmann::json& f = bit[group]["Flutes"];
+      const double flutes = f.is_number() ? f.get<double>() : quantity(f, where, true);
+      if (flutes >= 1.0 && flutes <= 64.0 && flutes == std::floor(flutes)) {
+        count = static_cast<int>(flutes);
+      }
+    }
+  }
+  return count;
+}
+
 // The cwe entry of a FreeCAD tool bit (.fctb): the shape's parameters as a tool specification.
 ToolEntry freecad_bit(const std::string& path) {
   const nlohmann::json bit = read_json(path, "FreeCAD tool bit");
@@ -171,22 +233,14 @@ ToolEntry freecad_bit(const std::string& path) {
       !bit.contains("parameter") || !bit["parameter"].is_object()) {
     throw InputError(where, "expected a FreeCAD tool bit: {\"shape\": …, \"parameter\": {…}}");
   }
-  std::string shape = std::filesystem::path(bit["shape"].get<std::string>()).stem().string();
-  const nlohmann::json& p = bit["parameter"];
-  const auto length = [&](const char* key) -> std::optional<double> {
-    if (!p.contains(key)) return std::nullopt;
-    return quantity(p[key], SourceLocation{fmt::format("{}: \"{}\"", path, key)}, false);
-  };
-  const auto angle = [&](const char* key) -> std::optional<double> {
-    if (!p.contains(key)) return std::nullopt;
-    return quantity(p[key], SourceLocation{fmt::format("{}: \"{}\"", path, key)}, true);
-  };
-  const std::optional<double> diameter = length("Diameter");
+  const std::string shape = std::filesystem::path(bit["shape"].get<std::string>()).stem().string();
+  const BitParameters p{path, bit["parameter"]};
+  const std::optional<double> diameter = p.length("Diameter");
   if (!diameter || !(*diameter > 0.0)) {
     throw InputError(where, fmt::format("the {} bit has no positive \"Diameter\"", shape));
   }
   // The cutting length: the cutting edge's height, else (drills) the whole length.
-  std::optional<double> height = length("CuttingEdgeHeight");
+  std::optional<double> height = p.length("CuttingEdgeHeight");
   const auto suffix = [&] { return height ? fmt::format(",{:.6g}", *height) : std::string(); };
   ToolEntry entry;
   entry.where = where;
@@ -195,51 +249,21 @@ ToolEntry freecad_bit(const std::string& path) {
   } else if (shape == "ballend") {
     entry.spec = fmt::format("ball:{:.6g}{}", *diameter, suffix());
   } else if (shape == "bullnose" || shape == "torus") {
-    std::optional<double> corner = length("CornerRadius");
-    if (!corner) corner = length("TorusRadius");
+    std::optional<double> corner = p.length("CornerRadius");
+    if (!corner) corner = p.length("TorusRadius");
     if (!corner) {
-      const std::optional<double> flat = length("FlatRadius");
+      const std::optional<double> flat = p.length("FlatRadius");
       if (flat) corner = 0.5 * *diameter - *flat;
     }
     if (!corner) throw InputError(where, "the bull nose bit has no \"FlatRadius\"");
     entry.spec = fmt::format("bull:{:.6g},{:.6g}{}", *diameter, *corner, suffix());
   } else if (shape == "drill") {
-    const std::optional<double> tip = angle("TipAngle");
+    const std::optional<double> tip = p.angle("TipAngle");
     if (!tip) throw InputError(where, "the drill bit has no \"TipAngle\"");
-    if (!height) height = length("Length");
+    if (!height) height = p.length("Length");
     entry.spec = fmt::format("chamfer:{:.6g},{:.6g}{}", *diameter, *tip, suffix());
   } else if (shape == "chamfer" || shape == "v-bit") {
-    // A cone from the flat tip (TipDiameter) at half the CuttingEdgeAngle from the axis, as
-    // FreeCAD's shapes draw it: a chamfer mill's cone is CuttingEdgeHeight tall (its Diameter is
-    // not its geometry), a v-bit's rises to its Diameter.
-    const std::optional<double> included = angle("CuttingEdgeAngle");
-    if (!included || !(*included > 0.0 && *included < 180.0)) {
-      throw InputError(where, fmt::format("the {} bit needs a \"CuttingEdgeAngle\" between 0° "
-                                          "and 180°",
-                                          shape));
-    }
-    const double slope = std::tan(*included * kPi / 360.0);
-    const double tip = 0.5 * length("TipDiameter").value_or(0.0);
-    double top = 0.0;
-    if (shape == "chamfer") {
-      if (!height || !(*height > 0.0)) {
-        throw InputError(where, "the chamfer bit needs a positive \"CuttingEdgeHeight\"");
-      }
-      top = tip + *height * slope;
-    } else {
-      top = 0.5 * *diameter;
-      if (!(top > tip)) throw InputError(where, "the v-bit's Diameter is not above its tip");
-      height = (top - tip) / slope;
-    }
-    const std::string name = bit.contains("name") && bit["name"].is_string()
-                                 ? bit["name"].get<std::string>()
-                                 : std::filesystem::path(path).stem().string();
-    nlohmann::json profile = nlohmann::json::array();
-    if (tip > 0.0) profile.push_back({{"line", {tip, 0.0}}});
-    profile.push_back({{"line", {top, *height}}});
-    entry.json = nlohmann::json{{"name", fmt::format("{} (FreeCAD {})", name, shape)},
-                                {"profile", profile}}
-                     .dump();
+    entry.json = cone_bit_json(bit, shape, p, *diameter, height);
   } else {
     throw InputError(where,
                      fmt::format("a FreeCAD \"{}\" bit: cwe reads endmill, ballend, bullnose, "
@@ -248,16 +272,7 @@ ToolEntry freecad_bit(const std::string& path) {
                                  "tool table",
                                  shape));
   }
-  // Flutes, where FreeCAD 1.0 keeps them.
-  for (const char* group : {"parameter", "attribute"}) {
-    if (bit.contains(group) && bit[group].is_object() && bit[group].contains("Flutes")) {
-      const nlohmann::json& f = bit[group]["Flutes"];
-      const double flutes = f.is_number() ? f.get<double>() : quantity(f, where, true);
-      if (flutes >= 1.0 && flutes <= 64.0 && flutes == std::floor(flutes)) {
-        entry.flutes = static_cast<int>(flutes);
-      }
-    }
-  }
+  if (const int flutes = freecad_flutes(bit, where); flutes > 0) entry.flutes = flutes;
   return entry;
 }
 
