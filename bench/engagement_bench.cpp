@@ -87,7 +87,7 @@ void run(benchmark::State& state, const char* tool, const cwe::Toolpath& path, d
     cls = engaged = 0;
     maps.clear();
     state.ResumeTiming();
-    cwe::simulate_engagement(stock, cutter, path, options, sampling, {},
+    cwe::simulate_engagement(stock, cutter, path, {options, sampling, {}},
                              [&](std::size_t, const cwe::ClPoint&, const cwe::ToolState& at,
                                  const cwe::EngagementMap& map) {
                                ++cls;

@@ -107,7 +107,7 @@ py::list intervals(const std::vector<Interval>& phi) {
 // `progress` (None, or a callable taking moves done and moves in all) is called, holding the
 // GIL, each time another percent of the moves is done.
 Run run(Job job, bool engagement, const py::object& progress) {
-  PreparedJob prepared = prepare_job(job, false);
+  PreparedJob prepared = prepare_job(job);
   TriDexel stock = make_stock(parse_stock_spec(job.stock, SourceLocation{"stock"}),
                               prepared.simulation);
   auto columns = std::make_shared<Columns>();

@@ -34,22 +34,30 @@ void dump_moves(const Toolpath& path, std::ostream& out) {
   }
 }
 
-// One JSON object per CL point.
-void dump_cl_points(const std::vector<ClPoint>& points, std::ostream& out) {
-  for (std::size_t k = 0; k < points.size(); ++k) {
-    const ClPoint& p = points[k];
-    nlohmann::json j;
-    j["cl"] = k;
-    j["move"] = p.move;
-    j["line"] = p.line;
-    j["u"] = p.u;
-    j["position"] = vec_json(p.position);
-    j["axis"] = vec_json(p.axis);
-    j["feed_direction"] = vec_json(p.feed_direction);
-    j["velocity_mm_s"] = vec_json(p.velocity);
-    j["angular_velocity_rad_s"] = vec_json(p.angular_velocity);
-    j["path_length_mm"] = p.path_length;
-    out << j.dump() << '\n';
+// One CL point as a JSON line; k is its index among the program's.
+void dump_cl_point(std::size_t k, const ClPoint& p, std::ostream& out) {
+  nlohmann::json j;
+  j["cl"] = k;
+  j["move"] = p.move;
+  j["line"] = p.line;
+  j["u"] = p.u;
+  j["position"] = vec_json(p.position);
+  j["axis"] = vec_json(p.axis);
+  j["feed_direction"] = vec_json(p.feed_direction);
+  j["velocity_mm_s"] = vec_json(p.velocity);
+  j["angular_velocity_rad_s"] = vec_json(p.angular_velocity);
+  j["path_length_mm"] = p.path_length;
+  out << j.dump() << '\n';
+}
+
+// One JSON object per CL point, sampled move by move (memory for one move's points only).
+void dump_cl_points(const Toolpath& path, const SamplingOptions& sampling, std::ostream& out) {
+  ClSampler sampler(sampling);
+  std::vector<ClPoint> points;
+  std::size_t k = 0;
+  for (std::size_t m = 0; m < path.moves.size(); ++m) {
+    sampler.next(path.moves[m], static_cast<int>(m), points);
+    for (const ClPoint& p : points) dump_cl_point(k++, p, out);
   }
 }
 
@@ -189,11 +197,10 @@ int run_path_command(const PathCommandOptions& options, std::ostream& out) {
     dump_moves(read.toolpath, out);
     return 0;
   }
-  const std::vector<ClPoint> points = sample_cl_points(read.toolpath, sampling);
   if (options.cl_dump) {
-    dump_cl_points(points, out);
+    dump_cl_points(read.toolpath, sampling, out);
   } else {
-    print_summary(options.file, read, options, points.size(), out);
+    print_summary(options.file, read, options, count_cl_points(read.toolpath, sampling), out);
   }
   return 0;
 }

@@ -220,7 +220,7 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
                                  "--max-change)",
                                  e.message()));
   }
-  PreparedJob job = prepare_job(sim, false);
+  PreparedJob job = prepare_job(sim);
   if (!job.forces) {
     throw InputError(SourceLocation{"cwe"},
                      "no cutting coefficients: give --forces, put it in a job file, or give each "

@@ -210,7 +210,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   read_job(options);
   require(options.out, "output folder", "--out");
   check_units(options.report_units, "--report-units");
-  PreparedJob job = prepare_job(options, !options.stock_only);
+  PreparedJob job = prepare_job(options);
   const SimulationOptions& simulation = job.simulation;
   const int threads = job.threads;
   const tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,

@@ -42,7 +42,7 @@ std::string coefficient_names(const PreparedJob& job, bool sources) {
   return fmt::format("{}", fmt::join(names, "; "));
 }
 
-PreparedJob prepare_job(Job& options, bool sample) {
+PreparedJob prepare_job(Job& options) {
   require(options.stock, "stock", "--stock");
   if (!options.path.empty()) {
     options.operations = {{options.tool, options.path}};
@@ -102,7 +102,7 @@ PreparedJob prepare_job(Job& options, bool sample) {
     SamplingOptions sampling;
     sampling.step =
         options.cl_step > 0.0 ? options.cl_step : default_cl_step(run.cutter.diameter());
-    const std::size_t cls = sample ? sample_cl_points(run.read.toolpath, sampling).size() : 0;
+    const std::size_t cls = count_cl_points(run.read.toolpath, sampling);
     job.cl_count += cls;
     std::optional<ForceModel> forces;
     if (job.forces) {

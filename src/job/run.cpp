@@ -55,11 +55,9 @@ JobResult run_job(const PreparedJob& job, TriDexel stock, const RunOptions& opti
       result.per_operation.push_back(
           remove_toolpath(workpiece, op.cutter, path, simulation, report));
     } else {
-      std::size_t sampled = 0;
       const auto sink = [&](std::size_t index, const ClPoint& cl, const ToolState& state,
                             const EngagementMap& map) {
         const std::size_t k = cls_before + index;
-        sampled = std::max(sampled, index + 1);
         ClPoint global = cl;
         global.move += static_cast<int>(moves_before);
         ++result.cl_points;
@@ -100,10 +98,10 @@ JobResult run_job(const PreparedJob& job, TriDexel stock, const RunOptions& opti
                           forces ? &*forces : nullptr};
         for (ClSink* s : sinks) s->add(at);
       };
-      result.per_operation.push_back(simulate_engagement(workpiece, op.cutter, path, simulation,
-                                                         op.sampling, EngagementOptions{}, sink,
-                                                         report));
-      cls_before += sampled;
+      result.per_operation.push_back(simulate_engagement(
+          workpiece, op.cutter, path, {simulation, op.sampling, {}}, sink, report));
+      // ClSampler counts as it samples: the operation's CLs are numbered 0 … cl_points - 1.
+      cls_before += op.cl_points;
     }
     merge(result.removal, result.per_operation.back(), static_cast<int>(moves_before));
     moves_before += path.moves.size();

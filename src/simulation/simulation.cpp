@@ -125,29 +125,28 @@ RemovalSummary remove_toolpath(TriDexel& stock, const Cutter& cutter, const Tool
 }
 
 RemovalSummary simulate_engagement(Workpiece& stock, const Cutter& cutter, const Toolpath& path,
-                                   const SimulationOptions& options,
-                                   const SamplingOptions& sampling,
-                                   const EngagementOptions& engagement, const EngagementSink& sink,
-                                   const Progress& progress) {
+                                   const EngagementRunOptions& options,
+                                   const EngagementSink& sink, const Progress& progress) {
   RemovalSummary summary;
-  const ConvexParts parts(cutter, options.effective_tolerance());
+  const double tolerance = options.simulation.effective_tolerance();
+  const ConvexParts parts(cutter, tolerance);
   // Removed material within the sweep tolerance of the cutter touches it (5-axis pieces turn
   // about their mean axis, so a cutter location and the end of the step before it differ by up
   // to the tolerance).
-  EngagementOptions engagement_options = engagement;
-  if (engagement_options.contact == 0.0) engagement_options.contact = options.effective_tolerance();
-  const std::unique_ptr<StepEngagement> engage = stock.engagement(cutter, engagement_options);
-  SamplingOptions feed_only = sampling;
+  EngagementOptions engagement = options.engagement;
+  if (engagement.contact == 0.0) engagement.contact = tolerance;
+  const std::unique_ptr<StepEngagement> engage = stock.engagement(cutter, engagement);
+  SamplingOptions feed_only = options.sampling;
   feed_only.include_rapids = false;
-  const std::vector<ClPoint> cls = sample_cl_points(path, feed_only);
+  ClSampler sampler(feed_only);
+  std::vector<ClPoint> cls;  // of the current move
   const std::size_t total = path.moves.size();
   const double cell = stock.cell_volume();
-  std::size_t next = 0;  // the next CL sample
+  std::size_t index = 0;  // of the next CL among all of the path's
   Vec3 previous_x = Vec3::Zero();
   for (std::size_t i = 0; i < total; ++i) {
     const Move& move = path.moves[i];
-    std::size_t end = next;
-    while (end < cls.size() && cls[end].move == static_cast<int>(i)) ++end;
+    sampler.next(move, static_cast<int>(i), cls);
     int pieces = 0;
     double deviation = 0.0, volume = 0.0;
     const auto remove_part = [&](double u0, double u1, bool record = false) {
@@ -156,20 +155,19 @@ RemovalSummary simulate_engagement(Workpiece& stock, const Cutter& cutter, const
       deviation = std::max(deviation, sweep.deviation_bound());
       volume += engage->remove(sweep, record);
     };
-    if (next == end) {
+    if (cls.empty()) {
       remove_part(0.0, 1.0);
     } else {
-      if (cls[next].u > 0.0) remove_part(0.0, cls[next].u);
-      for (std::size_t k = next; k < end; ++k) {
+      if (cls.front().u > 0.0) remove_part(0.0, cls.front().u);
+      for (std::size_t k = 0; k < cls.size(); ++k) {
         // The step from this location to the next is removed first: the engagement here is
         // where that removal touches the cutter (CWE = FCS ∩ (W ∩ SV)).
         const ToolState state = tool_state(cls[k], previous_x);
         previous_x = state.tcs.x();
-        remove_part(cls[k].u, k + 1 < end ? cls[k + 1].u : 1.0, true);
-        sink(k, cls[k], state, engage->at(state));
+        remove_part(cls[k].u, k + 1 < cls.size() ? cls[k + 1].u : 1.0, true);
+        sink(index++, cls[k], state, engage->at(state));
       }
     }
-    next = end;
     record_move(summary, path, i, pieces, deviation, volume, cell);
     if (progress) progress(i + 1, total);
   }
@@ -177,13 +175,10 @@ RemovalSummary simulate_engagement(Workpiece& stock, const Cutter& cutter, const
 }
 
 RemovalSummary simulate_engagement(TriDexel& stock, const Cutter& cutter, const Toolpath& path,
-                                   const SimulationOptions& options,
-                                   const SamplingOptions& sampling,
-                                   const EngagementOptions& engagement, const EngagementSink& sink,
-                                   const Progress& progress) {
+                                   const EngagementRunOptions& options,
+                                   const EngagementSink& sink, const Progress& progress) {
   DexelWorkpiece workpiece(stock);
-  return simulate_engagement(workpiece, cutter, path, options, sampling, engagement, sink,
-                             progress);
+  return simulate_engagement(workpiece, cutter, path, options, sink, progress);
 }
 
 }  // namespace cwe

@@ -54,7 +54,7 @@ void check(const Case& c) {
   std::vector<ClPoint> cls;
   std::size_t chosen = 0;
   simulate_engagement(
-      stock, cutter, path, options, sampling, {},
+      stock, cutter, path, {options, sampling, {}},
       [&](std::size_t k, const ClPoint& p, const ToolState& s, const EngagementMap& m) {
         cls.push_back(p);
         const double d = (p.position - probe).norm();

@@ -44,7 +44,7 @@ Probe engagement_near(const char* tool, const Aabb& block, const std::vector<Mov
   Probe best;
   double nearest = 1e300;
   simulate_engagement(
-      stock, cutter, path, options, sampling, {},
+      stock, cutter, path, {options, sampling, {}},
       [&](std::size_t, const ClPoint& cl, const ToolState&, const EngagementMap& map) {
         const double d = (cl.position - probe).norm();
         if (d < nearest) {

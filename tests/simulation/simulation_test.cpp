@@ -497,10 +497,9 @@ TEST(WorkpieceSeam, TheMainLoopGoesThroughTheBackend) {
     };
   };
   const RemovalSummary sa =
-      simulate_engagement(a, cutter, path, options, sampling, EngagementOptions{}, keep(direct));
+      simulate_engagement(a, cutter, path, {options, sampling, {}}, keep(direct));
   CountingWorkpiece counting(b);
-  const RemovalSummary sb = simulate_engagement(counting, cutter, path, options, sampling,
-                                                EngagementOptions{}, keep(through));
+  const RemovalSummary sb = simulate_engagement(counting, cutter, path, {options, sampling, {}}, keep(through));
   // 60 mm at 0.5 mm: 120 locations at the start of each step (cl_sampling.hpp), each with its
   // recorded step and its query; the rapid, without locations, is removed whole.
   ASSERT_EQ(direct.size(), 120u);

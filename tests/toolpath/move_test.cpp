@@ -153,6 +153,39 @@ TEST(ClSampling, ReproducesLengthsAndEndPoints) {
   EXPECT_NEAR(last.path_length + du * path.moves[3].length(), total, 1e-9);
 }
 
+TEST(ClSampling, MoveByMoveCountedAndWholeAgree) {
+  // A rapid, a line, a helix, a zero-length move and a 5-axis turn: the sampler's moves, the
+  // count and the whole list are one sampling.
+  Move turn = line({5, 0, 0}, {6, 0, 0}, 360.0);
+  turn.end_axis = Vec3(0, 1, 1).normalized();
+  Move rapid = line({0, 0, 5}, {0, 0, 0});
+  rapid.mode = MotionMode::kRapid;
+  const Toolpath path = path_of({rapid, line({0, 0, 0}, {3.3, 0, 0}), helix(kPi, 2.0),
+                                 line({1, 1, 1}, {1, 1, 1}), turn});
+  SamplingOptions options;
+  options.step = 0.3;
+  const std::vector<ClPoint> whole = sample_cl_points(path, options);
+  EXPECT_EQ(count_cl_points(path, options), whole.size());
+  ClSampler sampler(options);
+  std::vector<ClPoint> one;
+  std::size_t k = 0;
+  for (std::size_t m = 0; m < path.moves.size(); ++m) {
+    sampler.next(path.moves[m], static_cast<int>(m), one);
+    EXPECT_EQ(one.size(), static_cast<std::size_t>(sampler.steps(path.moves[m])));
+    for (const ClPoint& p : one) {
+      ASSERT_LT(k, whole.size());
+      EXPECT_EQ(p.position, whole[k].position);
+      EXPECT_EQ(p.path_length, whole[k].path_length);
+      EXPECT_EQ(p.move, whole[k].move);
+      ++k;
+    }
+  }
+  EXPECT_EQ(k, whole.size());
+  EXPECT_EQ(sampler.steps(path.moves[0]), 0);  // the rapid
+  EXPECT_EQ(sampler.steps(path.moves[3]), 0);  // no motion
+  EXPECT_EQ(sampler.steps(path.moves[1]), 11);  // ⌈3.3 / 0.3⌉
+}
+
 TEST(ClSampling, VelocitiesFromTheFeedRate) {
   const Toolpath path = path_of({line({0, 0, 0}, {10, 0, 0}, 600)});  // 10 mm/s along +X
   const auto points = sample_cl_points(path);

@@ -78,14 +78,14 @@ struct PreparedJob {
   SimulationOptions simulation;
   int threads = 1;
   std::vector<PreparedOperation> operations;
-  std::size_t cl_count = 0;  // CL samples of all operations (0 unless sampled)
+  std::size_t cl_count = 0;  // CL samples of all operations
   std::optional<ForceSettings> forces;
 };
 
-// Checks the job and prepares it; `sample` counts the CL samples. `job` is completed on the way:
+// Checks the job and prepares it, counting its CL samples. `job` is completed on the way:
 // `operations` from `path` and `tool`, the tool table read, `tool_units` defaulted, a bare box in
 // inches marked so. Throws InputError naming the option, file and line of the first problem.
-PreparedJob prepare_job(Job& job, bool sample);
+PreparedJob prepare_job(Job& job);
 
 // The cutting coefficient sets of the job's operations, each named once in order of use: their
 // names, or (sources) where their numbers come from. Empty without forces.

@@ -77,22 +77,24 @@ RemovalSummary remove_toolpath(TriDexel& stock, const Cutter& cutter, const Tool
 using EngagementSink =
     std::function<void(std::size_t, const ClPoint&, const ToolState&, const EngagementMap&)>;
 
-// The main job: at each cutter location of the feed moves (sample_cl_points), the removal of the
-// motion up to the next location, and the engagement there: where that step's removal touches
-// the cutter, the workpiece having been cut by all motion before the location (docs/architecture.md
-// flow; DexelEngagement). Rapid moves and moves without samples are removed whole. An
-// `engagement.contact` of 0 takes the sweep tolerance (options.effective_tolerance()).
-// The removal summary is that of remove_toolpath (the same workpiece results).
+// How the main job samples the moves and finds the engagement.
+struct EngagementRunOptions {
+  SimulationOptions simulation;
+  SamplingOptions sampling;      // rapids are never sampled (include_rapids is ignored)
+  EngagementOptions engagement;  // a contact of 0 takes the sweep tolerance
+};
+
+// The main job: at each cutter location of the feed moves (ClSampler, one move at a time), the
+// removal of the motion up to the next location, and the engagement there: where that step's
+// removal touches the cutter, the workpiece having been cut by all motion before the location
+// (docs/architecture.md flow; DexelEngagement). Rapid moves and moves without samples are
+// removed whole. The removal summary is that of remove_toolpath (the same workpiece results).
 RemovalSummary simulate_engagement(Workpiece& stock, const Cutter& cutter, const Toolpath& path,
-                                   const SimulationOptions& options,
-                                   const SamplingOptions& sampling,
-                                   const EngagementOptions& engagement, const EngagementSink& sink,
-                                   const Progress& progress = {});
+                                   const EngagementRunOptions& options,
+                                   const EngagementSink& sink, const Progress& progress = {});
 // The same on the tri-dexel workpiece (DexelWorkpiece).
 RemovalSummary simulate_engagement(TriDexel& stock, const Cutter& cutter, const Toolpath& path,
-                                   const SimulationOptions& options,
-                                   const SamplingOptions& sampling,
-                                   const EngagementOptions& engagement, const EngagementSink& sink,
-                                   const Progress& progress = {});
+                                   const EngagementRunOptions& options,
+                                   const EngagementSink& sink, const Progress& progress = {});
 
 }  // namespace cwe

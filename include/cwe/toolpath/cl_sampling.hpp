@@ -7,6 +7,7 @@
 // is then removed (docs/architecture.md, the data flow). Zero-length moves that do not turn the
 // axis give no sample. Rapid moves are skipped unless asked for.
 
+#include <cstddef>
 #include <vector>
 
 #include "cwe/toolpath/toolpath.hpp"
@@ -34,7 +35,28 @@ struct SamplingOptions {
 // The default CL step for a tool of diameter D: 0.5 mm or D/20, the smaller.
 double default_cl_step(double tool_diameter);
 
-// Throws InputError when a step is not positive.
+// Samples the moves of a toolpath one at a time, in order, so that a long program needs memory
+// for one move's samples only.
+class ClSampler {
+ public:
+  // Throws InputError when a step is not positive.
+  explicit ClSampler(const SamplingOptions& options);
+
+  // How many samples a move gets (0 for a rapid unless rapids are included, and for a move that
+  // neither moves nor turns).
+  int steps(const Move& move) const;
+  // Replaces `out` with the samples of `move`, index `index` in its toolpath; moves must come in
+  // order (the path length runs on from the moves before).
+  void next(const Move& move, int index, std::vector<ClPoint>& out);
+
+ private:
+  SamplingOptions options_;
+  double path_length_ = 0.0;
+};
+
+// Every CL point of the toolpath. Throws InputError when a step is not positive.
 std::vector<ClPoint> sample_cl_points(const Toolpath& path, const SamplingOptions& options = {});
+// How many that gives, without making them.
+std::size_t count_cl_points(const Toolpath& path, const SamplingOptions& options = {});
 
 }  // namespace cwe
