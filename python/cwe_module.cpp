@@ -108,8 +108,7 @@ py::list intervals(const std::vector<Interval>& phi) {
 // GIL, each time another percent of the moves is done.
 Run run(Job job, bool engagement, const py::object& progress) {
   PreparedJob prepared = prepare_job(job);
-  TriDexel stock = make_stock(parse_stock_spec(job.stock, SourceLocation{"stock"}),
-                              prepared.simulation);
+  TriDexel stock = make_stock(prepared.stock, prepared.simulation);
   auto columns = std::make_shared<Columns>();
   ClSink* const sinks[] = {columns.get()};
   std::shared_ptr<JobResult> result;

@@ -230,8 +230,7 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
   std::vector<ScheduledFile> files = scheduled_files(job, options.out, file_of);
   const tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
                                         static_cast<std::size_t>(job.threads));
-  TriDexel stock =
-      make_stock(parse_stock_spec(sim.stock, SourceLocation{"--stock"}), job.simulation);
+  TriDexel stock = make_stock(job.stock, job.simulation);
   ProgressBar bar(sim.quiet ? nullptr : progress);
   std::size_t all_moves = 0;
   for (const PreparedOperation& op : job.operations) all_moves += op.read.toolpath.moves.size();

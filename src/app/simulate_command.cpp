@@ -227,8 +227,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   }
   MapChoice curves =
       parse_maps(job.forces ? options.force_curves : "none", cl_count, "--force-curves");
-  const StockSpec stock_spec = parse_stock_spec(options.stock, SourceLocation{"--stock"});
-  TriDexel initial_stock = make_stock(stock_spec, simulation);  // before any output is opened
+  TriDexel initial_stock = make_stock(job.stock, simulation);  // before any output is opened
   const ReportUnit unit = ReportUnit::of(options.report_units);
   const std::filesystem::path folder(options.out);
 

@@ -78,7 +78,8 @@ PreparedJob prepare_job(Job& options) {
   }
 
   // Everything the job needs is read and checked before the long part starts.
-  const EntryRules entries = entry_rules(options);
+  job.stock = read_stock_spec(options.stock, SourceLocation{"--stock"});
+  const EntryRules entries = entry_rules(options, stock_top(job.stock));
   std::vector<std::pair<std::size_t, ToolRun>> runs;  // with their operation
   for (std::size_t o = 0; o < options.operations.size(); ++o) {
     for (ToolRun& run : program_runs(options.operations[o], options, entries)) {

@@ -8,7 +8,6 @@
 
 #include "cwe/core/error.hpp"
 #include "cwe/core/numbers.hpp"
-#include "cwe/io/mesh_io.hpp"
 #include "cwe/job/job.hpp"
 #include "cwe/job/tool_table.hpp"
 #include "cwe/simulation/simulation.hpp"
@@ -105,12 +104,9 @@ void change_tools(std::vector<Move>& before, std::vector<Move>& after, const Ent
 
 }  // namespace
 
-EntryRules entry_rules(const Job& options) {
+EntryRules entry_rules(const Job& options, double stock_top) {
   EntryRules rules;
-  const StockSpec stock = parse_stock_spec(options.stock, SourceLocation{"--stock"});
-  rules.clearance_z =
-      (stock.is_box ? stock.box.max.z() : read_stl(stock.path).mesh.bounds().max.z()) +
-      kStartClearance;
+  rules.clearance_z = stock_top + kStartClearance;
   // "auto" (or empty), the option's own word, or x,y,z in --units.
   const auto parse = [&](const std::string& text, const char* option, const char* word,
                          EntryRules::Kind word_kind, EntryRules::Kind& kind, Vec3& at) {

@@ -30,8 +30,9 @@ struct EntryRules {
   double clearance_z = kStartClearance;  // the stock's top + kStartClearance
 };
 
-// The rules of the options (the stock is read for its top). Throws InputError naming the option.
-EntryRules entry_rules(const Job& options);
+// The rules of the options, for a stock whose top is at `stock_top`. Throws InputError naming
+// the option.
+EntryRules entry_rules(const Job& options, double stock_top);
 
 // A stretch of a program cut by one tool.
 struct ToolRun {

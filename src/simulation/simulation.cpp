@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "cwe/core/numbers.hpp"
+#include "cwe/core/assert.hpp"
 #include "cwe/engagement/dexel_workpiece.hpp"
 #include "cwe/io/mesh_io.hpp"
 
@@ -53,12 +54,25 @@ StockSpec parse_stock_spec(const std::string& text, const SourceLocation& source
   return spec;
 }
 
+StockSpec read_stock_spec(const std::string& text, const SourceLocation& source) {
+  StockSpec spec = parse_stock_spec(text, source);
+  if (!spec.is_box) spec.mesh = std::make_shared<const TriangleMesh>(read_stl(spec.path).mesh);
+  return spec;
+}
+
+double stock_top(const StockSpec& spec) {
+  if (spec.is_box) return spec.box.max.z();
+  CWE_ASSERT(spec.mesh != nullptr, "the STL stock is read before its top is asked for");
+  return spec.mesh->bounds().max.z();
+}
+
 TriDexel make_stock(const StockSpec& spec, const SimulationOptions& options) {
   if (!std::isfinite(options.resolution) || options.resolution <= 0.0) {
     throw InputError(SourceLocation{"--resolution"},
                      fmt::format("{} mm: expected a positive ray spacing", options.resolution));
   }
   if (spec.is_box) return TriDexel::from_box(spec.box, options.resolution);
+  if (spec.mesh) return TriDexel::from_mesh(*spec.mesh, options.resolution, spec.path);
   return TriDexel::from_mesh(read_stl(spec.path).mesh, options.resolution, spec.path);
 }
 

@@ -75,6 +75,7 @@ struct PreparedOperation {
 };
 
 struct PreparedJob {
+  StockSpec stock;  // an STL stock read
   SimulationOptions simulation;
   int threads = 1;
   std::vector<PreparedOperation> operations;

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,7 @@
 #include "cwe/engagement/dexel_engagement.hpp"
 #include "cwe/engagement/workpiece.hpp"
 #include "cwe/envelope/move_sweep.hpp"
+#include "cwe/geometry/triangle_mesh.hpp"
 #include "cwe/tool/cutter.hpp"
 #include "cwe/toolpath/cl_sampling.hpp"
 #include "cwe/toolpath/toolpath.hpp"
@@ -28,10 +30,16 @@ struct StockSpec {
   bool is_box = true;
   Aabb box;
   std::string path;  // STL file when !is_box
+  // The STL's triangles once read (read_stock_spec); make_stock reads the file when absent.
+  std::shared_ptr<const TriangleMesh> mesh;
 };
 
 // Parses a stock specification; `source` names where it came from in error messages.
 StockSpec parse_stock_spec(const std::string& text, const SourceLocation& source);
+// The same, with an STL stock's triangles read (once, for both the stock's top and make_stock).
+StockSpec read_stock_spec(const std::string& text, const SourceLocation& source);
+// The stock's highest point, mm (an STL stock must have been read).
+double stock_top(const StockSpec& spec);
 
 struct SimulationOptions {
   double resolution = 0.1;  // ray spacing s, mm
