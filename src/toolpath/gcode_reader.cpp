@@ -16,6 +16,7 @@
 #include <cmath>
 #include <iterator>
 #include <string>
+#include <optional>
 #include <system_error>
 #include <vector>
 
@@ -23,6 +24,7 @@
 
 #include "cwe/core/text_file.hpp"
 #include "cwe/geometry/tolerance.hpp"
+#include "gcode_expression.hpp"
 #include "gcode_tolerance.hpp"
 
 namespace cwe {
@@ -239,6 +241,7 @@ struct Block {
   std::array<int, kGroupCount> g_column{};
   std::array<int, kMGroupCount> m{};
   std::array<int, kMGroupCount> m_column{};
+  std::vector<gcode::ParameterSetting> settings;  // applied after the line is read, in order
 
   Block() {
     g.fill(-1);
@@ -261,13 +264,7 @@ struct Block {
   }
 };
 
-// A line with comments and blanks removed and letters lowered (LinuxCNC's close_and_downcase),
-// each remaining character with its column (1-based byte offset) in the original line.
-struct CompactLine {
-  std::string code;
-  std::vector<int> columns;
-  bool comment_first = false;  // a comment precedes the first word (so N cannot be first)
-};
+using gcode::CompactLine;
 
 enum class Plane { kXY, kXZ, kYZ };
 
@@ -313,7 +310,12 @@ class Interpreter {
     position_ = options.initial_position / scale();
     result_.sources = {source};
     result_.units = options.initial_units;
+    here_.source = source;
+    parameters_.set_predefined([this](std::string_view name) { return predefined(name); });
+    publish_state();
   }
+  Interpreter(const Interpreter&) = delete;  // the parameters' lookup holds `this`
+  Interpreter& operator=(const Interpreter&) = delete;
 
   Toolpath run();
 
@@ -330,9 +332,17 @@ class Interpreter {
   CompactLine compact(std::string_view raw) const;
   Block read_block(const CompactLine& line) const;
   double read_number(const CompactLine& line, std::size_t& i, int word_column, char letter) const;
+  gcode::ValueReader values(const CompactLine& line) const {
+    return gcode::ValueReader(line, here_, parameters_);
+  }
   int read_integer(const CompactLine& line, std::size_t& i, int word_column, char letter) const;
   void read_g(const CompactLine& line, std::size_t& i, int column, Block& block) const;
   void read_m(const CompactLine& line, std::size_t& i, int column, Block& block) const;
+
+  // Parameters: the predefined named ones (LinuxCNC's lookup_named_param), and the numbered
+  // ones that mirror the state (#5400 the tool, #5420-#5422 the position) after each line.
+  std::optional<double> predefined(std::string_view name) const;
+  void publish_state();
 
   // Executing.
   bool execute(const Block& block);  // false once the program has ended
@@ -353,6 +363,8 @@ class Interpreter {
   std::string source_;
   Toolpath result_;
   int line_ = 0;
+  SourceLocation here_;  // source_ and line_, for the value reader's errors
+  gcode::Parameters parameters_;
 
   // Modal state, as LinuxCNC's setup_struct.
   Vec3 position_ = Vec3::Zero();  // program units
@@ -366,6 +378,7 @@ class Interpreter {
   double feed_mm_per_min_ = 0.0;  // physical: LinuxCNC's canon converts F when it is set
   double spindle_speed_ = 0.0;
   SpindleDirection spindle_ = SpindleDirection::kStopped;
+  bool mist_ = false, flood_ = false;  // M7, M8; M9 stops both
   int selected_tool_ = 0;
   int loaded_tool_ = 0;
   // Canned-cycle memory (LinuxCNC cycle_r, cycle_cc, cycle_p, cycle_q, cycle_il).
@@ -406,13 +419,22 @@ double Interpreter::read_number(const CompactLine& line, std::size_t& i, int wor
                                 char letter) const {
   const std::string& s = line.code;
   const char upper = static_cast<char>(letter - 'a' + 'A');
+  // A parameter, expression, unary function or a sign before one of them: LinuxCNC's
+  // read_real_value.
+  const char c = line.at(i), c1 = line.at(i + 1);
+  const bool sign = c == '+' || c == '-';
+  const bool signed_value = sign && c1 != '\0' && !(c1 >= '0' && c1 <= '9') && c1 != '.';
+  if (c == '[' || c == '#' || (c >= 'a' && c <= 'z') || signed_value) {
+    const double value = values(line).real(i);
+    if (!(std::abs(value) <= kLargestInputValue)) {
+      fail(word_column,
+           fmt::format("{} value out of range (larger than {:g})", upper, kLargestInputValue));
+    }
+    return value;
+  }
   std::size_t j = i;
   bool negative = false;
-  if (j < s.size() && (s[j] == '+' || s[j] == '-')) negative = s[j++] == '-';
-  if (j < s.size() && s[j] == '[') {
-    fail(line.columns[j], "expressions ([...]) are not supported");
-  }
-  if (j < s.size() && s[j] == '#') fail(line.columns[j], "parameters (#) are not supported");
+  if (j < s.size() && sign) negative = s[j++] == '-';
   const std::size_t begin = j;
   int digits = 0, points = 0;
   for (; j < s.size() && ((s[j] >= '0' && s[j] <= '9') || s[j] == '.'); ++j) {
@@ -586,9 +608,9 @@ Block Interpreter::read_block(const CompactLine& line) const {
       case 'o':
         fail(column, "O-words (subroutines and control flow) are not supported");
       case '#':
-        fail(column, "parameters (#) are not supported");
-      case '[':
-        fail(column, "expressions ([...]) are not supported");
+        --i;
+        block.settings.push_back(values(line).setting(i));
+        continue;
       case '@':
       case '^':
         fail(column, "polar coordinates (@, ^) are not supported");
@@ -602,6 +624,81 @@ Block Interpreter::read_block(const CompactLine& line) const {
     }
   }
   return block;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Parameters
+
+std::optional<double> Interpreter::predefined(std::string_view name) const {
+  const auto flag = [](bool b) { return b ? 1.0 : 0.0; };
+  const double plane = plane_ == Plane::kXY ? 170.0 : (plane_ == Plane::kXZ ? 180.0 : 190.0);
+  // Name, value; LinuxCNC 2.9's list (interp_namedparams.cc), less the pockets of a tool
+  // changer and the INI file's values, which a program run here does not have.
+  const std::pair<std::string_view, double> table[] = {
+      {"_vmajor", 2.0},
+      {"_vminor", 9.0},
+      {"_line", static_cast<double>(line_)},
+      {"_motion_mode", static_cast<double>(motion_mode_)},
+      {"_plane", plane},
+      {"_ccomp", 400.0},
+      {"_metric", flag(!inches_)},
+      {"_imperial", flag(inches_)},
+      {"_absolute", flag(!incremental_)},
+      {"_incremental", flag(incremental_)},
+      {"_inverse_time", 0.0},
+      {"_units_per_minute", 1.0},
+      {"_units_per_rev", 0.0},
+      {"_coord_system", 540.0},
+      {"_tool_offset", 0.0},
+      {"_retract_r_plane", flag(retract_to_r_)},
+      {"_retract_old_z", flag(!retract_to_r_)},
+      {"_spindle_rpm_mode", 1.0},
+      {"_spindle_css_mode", 0.0},
+      {"_ijk_absolute_mode", flag(arc_absolute_)},
+      {"_lathe_diameter_mode", 0.0},
+      {"_lathe_radius_mode", 1.0},
+      {"_spindle_on", flag(spindle_ != SpindleDirection::kStopped)},
+      {"_spindle_cw", flag(spindle_ == SpindleDirection::kClockwise)},
+      {"_mist", flag(mist_)},
+      {"_flood", flag(flood_)},
+      {"_speed_override", 1.0},
+      {"_feed_override", 1.0},
+      {"_adaptive_feed", 0.0},
+      {"_feed_hold", 0.0},
+      {"_feed", feed_mm_per_min_ / scale()},
+      {"_rpm", spindle_speed_},
+      {"_current_tool", static_cast<double>(loaded_tool_)},
+      {"_selected_tool", static_cast<double>(selected_tool_)},
+      {"_x", position_.x()},
+      {"_y", position_.y()},
+      {"_z", position_.z()},
+      {"_a", 0.0},
+      {"_b", 0.0},
+      {"_c", 0.0},
+      {"_u", 0.0},
+      {"_v", 0.0},
+      {"_w", 0.0},
+      {"_abs_x", position_.x()},
+      {"_abs_y", position_.y()},
+      {"_abs_z", position_.z()},
+      {"_abs_a", 0.0},
+      {"_abs_b", 0.0},
+      {"_abs_c", 0.0},
+      {"_value", 0.0},
+      {"_value_returned", 0.0},
+      {"_call_level", 0.0},
+      {"_remap_level", 0.0},
+      {"_task", 0.0},
+  };
+  for (const auto& [key, value] : table) {
+    if (key == name) return value;
+  }
+  return std::nullopt;
+}
+
+void Interpreter::publish_state() {
+  parameters_.set_numbered(5400, static_cast<double>(loaded_tool_));
+  for (int axis = 0; axis < 3; ++axis) parameters_.set_numbered(5420 + axis, position_[axis]);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -671,6 +768,15 @@ void Interpreter::check_words(const Block& block, int motion) const {
 }
 
 bool Interpreter::execute(const Block& block) {
+  // Parameters set on the line take their values now, in order: the line's words were read
+  // with the old ones (LinuxCNC's parallel setting).
+  for (const gcode::ParameterSetting& setting : block.settings) {
+    if (setting.index > 0) {
+      parameters_.set_numbered(setting.index, setting.value);
+    } else {
+      parameters_.set_named(setting.name, setting.value);
+    }
+  }
   int motion_column = 0;
   const int motion = motion_to_be(block, motion_column);
   check_words(block, motion);
@@ -695,6 +801,19 @@ bool Interpreter::execute(const Block& block) {
       break;
     case 5:
       spindle_ = SpindleDirection::kStopped;
+      break;
+    default:
+      break;
+  }
+  switch (block.m[kMGroupCoolant]) {
+    case 7:
+      mist_ = true;
+      break;
+    case 8:
+      flood_ = true;
+      break;
+    case 9:
+      mist_ = flood_ = false;
       break;
     default:
       break;
@@ -1075,6 +1194,7 @@ Toolpath Interpreter::run() {
     begin = end + 1;
     if (!raw.empty() && raw.back() == '\r') raw.remove_suffix(1);
     line_ = number;
+    here_.line = number;
 
     std::string bare;  // the line without blanks, to recognise '%'
     for (char c : raw) {
@@ -1094,6 +1214,7 @@ Toolpath Interpreter::run() {
       if (!line.code.empty()) {
         const Block block = read_block(line);
         if (!execute(block)) ended = true;
+        publish_state();
       }
     }
     if (last) break;

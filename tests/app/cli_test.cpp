@@ -185,7 +185,7 @@ TEST(CliPath, CutterLocationPoints) {
 }
 
 TEST(CliPath, ErrorsNameFileLineAndColumn) {
-  const auto file = write_program("bad.ngc", "G0 X0\nG1 X1 Y#2 F100\n");
+  const auto file = write_program("bad.ngc", "G0 X0\nG1 X1 Y#<two> F100\n");
   const Result r = run_cwe({"path", file.string()});
   EXPECT_EQ(r.status, 2);
   EXPECT_EQ(r.err.rfind(file.string() + ":2:", 0), 0u) << r.err;

@@ -216,15 +216,17 @@ TEST(FeedRewriteGcode, CyclesAndArcs) {
 }
 
 TEST(FeedRewriteGcode, FWordsThatCannotBeRewrittenAreInputErrors) {
-  for (const char* text : {"G21\nG1 X1 F#1\nM2\n", "G21\nG1 X1 F[100]\nM2\n"}) {
+  // The program reads (the feed is 100), but its F words are not numbers to rewrite.
+  for (const char* text : {"G21 #1=100\nG1 X1 F#1\nM2\n", "G21\nG1 X1 F[100]\nM2\n",
+                           "G21\nG1 X1 F-[-100]\nM2\n"}) {
     try {
       rewrite_gcode(text, {{2, 100.0}});
       ADD_FAILURE() << "no error for " << text;
     } catch (const InputError& e) {
       EXPECT_EQ(e.location().source, "t.ngc");
       EXPECT_EQ(e.location().line, 2);
-      EXPECT_EQ(e.location().column, 8);
-      EXPECT_NE(e.message().find("not supported"), std::string::npos) << e.message();
+      EXPECT_EQ(e.location().column, 7);
+      EXPECT_NE(e.message().find("cannot be rewritten"), std::string::npos) << e.message();
     }
   }
   // A comment inside the number (the reader joins F1(c)00 into F100).
