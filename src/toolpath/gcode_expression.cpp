@@ -15,7 +15,7 @@
 namespace cwe::gcode {
 namespace {
 
-// LinuxCNC's TOLERANCE_EQUAL: EQ, NE, LE and GE compare within it.
+// LinuxCNC's TOLERANCE_EQUAL: EQ and NE compare within it.
 constexpr double kEqualTolerance = 0.0001;
 
 enum class Op {
@@ -322,11 +322,11 @@ double ValueReader::expression(std::size_t& i) const {
       case Op::kNe:
         a = std::abs(a - b) >= kEqualTolerance ? 1.0 : 0.0;
         break;
-      case Op::kLe:
-        a = (std::abs(a - b) < kEqualTolerance || a <= b) ? 1.0 : 0.0;
+      case Op::kLe:  // exact in 2.9 (later versions compare within the tolerance)
+        a = a <= b ? 1.0 : 0.0;
         break;
       case Op::kGe:
-        a = (std::abs(a - b) < kEqualTolerance || a >= b) ? 1.0 : 0.0;
+        a = a >= b ? 1.0 : 0.0;
         break;
       case Op::kRightBracket:
         break;

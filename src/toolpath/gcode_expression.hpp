@@ -8,7 +8,8 @@
 // ATAN[1]/[2], EXISTS[#<x>]) or a bracketed expression; a sign may precede any of them.
 // Expressions are evaluated left to right within six precedence levels, as LinuxCNC's stack
 // machine does: ** above * / MOD above + - above EQ NE GT GE LT LE above AND OR XOR. Angles are in
-// degrees. EQ, NE, LE and GE compare within 0.0001 (LinuxCNC's TOLERANCE_EQUAL).
+// degrees. EQ and NE compare within 0.0001 (LinuxCNC's TOLERANCE_EQUAL); LE, GE, LT and GT are
+// exact, as in 2.9.
 
 #include <functional>
 #include <map>

@@ -1,7 +1,8 @@
 // Parameters and expressions in G-code, with LinuxCNC 2.9's semantics (docs/gcode.md,
 // "Parameters and expressions"). Expected values are worked out by hand from LinuxCNC's rules
 // (interp_read.cc, interp_execute.cc): precedence levels evaluated left to right, degrees,
-// comparisons within 0.0001, MOD always positive, parameters set in parallel within a line.
+// EQ and NE within 0.0001, MOD always positive, parameters set in parallel within a line; the
+// golden program tests/toolpath/golden/parameters.ngc holds them to LinuxCNC's own interpreter.
 
 #include <gtest/gtest.h>
 
@@ -63,8 +64,9 @@ TEST(GcodeExpressions, ComparisonsWithinTheTolerance) {
   EXPECT_EQ(value_of("[1 EQ 1.00005]"), 1.0);
   EXPECT_EQ(value_of("[1 EQ 1.0002]"), 0.0);
   EXPECT_EQ(value_of("[1 NE 1.00005]"), 0.0);
-  EXPECT_EQ(value_of("[1 LE 0.99995]"), 1.0);  // equal within 0.0001
-  EXPECT_EQ(value_of("[1 GE 1.00005]"), 1.0);
+  EXPECT_EQ(value_of("[1 LE 0.99995]"), 0.0);  // exact in 2.9 (later versions: within 0.0001)
+  EXPECT_EQ(value_of("[1 GE 1.00005]"), 0.0);
+  EXPECT_EQ(value_of("[1 LE 1]"), 1.0);
   EXPECT_EQ(value_of("[1 LT 1.00005]"), 1.0);  // LT and GT are exact
   EXPECT_EQ(value_of("[1 GT 1]"), 0.0);
 }

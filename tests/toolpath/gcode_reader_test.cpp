@@ -155,6 +155,7 @@ TEST(GcodeGolden, ArcsInThreePlanes) { expect_matches_golden("arcs"); }
 TEST(GcodeGolden, InchProgramSwitchingUnits) { expect_matches_golden("units"); }
 TEST(GcodeGolden, DrillingCycles) { expect_matches_golden("drilling"); }
 TEST(GcodeGolden, PeckCyclesInInches) { expect_matches_golden("drilling_inch"); }
+TEST(GcodeGolden, ParametersAndExpressions) { expect_matches_golden("parameters"); }
 
 // ---------------------------------------------------------------------------------------------
 // Straight moves, modal state, words
