@@ -100,6 +100,8 @@ class ValueReader {
   ParameterSetting setting(std::size_t& i) const;
   // A bracketed expression at code[i] == '['.
   double expression(std::size_t& i) const;
+  // A name at code[i] == '<', to the next '>' (named parameters, o<name>).
+  std::string name(std::size_t& i) const;
 
   [[noreturn]] void fail(std::size_t i, const std::string& message) const;
 
@@ -107,7 +109,6 @@ class ValueReader {
   double number(std::size_t& i) const;
   double parameter(std::size_t& i, bool check_exists) const;
   double unary(std::size_t& i) const;
-  std::string name(std::size_t& i) const;
 
   const CompactLine& line_;
   const SourceLocation& where_;

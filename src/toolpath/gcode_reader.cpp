@@ -14,7 +14,10 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <iterator>
+#include <map>
+#include <memory>
 #include <string>
 #include <optional>
 #include <system_error>
@@ -305,9 +308,10 @@ const char* plane_name(Plane plane) {
 class Interpreter {
  public:
   Interpreter(std::string_view text, const std::string& source, const GcodeOptions& options)
-      : text_(text), source_(source) {
+      : source_(source), options_(options) {
     inches_ = options.initial_units == ProgramUnits::kInches;
     position_ = options.initial_position / scale();
+    files_.push_back(std::make_unique<ProgramFile>(ProgramFile{source, {}, text}));
     result_.sources = {source};
     result_.units = options.initial_units;
     here_.source = source;
@@ -330,7 +334,7 @@ class Interpreter {
 
   // Reading.
   CompactLine compact(std::string_view raw) const;
-  Block read_block(const CompactLine& line) const;
+  Block read_block(const CompactLine& line, std::size_t i) const;
   double read_number(const CompactLine& line, std::size_t& i, int word_column, char letter) const;
   gcode::ValueReader values(const CompactLine& line) const {
     return gcode::ValueReader(line, here_, parameters_);
@@ -359,12 +363,77 @@ class Interpreter {
   void cycle_traverse(double x, double y, double z) { emit_line(MotionMode::kRapid, {x, y, z}); }
   void cycle_feed(double x, double y, double z) { emit_line(MotionMode::kFeed, {x, y, z}); }
 
-  std::string_view text_;
-  std::string source_;
+  // Program text: the main program and the subroutine files it calls by name, each read once.
+  struct ProgramFile {
+    std::string name;
+    std::string owned;  // a subroutine file's text (the main program's belongs to the caller)
+    std::string_view text;
+  };
+  // A place in the program: the file, the byte offset of a line and its number there (from 1;
+  // 0 before the first line).
+  struct Position {
+    int file = 0;
+    std::size_t offset = 0;
+    int line = 0;
+  };
+  // The next line to read, or false at the end of the current file.
+  bool next_line(std::string_view& raw);
+  void go_to(const Position& at);
+  int file_of(const std::string& name);
+
+  // O-word control flow (LinuxCNC's interp_o_word.cc): subroutines, conditions and loops.
+  enum class OType { kNone, kSub, kEndsub, kCall, kDo, kWhile, kRepeat, kIf, kElseif, kElse,
+                     kEndif, kBreak, kContinue, kEndwhile, kEndrepeat, kReturn };
+  struct OLine {
+    OType type = OType::kNone;
+    std::string name;  // sub, endsub, call, return: the label; others: "sub#label"
+    std::string label;  // as written, for messages
+    double test = 0.0;  // while, if, elseif, repeat
+    std::vector<double> args;  // call
+    Position at;        // the line's own position
+  };
+  struct OffsetEntry {
+    OType type = OType::kNone;
+    Position at;
+    int repeat_count = -1;
+  };
+  struct Frame {
+    std::string sub_name;  // empty at the main level
+    Position return_to;    // where the caller goes on (kept in the caller's frame)
+    std::array<double, 30> saved{};  // the caller's #1-#30
+  };
+  static constexpr int kMaxCallLevels = 10;  // LinuxCNC's INTERP_SUB_ROUTINE_LEVELS
+  static constexpr std::size_t kSubroutineArguments = 30;
+  std::size_t after_line_number(const CompactLine& line) const;
+  OLine read_o(const CompactLine& line, std::size_t i);
+  void control(const OLine& o);
+  void call(const OLine& o);
+  void give_back(const OLine& o);  // endsub, return
+  void save_offset(const OLine& o);
+  OffsetEntry& find_offset(const OLine& o);
+  void back_to(const OLine& o);
+  std::optional<std::string> find_subroutine_file(const std::string& name) const;
+  const char* o_name(OType type) const;
+
+  std::string source_;  // the file of the current line
+  GcodeOptions options_;
+  std::vector<std::unique_ptr<ProgramFile>> files_;
+  Position at_;                  // the next line to read
+  std::size_t line_offset_ = 0;  // the current line's offset
   Toolpath result_;
   int line_ = 0;
   SourceLocation here_;  // source_ and line_, for the value reader's errors
   gcode::Parameters parameters_;
+  std::map<std::string, OffsetEntry> offsets_;
+  // The label being skipped to, and the subroutine being looked for (empty: none).
+  std::string skipping_o_, skipping_to_sub_;
+  Position skipping_start_;
+  bool defining_sub_ = false;
+  std::string sub_name_;  // the subroutine being defined or run (empty: none)
+  bool executed_if_ = false, doing_break_ = false, doing_continue_ = false;
+  double return_value_ = 0.0;
+  bool value_returned_ = false;
+  std::vector<Frame> frames_ = std::vector<Frame>(1);
 
   // Modal state, as LinuxCNC's setup_struct.
   Vec3 position_ = Vec3::Zero();  // program units
@@ -527,8 +596,7 @@ void Interpreter::read_m(const CompactLine& line, std::size_t& i, int column, Bl
   block.m_column[static_cast<std::size_t>(info->group)] = column;
 }
 
-Block Interpreter::read_block(const CompactLine& line) const {
-  Block block;
+std::size_t Interpreter::after_line_number(const CompactLine& line) const {
   const std::string& s = line.code;
   std::size_t i = 0;
   // A leading '/' is block delete; LinuxCNC executes the line when the block-delete switch is
@@ -541,6 +609,12 @@ Block Interpreter::read_block(const CompactLine& line) const {
     if (j == i + 1) fail(column, "bad line number: N needs digits");
     i = j;
   }
+  return i;
+}
+
+Block Interpreter::read_block(const CompactLine& line, std::size_t i) const {
+  Block block;
+  const std::string& s = line.code;
   while (i < s.size()) {
     const char c = s[i];
     const int column = line.columns[i];
@@ -606,7 +680,7 @@ Block Interpreter::read_block(const CompactLine& line) const {
       case 'e':
         fail(column, "E word is not supported");
       case 'o':
-        fail(column, "O-words (subroutines and control flow) are not supported");
+        fail(column, "an O-word must be the first word of its line");
       case '#':
         --i;
         block.settings.push_back(values(line).setting(i));
@@ -684,9 +758,9 @@ std::optional<double> Interpreter::predefined(std::string_view name) const {
       {"_abs_a", 0.0},
       {"_abs_b", 0.0},
       {"_abs_c", 0.0},
-      {"_value", 0.0},
-      {"_value_returned", 0.0},
-      {"_call_level", 0.0},
+      {"_value", return_value_},
+      {"_value_returned", flag(value_returned_)},
+      {"_call_level", static_cast<double>(frames_.size() - 1)},
       {"_remap_level", 0.0},
       {"_task", 0.0},
   };
@@ -887,7 +961,7 @@ Move Interpreter::new_move(MotionMode mode) const {
   move.spindle = spindle_;
   move.tool = loaded_tool_;
   move.line = line_;
-  move.source = 0;
+  move.source = at_.file;
   return move;
 }
 
@@ -1179,48 +1253,92 @@ void Interpreter::cycle(const Block& block, int motion, int column) {
   motion_mode_ = motion;
 }
 
+bool Interpreter::next_line(std::string_view& raw) {
+  const std::string_view text = files_[static_cast<std::size_t>(at_.file)]->text;
+  if (at_.offset > text.size()) return false;
+  std::size_t end = text.find('\n', at_.offset);
+  if (end == std::string_view::npos) end = text.size();
+  raw = text.substr(at_.offset, end - at_.offset);
+  if (!raw.empty() && raw.back() == '\r') raw.remove_suffix(1);
+  line_offset_ = at_.offset;
+  at_.offset = end + 1;
+  line_ = ++at_.line;
+  here_.line = line_;
+  return true;
+}
+
+void Interpreter::go_to(const Position& at) {
+  at_ = at;
+  source_ = files_[static_cast<std::size_t>(at.file)]->name;
+  here_.source = source_;
+}
+
 Toolpath Interpreter::run() {
-  bool seen_content = false;  // a line with something other than blanks
+  bool seen_content = false;  // a line with something other than blanks (main program)
   int last_content_line = 0;
   bool percent_opened = false;
   bool ended = false;
   int ignored_lines = 0, first_ignored = 0;
-  std::size_t begin = 0;
-  for (int number = 1; begin <= text_.size(); ++number) {
-    std::size_t end = text_.find('\n', begin);
-    if (end == std::string_view::npos) end = text_.size();
-    std::string_view raw = text_.substr(begin, end - begin);
-    const bool last = end == text_.size();
-    begin = end + 1;
-    if (!raw.empty() && raw.back() == '\r') raw.remove_suffix(1);
-    line_ = number;
-    here_.line = number;
-
+  for (;;) {
+    std::string_view raw;
+    if (!next_line(raw)) {
+      if (at_.file == 0 && frames_.size() == 1) break;
+      if (at_.file == 0) {
+        fail(0, fmt::format("the file ends inside subroutine o<{}>: 'o<{}> endsub' missing",
+                            frames_.back().sub_name, frames_.back().sub_name));
+      }
+      // The end of a subroutine file before its sub or its endsub.
+      const std::string name =
+          !skipping_to_sub_.empty() ? skipping_to_sub_ : frames_.back().sub_name;
+      fail(0, !skipping_to_sub_.empty()
+                  ? fmt::format("no 'o<{}> sub' in {}", name, source_)
+                  : fmt::format("end of {} inside subroutine o<{}>: 'o<{}> endsub' missing", source_,
+                                name, name));
+    }
+    const bool main = at_.file == 0;
     std::string bare;  // the line without blanks, to recognise '%'
     for (char c : raw) {
       if (c != ' ' && c != '\t') bare.push_back(c);
     }
-    if (!bare.empty() && !ended) last_content_line = number;
+    if (main && !bare.empty() && !ended) last_content_line = line_;
     if (ended) {
-      if (!bare.empty() && bare != "%" && ignored_lines++ == 0) first_ignored = number;
-    } else if (bare == "%" && !seen_content) {
+      if (!main) break;
+      if (!bare.empty() && bare != "%" && ignored_lines++ == 0) first_ignored = line_;
+    } else if (main && bare == "%" && !seen_content) {
       percent_opened = true;  // the optional '%' opening the program
       seen_content = true;
-    } else if (bare == "%" && percent_opened) {
+    } else if (main && bare == "%" && percent_opened) {
       ended = true;  // the closing '%': the rest of the file is ignored
     } else {
       if (!bare.empty()) seen_content = true;
       const CompactLine line = compact(raw);
-      if (!line.code.empty()) {
-        const Block block = read_block(line);
+      if (line.code.empty()) continue;
+      const std::size_t i = after_line_number(line);
+      if (line.at(i) == 'o') {
+        control(read_o(line, i));
+      } else if (skipping_o_.empty()) {
+        const Block block = read_block(line, i);
         if (!execute(block)) ended = true;
         publish_state();
       }
     }
-    if (last) break;
   }
   if (!seen_content) {
     throw InputError(SourceLocation{source_, 0, 0}, "empty program: no G-code in the file");
+  }
+  if (!skipping_o_.empty() && !ended) {
+    const int at = skipping_start_.line;
+    line_ = at;
+    if (!skipping_to_sub_.empty()) {
+      fail(0, fmt::format("subroutine o<{}> is not defined: not in the program, and no {}.ngc in "
+                          "the program's folder or the subroutine path",
+                          skipping_to_sub_, skipping_to_sub_));
+    }
+    fail(0, defining_sub_
+                ? fmt::format("'o<{}> sub' has no 'o<{}> endsub' before the end of the file",
+                              skipping_o_, skipping_o_)
+                : fmt::format("the file ends while skipping to the end of o-word {} from here",
+                              skipping_o_));
   }
   if (!ended) {
     // LinuxCNC refuses such a file at its end; the path is complete, so cwe only warns.
@@ -1236,6 +1354,369 @@ Toolpath Interpreter::run() {
                      ignored_lines == 1 ? "" : "s"));
   }
   return std::move(result_);
+}
+
+// ---------------------------------------------------------------------------------------------
+// O-words (LinuxCNC's read_o, convert_control_functions, execute_call, execute_return,
+// control_back_to, control_save_offset)
+
+const char* Interpreter::o_name(OType type) const {
+  switch (type) {
+    case OType::kNone: return "none";
+    case OType::kSub: return "sub";
+    case OType::kEndsub: return "endsub";
+    case OType::kCall: return "call";
+    case OType::kDo: return "do";
+    case OType::kWhile: return "while";
+    case OType::kRepeat: return "repeat";
+    case OType::kIf: return "if";
+    case OType::kElseif: return "elseif";
+    case OType::kElse: return "else";
+    case OType::kEndif: return "endif";
+    case OType::kBreak: return "break";
+    case OType::kContinue: return "continue";
+    case OType::kEndwhile: return "endwhile";
+    case OType::kEndrepeat: return "endrepeat";
+    case OType::kReturn: break;
+  }
+  return "return";
+}
+
+Interpreter::OLine Interpreter::read_o(const CompactLine& line, std::size_t i) {
+  OLine o;
+  o.at = Position{at_.file, line_offset_, line_};
+  const gcode::ValueReader values = this->values(line);
+  const int o_column = line.column(i);
+  ++i;  // the 'o'
+  if (line.at(i) == '<') {
+    o.label = values.name(i);
+  } else {
+    o.label = fmt::format("{}", values.integer(i));
+  }
+  static constexpr std::pair<std::string_view, OType> kKeywords[] = {
+      {"sub", OType::kSub},           {"endsub", OType::kEndsub},
+      {"call", OType::kCall},         {"do", OType::kDo},
+      {"while", OType::kWhile},       {"repeat", OType::kRepeat},
+      {"if", OType::kIf},             {"elseif", OType::kElseif},
+      {"else", OType::kElse},         {"endif", OType::kEndif},
+      {"break", OType::kBreak},       {"continue", OType::kContinue},
+      {"endwhile", OType::kEndwhile}, {"endrepeat", OType::kEndrepeat},
+      {"return", OType::kReturn}};
+  for (const auto& [word, type] : kKeywords) {  // LinuxCNC's order: "else" after "elseif"
+    if (line.code.compare(i, word.size(), word) == 0) {
+      o.type = type;
+      i += word.size();
+      break;
+    }
+  }
+  if (o.type == OType::kNone) {
+    if (line.at(i) == '\0') {
+      fail(o_column, fmt::format("O{}: Fanuc-style subprograms (a bare O number, M98, M99) are "
+                                 "not supported",
+                                 o.label));
+    }
+    fail(line.column(i), "unknown O-word command: expected sub, endsub, call, do, while, repeat, "
+                         "if, elseif, else, endif, break, continue, endwhile, endrepeat or return");
+  }
+  // Subroutine names are global; other labels belong to the subroutine they are in.
+  const bool global = o.type == OType::kSub || o.type == OType::kEndsub ||
+                      o.type == OType::kCall || o.type == OType::kReturn;
+  if (global) {
+    o.name = o.label;
+  } else {
+    const std::string sub = frames_.size() > 1 ? frames_.back().sub_name
+                                                : (defining_sub_ ? sub_name_ : std::string());
+    o.name = sub + "#" + o.label;
+  }
+  const bool skipping_other = !skipping_o_.empty() && skipping_o_ != o.name;
+  switch (o.type) {
+    case OType::kSub:
+      if (defining_sub_) fail(o_column, "nested subroutine definition");
+      break;
+    case OType::kEndsub:
+    case OType::kReturn:
+      if (skipping_other || (defining_sub_ && frames_.size() == 1)) return o;
+      // An optional return value.
+      value_returned_ = line.at(i) == '[';
+      return_value_ = value_returned_ ? values.expression(i) : 0.0;
+      break;
+    case OType::kCall:
+      if (!skipping_o_.empty()) {  // skipping never ends on a call: its arguments are not evaluated
+        o.type = OType::kNone;
+        return o;
+      }
+      while (line.at(i) == '[') {
+        if (o.args.size() == kSubroutineArguments) {
+          fail(line.column(i), fmt::format("more than {} subroutine arguments",
+                                           kSubroutineArguments));
+        }
+        o.args.push_back(values.expression(i));
+      }
+      break;
+    case OType::kWhile:
+    case OType::kIf:
+    case OType::kElseif:
+    case OType::kRepeat:
+      if (defining_sub_ || skipping_other) {
+        if (defining_sub_) o.type = OType::kNone;  // expressions are not evaluated in a definition
+        return o;
+      }
+      if (line.at(i) != '[') {
+        fail(line.column(i), fmt::format("o{} {}: a bracketed expression must follow",
+                                         o.label, o_name(o.type)));
+      }
+      o.test = values.expression(i);
+      break;
+    default:
+      if (defining_sub_) o.type = OType::kNone;
+      break;
+  }
+  if (!skipping_o_.empty()) return o;  // the rest of a skipped line is not looked at
+  if (i < line.code.size()) fail(line.column(i), "unexpected character after O-word");
+  return o;
+}
+
+void Interpreter::save_offset(const OLine& o) {
+  const auto it = offsets_.find(o.name);
+  if (it != offsets_.end()) {
+    if (it->second.at.line == o.at.line && it->second.at.file == o.at.file) {
+      fail(1, fmt::format("o{} {} found in an illegal location", o.label, o_name(o.type)));
+    }
+    fail(1, fmt::format("o{} is already defined at line {}", o.label, it->second.at.line));
+  }
+  offsets_[o.name] = OffsetEntry{o.type, o.at, -1};
+}
+
+Interpreter::OffsetEntry& Interpreter::find_offset(const OLine& o) {
+  const auto it = offsets_.find(o.name);
+  if (it == offsets_.end()) {
+    fail(1, fmt::format("o{} {}: undefined O-word label", o.label, o_name(o.type)));
+  }
+  return it->second;
+}
+
+std::optional<std::string> Interpreter::find_subroutine_file(const std::string& name) const {
+  // LinuxCNC opens <name>.ngc from its SUBROUTINE_PATH; cwe looks beside the main program, then
+  // in the subroutine path.
+  std::vector<std::filesystem::path> folders;
+  folders.push_back(std::filesystem::path(files_.front()->name).parent_path());
+  for (const std::string& folder : options_.subroutine_path) folders.emplace_back(folder);
+  for (const std::filesystem::path& folder : folders) {
+    const std::filesystem::path candidate = folder / (name + ".ngc");
+    std::error_code error;
+    if (std::filesystem::is_regular_file(candidate, error)) return candidate.string();
+  }
+  return std::nullopt;
+}
+
+int Interpreter::file_of(const std::string& path) {
+  for (std::size_t f = 0; f < files_.size(); ++f) {
+    if (files_[f]->name == path) return static_cast<int>(f);
+  }
+  auto file = std::make_unique<ProgramFile>();
+  file->name = path;
+  file->owned = read_text_file(path, "G-code subroutine file");
+  file->text = file->owned;
+  files_.push_back(std::move(file));
+  result_.sources.push_back(path);
+  return static_cast<int>(files_.size() - 1);
+}
+
+void Interpreter::back_to(const OLine& o) {
+  // A label seen before: go back to its line (it is read again). Otherwise a subroutine: from
+  // its own file if there is one, else further down this file; skip to its 'sub' line.
+  const auto it = offsets_.find(o.name);
+  if (it != offsets_.end()) {
+    Position at = it->second.at;
+    at.line -= 1;  // the line is read again
+    go_to(at);
+    return;
+  }
+  if (const std::optional<std::string> file = find_subroutine_file(o.name)) {
+    go_to(Position{file_of(*file), 0, 0});
+  }
+  skipping_o_ = o.name;
+  skipping_to_sub_ = o.name;
+  skipping_start_ = o.at;
+}
+
+void Interpreter::call(const OLine& o) {
+  if (static_cast<int>(frames_.size()) >= kMaxCallLevels) fail(1, "too many subroutine levels");
+  Frame& caller = frames_.back();
+  caller.return_to = at_;
+  for (std::size_t k = 0; k < kSubroutineArguments; ++k) {
+    caller.saved[k] = parameters_.numbered(static_cast<int>(k + 1));
+    parameters_.set_numbered(static_cast<int>(k + 1), k < o.args.size() ? o.args[k] : 0.0);
+  }
+  frames_.push_back(Frame{o.name, {}, {}});
+  parameters_.push_locals();
+  skipping_o_.clear();
+  back_to(o);
+}
+
+void Interpreter::give_back(const OLine& o) {
+  if (frames_.size() == 1 && sub_name_.empty()) {
+    fail(1, fmt::format("o{} {}: not in a subroutine definition", o.label, o_name(o.type)));
+  }
+  if (!skipping_o_.empty() && o.type == OType::kEndsub) skipping_o_.clear();
+  if (frames_.size() > 1) {
+    // Back to the caller: its #1-#30, its local parameters, its place.
+    frames_.pop_back();
+    parameters_.pop_locals();
+    const Frame& caller = frames_.back();
+    for (std::size_t k = 0; k < kSubroutineArguments; ++k) {
+      parameters_.set_numbered(static_cast<int>(k + 1), caller.saved[k]);
+    }
+    go_to(caller.return_to);
+    sub_name_ = frames_.size() > 1 ? caller.sub_name : std::string();
+    return;
+  }
+  if (o.type == OType::kEndsub) {  // the end of a definition at the main level
+    if (!defining_sub_) fail(1, "not in a subroutine definition");
+    skipping_o_.clear();
+    defining_sub_ = false;
+    sub_name_.clear();
+  }
+}
+
+void Interpreter::control(const OLine& o) {
+  if (!skipping_o_.empty() && skipping_o_ != o.name) return;
+  if (!skipping_to_sub_.empty() && o.type != OType::kSub) return;
+  switch (o.type) {
+    case OType::kNone:
+      return;
+    case OType::kSub:
+      if (!skipping_o_.empty()) {  // found the sub a call was looking for
+        save_offset(o);
+        skipping_o_.clear();
+      }
+      skipping_to_sub_.clear();
+      if (frames_.size() > 1) return;  // a call: run its body
+      // A definition: remember it and skip to its endsub.
+      save_offset(o);
+      skipping_o_ = o.name;
+      skipping_start_ = o.at;
+      defining_sub_ = true;
+      sub_name_ = o.name;
+      return;
+    case OType::kEndsub:
+    case OType::kReturn:
+      give_back(o);
+      return;
+    case OType::kCall:
+      call(o);
+      return;
+    case OType::kDo:
+      skipping_o_.clear();
+      if (offsets_.find(o.name) == offsets_.end()) save_offset(o);
+      return;
+    case OType::kRepeat: {
+      const auto it = offsets_.find(o.name);
+      if (it == offsets_.end()) {
+        save_offset(o);
+      } else if (it->second.at.line != o.at.line) {
+        fail(1, fmt::format("o{} is already defined at line {}", o.label, it->second.at.line));
+      }
+      skipping_o_.clear();
+      OffsetEntry& entry = offsets_[o.name];
+      if (entry.repeat_count == -1) entry.repeat_count = static_cast<int>(std::lround(o.test));
+      if (entry.repeat_count > 0) {
+        --entry.repeat_count;
+      } else {
+        skipping_o_ = o.name;
+        skipping_start_ = o.at;
+        entry.repeat_count = -1;
+      }
+      return;
+    }
+    case OType::kWhile: {
+      const auto it = offsets_.find(o.name);
+      if (it != offsets_.end() && it->second.type != OType::kDo &&
+          it->second.at.line != o.at.line) {
+        fail(1, fmt::format("o{} is already defined at line {}", o.label, it->second.at.line));
+      }
+      if (it == offsets_.end()) save_offset(o);
+      skipping_o_.clear();
+      OffsetEntry& entry = offsets_[o.name];
+      if (entry.type == OType::kWhile) {  // the start of a while loop
+        if (o.test == 0.0) {
+          skipping_o_ = o.name;
+          skipping_start_ = o.at;
+        }
+      } else if (o.test != 0.0 && !doing_break_) {  // the end of a do loop
+        back_to(o);
+      } else {
+        doing_break_ = false;
+      }
+      return;
+    }
+    case OType::kIf: {
+      const auto it = offsets_.find(o.name);
+      if (it == offsets_.end()) {
+        save_offset(o);
+      } else if (it->second.at.line != o.at.line) {
+        fail(1, fmt::format("o{} is already defined at line {}", o.label, it->second.at.line));
+      }
+      executed_if_ = o.test != 0.0;
+      if (executed_if_) {
+        skipping_o_.clear();
+      } else {
+        skipping_o_ = o.name;
+        skipping_start_ = o.at;
+      }
+      return;
+    }
+    case OType::kElseif:
+    case OType::kElse:
+    case OType::kEndif: {
+      const OffsetEntry& entry = find_offset(o);
+      if (entry.type != OType::kIf) {
+        fail(1, fmt::format("o{} {}: no matching 'if' (o{} is a '{}' at line {})", o.label,
+                            o_name(o.type), o.label, o_name(entry.type), entry.at.line));
+      }
+      if (o.type == OType::kEndif) {
+        skipping_o_.clear();
+        executed_if_ = true;
+      } else if (executed_if_) {  // a branch already ran: skip the rest
+        skipping_o_ = o.name;
+        skipping_start_ = o.at;
+      } else if (o.type == OType::kElse || o.test != 0.0) {
+        skipping_o_.clear();
+        executed_if_ = true;
+      }
+      return;
+    }
+    case OType::kBreak:
+    case OType::kContinue: {
+      const OffsetEntry& entry = find_offset(o);
+      if (entry.type != OType::kWhile && entry.type != OType::kDo) {
+        fail(1, fmt::format("o{} {}: no matching while or do (o{} is a '{}' at line {})", o.label,
+                            o_name(o.type), o.label, o_name(entry.type), entry.at.line));
+      }
+      if (o.type == OType::kContinue && !skipping_o_.empty()) return;
+      skipping_o_ = o.name;
+      skipping_start_ = o.at;
+      (o.type == OType::kBreak ? doing_break_ : doing_continue_) = true;
+      return;
+    }
+    case OType::kEndwhile:
+    case OType::kEndrepeat: {
+      const OffsetEntry& entry = find_offset(o);
+      const OType opening = o.type == OType::kEndwhile ? OType::kWhile : OType::kRepeat;
+      if (entry.type != opening) {
+        fail(1, fmt::format("o{} {}: no matching '{}' (o{} is a '{}' at line {})", o.label,
+                            o_name(o.type), o_name(opening), o.label, o_name(entry.type),
+                            entry.at.line));
+      }
+      if (!skipping_o_.empty()) {  // the loop is over, or a continue skipped here
+        skipping_o_.clear();
+        if (!doing_continue_) return;
+        doing_continue_ = false;
+      }
+      back_to(o);
+      return;
+    }
+  }
 }
 
 }  // namespace

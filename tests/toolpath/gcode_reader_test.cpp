@@ -156,6 +156,7 @@ TEST(GcodeGolden, InchProgramSwitchingUnits) { expect_matches_golden("units"); }
 TEST(GcodeGolden, DrillingCycles) { expect_matches_golden("drilling"); }
 TEST(GcodeGolden, PeckCyclesInInches) { expect_matches_golden("drilling_inch"); }
 TEST(GcodeGolden, ParametersAndExpressions) { expect_matches_golden("parameters"); }
+TEST(GcodeGolden, SubroutinesConditionsAndLoops) { expect_matches_golden("owords"); }
 
 // ---------------------------------------------------------------------------------------------
 // Straight moves, modal state, words
@@ -765,7 +766,6 @@ TEST(GcodeErrors, NotSupported) {
     const char* fragment;
   };
   const Case cases[] = {
-      {"O100 sub", 1, "O-words (subroutines and control flow) are not supported"},
       {"G41 D1", 1, "G41: cutter radius compensation (G41, G42) is not supported"},
       {"G42", 1, "cutter radius compensation"},
       {"G41.1 D1", 1, "cutter radius compensation"},

@@ -8,6 +8,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "cwe/toolpath/toolpath.hpp"
 
@@ -16,6 +17,9 @@ namespace cwe {
 struct GcodeOptions {
   Vec3 initial_position = Vec3::Zero();  // where the tip is before the first move, mm
   ProgramUnits initial_units = ProgramUnits::kMillimetres;  // until G20/G21
+  // Folders searched for <name>.ngc when the program calls a subroutine it does not define
+  // (after the main program's own folder), as LinuxCNC's SUBROUTINE_PATH.
+  std::vector<std::string> subroutine_path;
 };
 
 // Parses program text; `source` names it in errors and in Toolpath::sources.
