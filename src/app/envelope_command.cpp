@@ -82,6 +82,8 @@ void add_envelope_command(CLI::App& app, EnvelopeCommandOptions& options) {
   cmd->add_option("--path", options.path, "Toolpath file (G-code or APT CLDATA)")->required();
   cmd->add_option("--moves", options.moves, "Move numbers a-b (1-based, as in 'cwe path --dump')");
   cmd->add_option("--out", options.out, "Output folder")->required();
+  cmd->add_option("--subroutine-path", options.subroutine_path,
+                  "Folders (':'-separated) searched for G-code subroutine files <name>.ngc");
   cmd->add_option("--tolerance", options.tolerance, "Swept-volume tolerance, mm")
       ->capture_default_str();
   cmd->add_option("--fcs-at", options.fcs_at,
@@ -166,7 +168,9 @@ nlohmann::json envelope_of_move(const EnvelopeCommandOptions& options, const Cut
 }  // namespace
 
 int run_envelope_command(const EnvelopeCommandOptions& options, std::ostream& out) {
-  const ReadToolpath read = read_toolpath_file(options.path);
+  GcodeOptions gcode;
+  gcode.subroutine_path = parse_search_path(options.subroutine_path);
+  const ReadToolpath read = read_toolpath_file(options.path, gcode);
   const Toolpath& path = read.toolpath;
   const Cutter cutter = choose_cutter(options.tool, path, options.path);
   const std::vector<int> selected = selected_moves(options, path);

@@ -17,6 +17,7 @@ struct EnvelopeCommandOptions {
   std::string out;
   double tolerance = 0.01;
   std::vector<double> fcs_at{0.5};  // move fractions u at which the FCS is drawn
+  std::string subroutine_path;       // ':'-separated folders for G-code subroutine files
 };
 
 void add_envelope_command(CLI::App& app, EnvelopeCommandOptions& options);

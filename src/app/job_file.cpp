@@ -27,6 +27,7 @@ using Options = SimulateCommandOptions;
 enum class Kind {
   kText,          // a string
   kPath,          // a file, relative to the job file's folder
+  kFolders,       // ':'-separated folders, each relative to the job file's folder
   kStock,         // a path unless a box
   kToolSpec,      // a path when it names a JSON tool file
   kCoefficients,  // a path when it names a JSON file, else a bundled material
@@ -65,6 +66,7 @@ const JobKey kJobKeys[] = {
     {"tool_for_all", Kind::kFlag, &Options::tool_for_all},
     {"start", Kind::kText, &Options::start},
     {"tool_change", Kind::kText, &Options::tool_change},
+    {"subroutine_path", Kind::kFolders, &Options::subroutine_path},
     {"operations", Kind::kOperations, {}},
     {"resolution", Kind::kNumber, &Options::resolution},
     {"tolerance", Kind::kNumber, &Options::tolerance},
@@ -99,6 +101,7 @@ class JobFileReader {
     switch (key.kind) {
       case Kind::kText:
       case Kind::kPath:
+      case Kind::kFolders:
       case Kind::kStock:
       case Kind::kToolSpec:
       case Kind::kCoefficients: {
@@ -161,6 +164,13 @@ class JobFileReader {
   }
 
   std::string text(Kind kind, const std::string& value) const {
+    if (kind == Kind::kFolders) {
+      std::string joined;
+      for (const std::string& folder : parse_search_path(value)) {
+        joined += (joined.empty() ? "" : ":") + relative(folder);
+      }
+      return joined;
+    }
     const bool path = kind == Kind::kPath ||
                       (kind == Kind::kStock && value.rfind("box:", 0) != 0) ||
                       (kind == Kind::kToolSpec && value.size() > 5 && value.ends_with(".json")) ||
@@ -243,6 +253,9 @@ void add_job_options(CLI::App* cmd, SimulateCommandOptions& options) {
   cmd->add_option("--start", options.start,
                   "Where a program's tool starts: auto (5 mm above the stock's top at the "
                   "program's first XY), origin, or x,y,z (default auto)");
+  cmd->add_option("--subroutine-path", options.subroutine_path,
+                  "Folders (':'-separated) searched for a G-code subroutine file <name>.ngc that "
+                  "a program calls but does not define, after the program's own folder");
   cmd->add_option("--tool-change", options.tool_change,
                   "Where a program changes tools: auto (the old tool straight up to 5 mm above "
                   "the stock's top, the new one across to its first XY), stay, or x,y,z "

@@ -181,6 +181,9 @@ void add_path_command(CLI::App& app, PathCommandOptions& options) {
                  "Write one JSON object per move (mm) instead of the summary");
   path->add_flag("--cl-dump", options.cl_dump,
                  "Write one JSON object per cutter-location point instead of the summary");
+  path->add_option("--subroutine-path", options.subroutine_path,
+                   "Folders (':'-separated) searched for a G-code subroutine file <name>.ngc that "
+                   "the program calls but does not define, after the program's own folder");
   path->add_option("--cl-step", options.cl_step, "CL spacing along the tip path, mm")
       ->capture_default_str();
   path->add_option("--cl-angle", options.cl_angle_deg, "CL spacing in tool-axis turn, degrees")
@@ -189,7 +192,9 @@ void add_path_command(CLI::App& app, PathCommandOptions& options) {
 
 int run_path_command(const PathCommandOptions& options, std::ostream& out) {
   if (options.dump && options.cl_dump) throw InputError("--dump and --cl-dump: choose one");
-  const ReadToolpath read = read_toolpath_file(options.file);
+  GcodeOptions gcode;
+  gcode.subroutine_path = parse_search_path(options.subroutine_path);
+  const ReadToolpath read = read_toolpath_file(options.file, gcode);
   SamplingOptions sampling;
   sampling.step = options.cl_step;
   sampling.angular_step = degrees_to_radians(options.cl_angle_deg);

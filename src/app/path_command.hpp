@@ -14,6 +14,7 @@ struct PathCommandOptions {
   bool cl_dump = false;
   double cl_step = 0.5;       // mm
   double cl_angle_deg = 1.0;  // degrees of tool-axis turn
+  std::string subroutine_path;  // ':'-separated folders for G-code subroutine files
 };
 
 void add_path_command(CLI::App& app, PathCommandOptions& options);

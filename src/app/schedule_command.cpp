@@ -122,6 +122,13 @@ std::vector<ScheduledProgram> schedule_operations(const PreparedJob& job,
     LineFeeds& lines = files[file_of[o]].lines;
     for (std::size_t f = 0; f < index.size(); ++f) {
       const Move& m = path.moves[index[f]];
+      if (m.source > 0) {
+        throw InputError(SourceLocation{path.sources[static_cast<std::size_t>(m.source)], m.line},
+                         fmt::format("a feed move of {} comes from this subroutine file: cwe "
+                                     "schedule rewrites the feeds of the program file only (put "
+                                     "the subroutine in the program to schedule it)",
+                                     op.path));
+      }
       const ScheduledMove& s = program.schedule.moves[f];
       auto [it, inserted] = lines.emplace(m.line, s.feed);
       if (!inserted) it->second = std::min(it->second, s.feed);

@@ -40,14 +40,16 @@ SourceLocation loading(const Toolpath& path, int tool, const std::string& file, 
 // origin finds the program's first XY (the end of the first move that leaves the origin's XY,
 // else the origin's), and the program is read again from kStartClearance above the stock's top
 // there. A CLDATA program with FROM starts there whatever the rule.
-ReadToolpath read_program(const std::string& path, const EntryRules& rules) {
-  if (rules.start == EntryRules::Kind::kOrigin) return read_toolpath_file(path);
+ReadToolpath read_program(const std::string& path, const EntryRules& rules,
+                          const std::string& subroutine_path) {
   GcodeOptions gcode;
+  gcode.subroutine_path = parse_search_path(subroutine_path);
+  if (rules.start == EntryRules::Kind::kOrigin) return read_toolpath_file(path, gcode);
   if (rules.start == EntryRules::Kind::kGiven) {
     gcode.initial_position = rules.start_at;
     return read_toolpath_file(path, gcode);
   }
-  const ReadToolpath first = read_toolpath_file(path);
+  const ReadToolpath first = read_toolpath_file(path, gcode);
   Vec3 at(0.0, 0.0, rules.clearance_z);
   for (const Move& m : first.toolpath.moves) {
     if (m.end.head<2>() != Vec2::Zero()) {
@@ -132,7 +134,7 @@ EntryRules entry_rules(const Job& options, double stock_top) {
 
 std::vector<ToolRun> program_runs(const Operation& op, const Job& options,
                                   const EntryRules& rules) {
-  const ReadToolpath read = read_program(op.path, rules);
+  const ReadToolpath read = read_program(op.path, rules, options.subroutine_path);
   const Toolpath& path = read.toolpath;
   std::vector<int> tools;  // the tool of each move, moves before any change taking the first
   int first = 0;

@@ -145,7 +145,7 @@ struct FeedLines {
 FeedLines feed_lines(const Toolpath& path, const LineFeeds& feeds, const std::string& source) {
   FeedLines lines;
   for (const Move& move : path.moves) {
-    if (move.is_rapid()) continue;
+    if (move.is_rapid() || move.source != 0) continue;  // a subroutine file's lines are not ours
     lines.feed.emplace(move.line, move.feed_rate);
     lines.last = std::max(lines.last, move.line);
   }

@@ -434,6 +434,9 @@ class Interpreter {
   double return_value_ = 0.0;
   bool value_returned_ = false;
   std::vector<Frame> frames_ = std::vector<Frame>(1);
+  // Loop iterations since the last move: a loop that runs this often without moving never ends.
+  static constexpr long kMaxIdleIterations = 10'000'000;
+  long idle_iterations_ = 0;
 
   // Modal state, as LinuxCNC's setup_struct.
   Vec3 position_ = Vec3::Zero();  // program units
@@ -972,6 +975,7 @@ void Interpreter::emit_line(MotionMode mode, const Vec3& to) {
   move.shape = MoveShape::kLine;
   move.end = to * scale();
   result_.moves.push_back(move);
+  idle_iterations_ = 0;
   position_ = to;
 }
 
@@ -1130,6 +1134,7 @@ void Interpreter::arc(const Block& block, int motion, int column) {
   move.sweep = angle + kTwoPi * (turns - 1);
   move.axial = sign * (end[axes.normal] - position_[axes.normal]) * scale();
   result_.moves.push_back(move);
+  idle_iterations_ = 0;
   position_ = arc_end;
   if (connector) emit_line(MotionMode::kFeed, end);
   motion_mode_ = motion;
@@ -1282,18 +1287,18 @@ Toolpath Interpreter::run() {
   for (;;) {
     std::string_view raw;
     if (!next_line(raw)) {
-      if (at_.file == 0 && frames_.size() == 1) break;
-      if (at_.file == 0) {
+      if (!skipping_to_sub_.empty()) {  // a call found no definition: blame the call
+        go_to(skipping_start_);
+        line_ = skipping_start_.line;
+        fail(0, fmt::format("subroutine o<{}> is not defined: not in the program, and no {}.ngc "
+                            "in the program's folder or the subroutine path",
+                            skipping_to_sub_, skipping_to_sub_));
+      }
+      if (frames_.size() > 1) {
         fail(0, fmt::format("the file ends inside subroutine o<{}>: 'o<{}> endsub' missing",
                             frames_.back().sub_name, frames_.back().sub_name));
       }
-      // The end of a subroutine file before its sub or its endsub.
-      const std::string name =
-          !skipping_to_sub_.empty() ? skipping_to_sub_ : frames_.back().sub_name;
-      fail(0, !skipping_to_sub_.empty()
-                  ? fmt::format("no 'o<{}> sub' in {}", name, source_)
-                  : fmt::format("end of {} inside subroutine o<{}>: 'o<{}> endsub' missing", source_,
-                                name, name));
+      break;
     }
     const bool main = at_.file == 0;
     std::string bare;  // the line without blanks, to recognise '%'
@@ -1327,13 +1332,7 @@ Toolpath Interpreter::run() {
     throw InputError(SourceLocation{source_, 0, 0}, "empty program: no G-code in the file");
   }
   if (!skipping_o_.empty() && !ended) {
-    const int at = skipping_start_.line;
-    line_ = at;
-    if (!skipping_to_sub_.empty()) {
-      fail(0, fmt::format("subroutine o<{}> is not defined: not in the program, and no {}.ngc in "
-                          "the program's folder or the subroutine path",
-                          skipping_to_sub_, skipping_to_sub_));
-    }
+    line_ = skipping_start_.line;
     fail(0, defining_sub_
                 ? fmt::format("'o<{}> sub' has no 'o<{}> endsub' before the end of the file",
                               skipping_o_, skipping_o_)
@@ -1527,6 +1526,11 @@ void Interpreter::back_to(const OLine& o) {
   // its own file if there is one, else further down this file; skip to its 'sub' line.
   const auto it = offsets_.find(o.name);
   if (it != offsets_.end()) {
+    if (++idle_iterations_ > kMaxIdleIterations) {
+      fail(1, fmt::format("o{} {}: {} loop iterations and calls without a move: the program "
+                          "never ends (LinuxCNC would run it forever)",
+                          o.label, o_name(o.type), kMaxIdleIterations));
+    }
     Position at = it->second.at;
     at.line -= 1;  // the line is read again
     go_to(at);
@@ -1720,6 +1724,18 @@ void Interpreter::control(const OLine& o) {
 }
 
 }  // namespace
+
+std::vector<std::string> parse_search_path(std::string_view text) {
+  std::vector<std::string> folders;
+  while (!text.empty()) {
+    const std::size_t colon = text.find(':');
+    const std::string_view folder = text.substr(0, colon);
+    if (!folder.empty()) folders.emplace_back(folder);
+    if (colon == std::string_view::npos) break;
+    text.remove_prefix(colon + 1);
+  }
+  return folders;
+}
 
 Toolpath read_gcode(std::string_view text, const std::string& source, const GcodeOptions& options) {
   return Interpreter(text, source, options).run();

@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <string_view>
 
@@ -158,6 +160,128 @@ TEST(GcodeParameters, Errors) {
   expect_error("G0 X[1000000*10000]\nM2", 1, 4, "X value out of range");
   // The error names the line even after many good ones.
   expect_error("#1=1\n#2=2\nG0 X[#1/[#2-2]]\nM2", 3, 8, "attempt to divide by zero");
+}
+
+}  // namespace
+}  // namespace cwe
+
+namespace cwe {
+namespace {
+
+// A folder of G-code files for subroutine calls by name.
+class GcodeSubroutineFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder_ = std::filesystem::temp_directory_path() /
+              ("cwe_gcode_subs_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+               "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::create_directories(folder_ / "lib");
+  }
+  void TearDown() override { std::filesystem::remove_all(folder_); }
+  std::string write(const std::string& name, const std::string& text) {
+    const std::filesystem::path path = folder_ / name;
+    std::ofstream(path) << text;
+    return path.string();
+  }
+  std::filesystem::path folder_;
+};
+
+TEST_F(GcodeSubroutineFiles, CalledByNameBesideTheProgramOrOnThePath) {
+  write("peck.ngc", "o<peck> sub\nG1 Z#1\nG0 Z2\no<peck> endsub [#1 * 2]\nM2\n");
+  write("lib/corner.ngc", "(a library sub)\no<corner> sub\nG1 X#1 Y#2\no<corner> endsub\n");
+  const std::string main = write("main.ngc",
+                                 "G21 F100\nG0 X1 Z2\no<peck> call [-3]\nG0 X#<_value>\n"
+                                 "o<corner> call [4] [5]\no<peck> call [-1]\nM2\n");
+  GcodeOptions options;
+  options.subroutine_path = {(folder_ / "lib").string()};
+  const Toolpath path = read_gcode_file(main, options);
+  ASSERT_EQ(path.sources.size(), 3u);
+  EXPECT_EQ(path.sources[1], (folder_ / "peck.ngc").string());
+  EXPECT_EQ(path.sources[2], (folder_ / "lib" / "corner.ngc").string());
+  ASSERT_EQ(path.moves.size(), 7u);
+  // Each move names its file and line there.
+  EXPECT_EQ(path.moves[1].source, 1);
+  EXPECT_EQ(path.moves[1].line, 2);
+  EXPECT_EQ(path.moves[1].end, Vec3(1, 0, -3));
+  EXPECT_EQ(path.moves[3].source, 0);  // back in the main program: X = the returned -6
+  EXPECT_EQ(path.moves[3].end.x(), -6.0);
+  EXPECT_EQ(path.moves[4].source, 2);
+  EXPECT_EQ(path.moves[4].line, 3);
+  EXPECT_EQ(path.moves[4].end, Vec3(4, 5, 2));
+  EXPECT_EQ(path.moves[5].source, 1);  // the second call reuses the file read once
+  EXPECT_EQ(path.moves[5].end.z(), -1.0);
+  EXPECT_EQ(path.moves[6].source, 1);
+  // Without the path the library sub is not found: the error names the call's line.
+  try {
+    read_gcode_file(main);
+    ADD_FAILURE() << "no error without the subroutine path";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.location().source, main);
+    EXPECT_EQ(e.location().line, 5);
+    EXPECT_NE(e.message().find("subroutine o<corner> is not defined"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST_F(GcodeSubroutineFiles, ErrorsInASubroutineFileNameThatFile) {
+  const std::string sub = write("bad.ngc", "o<bad> sub\nG1 X[1/0]\no<bad> endsub\n");
+  const std::string main = write("main.ngc", "G21 F100\no<bad> call\nM2\n");
+  try {
+    read_gcode_file(main);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.location().source, sub);
+    EXPECT_EQ(e.location().line, 2);
+    EXPECT_NE(e.message().find("divide by zero"), std::string::npos) << e.what();
+  }
+  write("open.ngc", "o<open> sub\nG1 X1\n");
+  const std::string caller = write("caller.ngc", "G21 F100\no<open> call\nM2\n");
+  EXPECT_THROW(read_gcode_file(caller), InputError);  // endsub missing
+}
+
+TEST(GcodeOWords, Errors) {
+  expect_error("o100 endif\nM2", 1, 1, "o100 endif: undefined O-word label");
+  expect_error("o1 if [1]\no2 endif\nM2", 2, 1, "o2 endif: undefined O-word label");
+  expect_error("o1 while [0]\no1 endif\nM2", 2, 1, "no matching 'if'");
+  expect_error("o1 if [1]\no1 endwhile\nM2", 2, 1, "no matching 'while'");
+  expect_error("o1 sub\no2 sub\nM2", 2, 1, "nested subroutine definition");
+  expect_error("o1 sub\nG0 X1\nM2\n", 1, 0, "'o<1> sub' has no 'o<1> endsub'");
+  expect_error("o1 endsub\nM2", 1, 1, "not in a subroutine definition");
+  expect_error("o1 if\nM2", 1, 6, "o1 if: a bracketed expression must follow");
+  expect_error("o1 if [1] G0 X1\nM2", 1, 11, "unexpected character after O-word");
+  expect_error("o1 foo\nM2", 1, 4, "unknown O-word command");
+  expect_error("O2000\nM2", 1, 1, "Fanuc-style subprograms");
+  expect_error("G0 X1 o1 call\nM2", 1, 7, "an O-word must be the first word of its line");
+  expect_error("G21\no<nowhere> call\nM2", 2, 0, "subroutine o<nowhere> is not defined");
+  expect_error("o1 if [0]\no1 endif\no1 if [1]\no1 endif\nM2", 3, 1,
+               "o1 is already defined at line 1");
+  // Eleven levels of calls: LinuxCNC allows ten.
+  expect_error("o1 sub\no1 call\no1 endsub\no1 call\nM2", 2, 1, "too many subroutine levels");
+}
+
+TEST(GcodeOWords, AnEndlessLoopIsAnErrorNotAHang) {
+  // LinuxCNC runs this forever; cwe stops after ten million iterations without a move.
+  expect_error("G21\no1 while [1]\no1 endwhile\nM2", 3, 1, "the program never ends");
+  // Loops that move are not limited by that count.
+  const Toolpath path = read("G21 #1=0\no1 while [#1 LT 20000]\nG0 X#1\n#1=[#1+1]\no1 endwhile\nM2");
+  EXPECT_EQ(path.moves.size(), 20000u);
+}
+
+TEST(GcodeOWords, ArgumentsAndLocalsBelongToTheCall) {
+  // #1-#30 are the call's arguments (0 beyond those given) and come back afterwards; a named
+  // local of the caller is not visible in the sub; a global is.
+  const Toolpath path = read(
+      "#1=7 #2=8 #<mine>=1 #<_shared>=4\n"
+      "o<s> sub\n"
+      "G0 X#1 Y#2 Z[EXISTS[#<mine>] * 10 + #<_shared>]\n"
+      "#<mine>=99\n"
+      "o<s> endsub\n"
+      "o<s> call [3]\n"
+      "G0 X#1 Y#2 Z#<mine>\n"
+      "M2\n");
+  ASSERT_EQ(path.moves.size(), 2u);
+  EXPECT_EQ(path.moves[0].end, Vec3(3, 0, 4));
+  EXPECT_EQ(path.moves[1].end, Vec3(7, 8, 1));
 }
 
 }  // namespace

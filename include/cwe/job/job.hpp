@@ -43,6 +43,9 @@ struct Job {
   // that height, then across to the new tool's first XY), "stay", or "x,y,z".
   std::string start;
   std::string tool_change;
+  // Folders searched for a G-code subroutine file <name>.ngc that a program calls but does not
+  // define, ':'-separated (LinuxCNC's SUBROUTINE_PATH); the program's own folder comes first.
+  std::string subroutine_path;
   // "mm" (default) or "in": the unit of the lengths given without one (stock box, tool
   // specifications and tables, start and tool-change points).
   std::string units;

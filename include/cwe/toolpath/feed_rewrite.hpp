@@ -45,8 +45,10 @@
 //    or FEDRAT record, the inside of a continued record, past the end). The message names the
 //    source and the line.
 //  - cwe::InputError (source, line, column) for a program the readers refuse (it is read first,
-//    with its own message: `F#1` and `F[…]` are "parameters (#) are not supported") and for an F
-//    word that cannot be rewritten (its number is interrupted by a comment).
+//    with its own message) and for an F word that cannot be rewritten: its number is a parameter
+//    or an expression (`F#1`, `F[…]`), or is interrupted by a comment. Lines executed several
+//    times (loops, subroutine calls) take one feed, the one given for the line; feed moves from
+//    subroutine files are not the program text's lines and are left alone.
 
 #include <map>
 #include <string>

@@ -22,6 +22,9 @@ struct GcodeOptions {
   std::vector<std::string> subroutine_path;
 };
 
+// Folders from a ':'-separated list (LinuxCNC's SUBROUTINE_PATH form); empty entries are dropped.
+std::vector<std::string> parse_search_path(std::string_view text);
+
 // Parses program text; `source` names it in errors and in Toolpath::sources.
 Toolpath read_gcode(std::string_view text, const std::string& source,
                     const GcodeOptions& options = {});
