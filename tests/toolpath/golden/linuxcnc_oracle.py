@@ -17,7 +17,9 @@ x y z is the end point; c1 c2 the centre in the plane's canonical axis order (XY
 XZ: Z X, YZ: Y Z); rotation LinuxCNC's turn count: +n counter-clockwise about the plane's normal
 axis (Z, Y, X), -n clockwise, |n| - 1 extra full turns. An interpreter error ends the list with
 `error <line> <message>`. cwe's tests (gcode_reader_test.cpp) read these files; they never run
-LinuxCNC.
+LinuxCNC. With --flags before the program, lines `flag <what>` also name what cwe's reader does
+not model: rotary (A, B, C motion), uvw, io (digital or analog I/O), probe, spindle_sync
+(scripts/linuxcnc_compare.py leaves such programs out).
 """
 import os
 import sys
@@ -41,6 +43,13 @@ class Canon(Translated, ArcsToSegmentsMixin):
         self.plane = 1
         self.parameter_file = ""
         self.lo = (0.0,) * 9
+        self.flags = set()
+
+    def note_axes(self, a):
+        if any(abs(v) > 1e-12 for v in a[3:6]):
+            self.flags.add("rotary")
+        if any(abs(v) > 1e-12 for v in a[6:9]):
+            self.flags.add("uvw")
 
     # Queries the interpreter makes.
     def get_external_angular_units(self): return 1.0
@@ -53,10 +62,12 @@ class Canon(Translated, ArcsToSegmentsMixin):
     def set_plane(self, plane): self.plane = plane
 
     def straight_traverse(self, *a):
+        self.note_axes(a)
         self.lo = tuple(a)
         self.lines.append("rapid %d %s %s %s" % (self.lineno, fmt(a[0]), fmt(a[1]), fmt(a[2])))
 
     def straight_feed(self, *a):
+        self.note_axes(a)
         self.lo = tuple(a)
         self.lines.append("feed %d %s %s %s" % (self.lineno, fmt(a[0]), fmt(a[1]), fmt(a[2])))
 
@@ -69,27 +80,42 @@ class Canon(Translated, ArcsToSegmentsMixin):
         else:
             x, y, z = axis_end, first_end, second_end
         self.lo = (x, y, z) + tuple(rest[:3]) + (0.0, 0.0, 0.0)
+        self.note_axes(self.lo)
         self.lines.append("arc %d %s %s %s %s %s %s %d" % (
             self.lineno, PLANES[self.plane], fmt(x), fmt(y), fmt(z), fmt(first_center),
             fmt(second_center), rotation))
 
+    IO = ("set_motion_output_bit", "clear_motion_output_bit", "set_aux_output_bit",
+          "clear_aux_output_bit", "set_motion_output_value", "set_aux_output_value", "wait")
+    OTHER = {"straight_probe": "probe", "rigid_tap": "spindle_sync",
+             "set_spindle_sync": "spindle_sync"}
+
     def __getattr__(self, name):  # every other canonical call: no motion
         if name.startswith("__"):
             raise AttributeError(name)
+        if name.startswith(self.IO):
+            self.flags.add("io")
+        elif name in self.OTHER:
+            self.flags.add(self.OTHER[name])
         return lambda *a, **k: None
 
 
 def main():
-    program = os.path.abspath(sys.argv[1])
+    flags = sys.argv[1] == "--flags"
+    program = os.path.abspath(sys.argv[-1])
     os.chdir(tempfile.mkdtemp())  # the interpreter leaves rs274ngc.var files behind
     canon = Canon()
-    result, line = gcode.parse(program, canon, "", "")
+    # A metric machine: G21 until the program says otherwise, as cwe reads programs by default.
+    result, line = gcode.parse(program, canon, "G21", "")
     print("# LinuxCNC interpreter (python3 gcode module) moves for %s; lengths in mm"
           % os.path.basename(program))
     for text in canon.lines:
         print(text)
     if result > gcode.MIN_ERROR:
         print("error %d %s" % (line, gcode.strerror(result)))
+    if flags:
+        for flag in sorted(canon.flags):
+            print("flag %s" % flag)
     sys.stdout.flush()
     os._exit(0)  # the module can crash while Python tears it down; the output is complete
 
