@@ -42,6 +42,8 @@ constexpr double kPeckClearanceInch = 0.010;
 constexpr double kMaxCycleMoves = 1e6;
 
 // G codes as LinuxCNC stores them: ten times the number, G59.1 is 591.
+constexpr int kG10 = 100, kG28 = 280, kG28_1 = 281, kG30 = 300, kG30_1 = 301, kG52 = 520,
+              kG53 = 530, kG92 = 920, kG92_1 = 921, kG92_2 = 922, kG92_3 = 923;
 constexpr int kG0 = 0, kG1 = 10, kG2 = 20, kG3 = 30, kG4 = 40, kG17 = 170, kG18 = 180, kG19 = 190,
               kG20 = 200, kG43 = 430, kG64 = 640, kG73 = 730, kG80 = 800, kG81 = 810, kG82 = 820,
               kG83 = 830, kG90_1 = 901, kG91 = 910, kG99 = 990;
@@ -93,7 +95,7 @@ constexpr CodeInfo kGCodes[] = {
     {53, kGroupMotion, "splines (G5, G5.1, G5.2, G5.3) are"},
     {70, kGroupLathe, "lathe diameter and radius modes (G7, G8) are"},
     {80, kGroupLathe, "lathe diameter and radius modes (G7, G8) are"},
-    {100, kGroupNonModal, "G10 (setting offsets and tool data) is"},
+    {100, kGroupNonModal, nullptr},
     {170, kGroupPlane, nullptr},
     {171, kGroupPlane, "UVW planes (G17.1, G18.1, G19.1) are"},
     {180, kGroupPlane, nullptr},
@@ -102,10 +104,10 @@ constexpr CodeInfo kGCodes[] = {
     {191, kGroupPlane, "UVW planes (G17.1, G18.1, G19.1) are"},
     {200, kGroupUnits, nullptr},
     {210, kGroupUnits, nullptr},
-    {280, kGroupNonModal, "returns to a stored position (G28, G30) are"},
-    {281, kGroupNonModal, "storing a position (G28.1, G30.1) is"},
-    {300, kGroupNonModal, "returns to a stored position (G28, G30) are"},
-    {301, kGroupNonModal, "storing a position (G28.1, G30.1) is"},
+    {280, kGroupNonModal, nullptr},
+    {281, kGroupNonModal, nullptr},
+    {300, kGroupNonModal, nullptr},
+    {301, kGroupNonModal, nullptr},
     {330, kGroupMotion, "spindle-synchronised motion (G33, G33.1) is"},
     {331, kGroupMotion, "spindle-synchronised motion (G33, G33.1) is"},
     {382, kGroupMotion, "probing (G38.2 to G38.5) is"},
@@ -121,17 +123,17 @@ constexpr CodeInfo kGCodes[] = {
     {431, kGroupToolLength, "dynamic tool length offsets (G43.1, G43.2) are"},
     {432, kGroupToolLength, "dynamic tool length offsets (G43.1, G43.2) are"},
     {490, kGroupToolLength, nullptr},
-    {520, kGroupNonModal, "local coordinate offsets (G52) are"},
-    {530, kGroupNonModal, "motion in machine coordinates (G53) is"},
+    {520, kGroupNonModal, nullptr},
+    {530, kGroupNonModal, nullptr},
     {540, kGroupCoordSystem, nullptr},
-    {550, kGroupCoordSystem, "work offsets other than G54 (G55 to G59.3) are"},
-    {560, kGroupCoordSystem, "work offsets other than G54 (G55 to G59.3) are"},
-    {570, kGroupCoordSystem, "work offsets other than G54 (G55 to G59.3) are"},
-    {580, kGroupCoordSystem, "work offsets other than G54 (G55 to G59.3) are"},
-    {590, kGroupCoordSystem, "work offsets other than G54 (G55 to G59.3) are"},
-    {591, kGroupCoordSystem, "work offsets other than G54 (G55 to G59.3) are"},
-    {592, kGroupCoordSystem, "work offsets other than G54 (G55 to G59.3) are"},
-    {593, kGroupCoordSystem, "work offsets other than G54 (G55 to G59.3) are"},
+    {550, kGroupCoordSystem, nullptr},
+    {560, kGroupCoordSystem, nullptr},
+    {570, kGroupCoordSystem, nullptr},
+    {580, kGroupCoordSystem, nullptr},
+    {590, kGroupCoordSystem, nullptr},
+    {591, kGroupCoordSystem, nullptr},
+    {592, kGroupCoordSystem, nullptr},
+    {593, kGroupCoordSystem, nullptr},
     {610, kGroupPathControl, nullptr},
     {611, kGroupPathControl, nullptr},
     {640, kGroupPathControl, nullptr},
@@ -157,10 +159,10 @@ constexpr CodeInfo kGCodes[] = {
     {901, kGroupArcDistance, nullptr},
     {910, kGroupDistance, nullptr},
     {911, kGroupArcDistance, nullptr},
-    {920, kGroupNonModal, "coordinate system offsets (G92, G92.1, G92.2, G92.3) are"},
-    {921, kGroupNonModal, "coordinate system offsets (G92, G92.1, G92.2, G92.3) are"},
-    {922, kGroupNonModal, "coordinate system offsets (G92, G92.1, G92.2, G92.3) are"},
-    {923, kGroupNonModal, "coordinate system offsets (G92, G92.1, G92.2, G92.3) are"},
+    {920, kGroupNonModal, nullptr},
+    {921, kGroupNonModal, nullptr},
+    {922, kGroupNonModal, nullptr},
+    {923, kGroupNonModal, nullptr},
     {930, kGroupFeedMode, "inverse time feed (G93) is"},
     {940, kGroupFeedMode, nullptr},
     {950, kGroupFeedMode, "feed per revolution (G95) is"},
@@ -310,7 +312,7 @@ class Interpreter {
   Interpreter(std::string_view text, const std::string& source, const GcodeOptions& options)
       : source_(source), options_(options) {
     inches_ = options.initial_units == ProgramUnits::kInches;
-    position_ = options.initial_position / scale();
+    position_ = options.initial_position / scale();  // no offsets yet: machine = program
     files_.push_back(std::make_unique<ProgramFile>(ProgramFile{source, {}, text}));
     result_.sources = {source};
     result_.units = options.initial_units;
@@ -453,6 +455,21 @@ class Interpreter {
   bool mist_ = false, flood_ = false;  // M7, M8; M9 stops both
   int selected_tool_ = 0;
   int loaded_tool_ = 0;
+  // Coordinate systems (program units): the selected work offset G54-G59.3 (1-9, its values in
+  // #5221… as LinuxCNC keeps them, in mm) and the G92/G52 offset. Moves are emitted in machine
+  // coordinates, position_ + origin_offset_ + axis_offset_.
+  int origin_index_ = 1;
+  Vec3 origin_offset_ = Vec3::Zero();
+  Vec3 axis_offset_ = Vec3::Zero();
+  bool warned_machine_ = false;
+  Vec3 machine(const Vec3& p) const { return (p + origin_offset_ + axis_offset_) * scale(); }
+  Vec3 stored_offset(int first_parameter) const;  // #first … #first+2, mm → program units
+  void set_stored_offset(int first_parameter, const Vec3& offset);
+  void select_origin(int origin);
+  void setup_offsets(const Block& block);      // G10 L2, L20
+  void axis_offsets(const Block& block, int code);  // G52, G92, G92.1-G92.3
+  void go_home(const Block& block, int code);  // G28, G30
+  void warn_machine(const char* what);
   // Canned-cycle memory (LinuxCNC cycle_r, cycle_cc, cycle_p, cycle_q, cycle_il).
   double cycle_r_ = 0.0, cycle_cc_ = 0.0, cycle_p_ = 0.0, cycle_q_ = 0.0;
   bool cycle_initial_level_set_ = false;
@@ -725,7 +742,7 @@ std::optional<double> Interpreter::predefined(std::string_view name) const {
       {"_inverse_time", 0.0},
       {"_units_per_minute", 1.0},
       {"_units_per_rev", 0.0},
-      {"_coord_system", 540.0},
+      {"_coord_system", origin_index_ < 7 ? 530.0 + 10.0 * origin_index_ : 584.0 + origin_index_},
       {"_tool_offset", 0.0},
       {"_retract_r_plane", flag(retract_to_r_)},
       {"_retract_old_z", flag(!retract_to_r_)},
@@ -755,9 +772,9 @@ std::optional<double> Interpreter::predefined(std::string_view name) const {
       {"_u", 0.0},
       {"_v", 0.0},
       {"_w", 0.0},
-      {"_abs_x", position_.x()},
-      {"_abs_y", position_.y()},
-      {"_abs_z", position_.z()},
+      {"_abs_x", position_.x() + origin_offset_.x() + axis_offset_.x()},
+      {"_abs_y", position_.y() + origin_offset_.y() + axis_offset_.y()},
+      {"_abs_z", position_.z() + origin_offset_.z() + axis_offset_.z()},
       {"_abs_a", 0.0},
       {"_abs_b", 0.0},
       {"_abs_c", 0.0},
@@ -773,6 +790,126 @@ std::optional<double> Interpreter::predefined(std::string_view name) const {
   return std::nullopt;
 }
 
+Vec3 Interpreter::stored_offset(int first) const {
+  return Vec3(parameters_.numbered(first), parameters_.numbered(first + 1),
+              parameters_.numbered(first + 2)) /
+         scale();
+}
+
+void Interpreter::set_stored_offset(int first, const Vec3& offset) {
+  for (int a = 0; a < 3; ++a) parameters_.set_numbered(first + a, offset[a] * scale());
+}
+
+// LinuxCNC's convert_coordinate_system: the tip stays where it is, its coordinates change.
+void Interpreter::select_origin(int origin) {
+  if (origin == origin_index_) return;
+  const Vec3 offset = stored_offset(5201 + 20 * origin);
+  if (parameters_.numbered(5210 + 20 * origin) != 0.0) {
+    fail(1, fmt::format("G{}: coordinate system rotation (G10 L2 R) is not supported",
+                        origin < 7 ? fmt::format("{}", 53 + origin)
+                                   : fmt::format("59.{}", origin - 6)));
+  }
+  position_ += origin_offset_ - offset;
+  origin_offset_ = offset;
+  origin_index_ = origin;
+  parameters_.set_numbered(5220, origin);
+}
+
+// LinuxCNC's convert_setup: G10 L2 sets a coordinate system's offsets, G10 L20 sets them so that
+// the current point has the given coordinates in it.
+void Interpreter::setup_offsets(const Block& block) {
+  const int column = block.g_column[kGroupNonModal];
+  const int l = static_cast<int>(block['l'].value);
+  if (l == 1 || l == 10 || l == 11) {
+    fail(column, fmt::format("G10 L{}: setting tool table data is not supported", l));
+  }
+  if (l != 2 && l != 20) fail(block['l'].column, fmt::format("G10 L{}: expected L2 or L20", l));
+  const double p_value = block['p'].value;
+  int p = static_cast<int>(p_value + 0.0001);
+  if (!(p_value >= 0.0) || p > 9 || std::abs(p_value - p) > 0.0001) {
+    fail(block['p'].column, fmt::format("P value out of range with G10 L{}: {:g} (expected 0 to 9)",
+                                        l, p_value));
+  }
+  if (p == 0) p = origin_index_;
+  if (block.has('r') && block['r'].value != 0.0) {
+    fail(block['r'].column, "coordinate system rotation (G10 L2 R) is not supported");
+  }
+  const int first = 5201 + 20 * p;
+  Vec3 offset = stored_offset(first);
+  // The current point in system p (LinuxCNC's find_current_in_system).
+  const Vec3 here = position_ + origin_offset_ - offset;
+  for (int a = 0; a < 3; ++a) {
+    const Word& w = block[static_cast<char>('x' + a)];
+    if (!w.present) continue;
+    offset[a] = l == 2 ? w.value : here[a] + offset[a] - w.value;
+  }
+  set_stored_offset(first, offset);
+  if (p == origin_index_) {
+    position_ += origin_offset_ - offset;
+    origin_offset_ = offset;
+  }
+}
+
+// LinuxCNC's convert_axis_offsets: G92 makes the current point have the given coordinates, G52
+// offsets by the given values; G92.1 and G92.2 clear the offsets (G92.1 also their parameters),
+// G92.3 restores them from #5211-#5213.
+void Interpreter::axis_offsets(const Block& block, int code) {
+  if (code == kG52 || code == kG92) {
+    parameters_.set_numbered(5210, 1.0);
+    for (int a = 0; a < 3; ++a) {
+      const Word& w = block[static_cast<char>('x' + a)];
+      if (!w.present) continue;
+      if (code == kG52) {
+        position_[a] += axis_offset_[a] - w.value;
+        axis_offset_[a] = w.value;
+      } else {
+        axis_offset_[a] = position_[a] + axis_offset_[a] - w.value;
+        position_[a] = w.value;
+      }
+    }
+    set_stored_offset(5211, axis_offset_);
+    return;
+  }
+  if (code == kG92_1 || code == kG92_2) {
+    parameters_.set_numbered(5210, 0.0);
+    position_ += axis_offset_;
+    axis_offset_ = Vec3::Zero();
+    if (code == kG92_1) set_stored_offset(5211, Vec3::Zero());
+    return;
+  }
+  // G92.3
+  parameters_.set_numbered(5210, 1.0);
+  const Vec3 offset = stored_offset(5211);
+  position_ += axis_offset_ - offset;
+  axis_offset_ = offset;
+}
+
+// LinuxCNC's convert_home: a rapid to the line's point (current coordinates), then to the stored
+// home position (#5161-#5163 for G28, #5181-#5183 for G30, machine coordinates) for the axes
+// named, or all of them when none is.
+void Interpreter::go_home(const Block& block, int code) {
+  warn_machine(code == kG28 ? "G28 (go to the stored home position)"
+                            : "G30 (go to the stored position)");
+  Vec3 end = find_end(block);
+  emit_line(MotionMode::kRapid, end);
+  const Vec3 home =
+      stored_offset(code == kG28 ? 5161 : 5181) - origin_offset_ - axis_offset_;
+  const bool any = block.has_axis();
+  for (int a = 0; a < 3; ++a) {
+    if (!any || block[static_cast<char>('x' + a)].present) end[a] = home[a];
+  }
+  emit_line(MotionMode::kRapid, end);
+}
+
+void Interpreter::warn_machine(const char* what) {
+  if (warned_machine_) return;
+  warned_machine_ = true;
+  warn(line_, 0, fmt::format("{}: machine coordinates are taken equal to the program's with "
+                             "zero work offsets and no tool length offset (the stored positions "
+                             "#5161-#5186 start at 0, as in LinuxCNC without a parameter file)",
+                             what));
+}
+
 void Interpreter::publish_state() {
   parameters_.set_numbered(5400, static_cast<double>(loaded_tool_));
   for (int axis = 0; axis < 3; ++axis) parameters_.set_numbered(5420 + axis, position_[axis]);
@@ -785,16 +922,29 @@ void Interpreter::publish_state() {
 // to blame for it (its G word, or its first axis word when the motion is modal).
 int Interpreter::motion_to_be(const Block& block, int& column) const {
   const int motion = block.g[kGroupMotion];
+  const int zero = block.g[kGroupNonModal];
+  // G10, G28, G30, G52 and G92 take the line's axis words for themselves (LinuxCNC's
+  // enhance_block).
+  const bool zero_takes_axes =
+      zero == kG10 || zero == kG28 || zero == kG30 || zero == kG52 || zero == kG92;
+  if ((zero == kG52 || zero == kG92) && !block.has_axis()) {
+    fail(block.g_column[kGroupNonModal], fmt::format("all axes missing with {}", g_name(zero)));
+  }
   if (motion != -1) {
     column = block.g_column[kGroupMotion];
     if (motion == kG80) {
-      if (block.has_axis()) fail(block.first_axis_column(), "cannot use axis values with G80");
+      if (block.has_axis() && !zero_takes_axes) {
+        fail(block.first_axis_column(), "cannot use axis values with G80");
+      }
+    } else if (zero_takes_axes) {
+      fail(column, fmt::format("cannot use two G codes that both use axis values: {} and {}",
+                               g_name(zero), g_name(motion)));
     } else if (!block.has_axis() && is_cycle(motion)) {
       fail(column, fmt::format("all axes missing with motion code {}", g_name(motion)));
     }
     return motion;
   }
-  if (!block.has_axis()) return -1;
+  if (zero_takes_axes || !block.has_axis()) return -1;
   column = block.first_axis_column();
   if (motion_mode_ == kG80) {
     fail(column, "cannot use axis values without a G code that uses them (no motion mode)");
@@ -811,17 +961,22 @@ void Interpreter::check_words(const Block& block, int motion) const {
            fmt::format("{} word with no G2 or G3 to use it", static_cast<char>(c - 'a' + 'A')));
     }
   }
-  if (block.has('r') && !arc && !is_cycle(motion)) {
+  const bool g10 = block.g[kGroupNonModal] == kG10;
+  if (g10) {
+    if (!block.has('l')) fail(block.g_column[kGroupNonModal], "line with G10 does not have L2 or L20");
+    if (!block.has('p')) fail(block.g_column[kGroupNonModal], "line with G10 does not have a P word");
+  }
+  if (block.has('r') && !arc && !is_cycle(motion) && !g10) {
     fail(block['r'].column, "R word with no G2, G3 or canned cycle to use it");
   }
-  if (block.has('p') && !arc && motion != kG82 && block.g[kGroupNonModal] != kG4 &&
+  if (block.has('p') && !arc && motion != kG82 && block.g[kGroupNonModal] != kG4 && !g10 &&
       block.g[kGroupPathControl] != kG64) {
     fail(block['p'].column, "P word with no G2, G3, G4, G64 or G82 to use it");
   }
   if (block.has('q') && motion != kG73 && motion != kG83 && block.g[kGroupPathControl] != kG64) {
     fail(block['q'].column, "Q word with no G64, G73 or G83 to use it");
   }
-  if (block.has('l') && !is_cycle(motion)) {
+  if (block.has('l') && !is_cycle(motion) && !g10) {
     fail(block['l'].column, "L word with no canned cycle to use it");
   }
   if (block.has('h') && block.g[kGroupToolLength] != kG43) {
@@ -919,15 +1074,50 @@ bool Interpreter::execute(const Block& block) {
     if (inches != inches_) {
       // LinuxCNC's convert_length_units: the current position is converted; the feed rate
       // stays the same physical rate (kept here in mm/min).
-      position_ =
-          inches ? Vec3(position_ / kMillimetresPerInch) : Vec3(position_ * kMillimetresPerInch);
+      const double factor = inches ? 1.0 / kMillimetresPerInch : kMillimetresPerInch;
+      position_ *= factor;
+      origin_offset_ *= factor;  // the offsets too, as LinuxCNC converts them
+      axis_offset_ *= factor;
       inches_ = inches;
     }
+  }
+  if (block.g[kGroupCoordSystem] != -1) {
+    // G54 … G59 are 1 … 6, G59.1 … G59.3 are 7 … 9.
+    const int code = block.g[kGroupCoordSystem];
+    select_origin(code < 591 ? (code - 530) / 10 : code - 584);
   }
   if (block.g[kGroupDistance] != -1) incremental_ = block.g[kGroupDistance] == kG91;
   if (block.g[kGroupArcDistance] != -1) arc_absolute_ = block.g[kGroupArcDistance] == kG90_1;
   if (block.g[kGroupRetract] != -1) retract_to_r_ = block.g[kGroupRetract] == kG99;
+  switch (block.g[kGroupNonModal]) {  // LinuxCNC's convert_modal_0, before the motion
+    case kG10:
+      setup_offsets(block);
+      break;
+    case kG28:
+    case kG30:
+      go_home(block, block.g[kGroupNonModal]);
+      break;
+    case kG28_1:
+    case kG30_1: {
+      const Vec3 at = machine(position_);  // mm
+      const int first = block.g[kGroupNonModal] == kG28_1 ? 5161 : 5181;
+      for (int a = 0; a < 3; ++a) parameters_.set_numbered(first + a, at[a]);
+      break;
+    }
+    case kG52:
+    case kG92:
+    case kG92_1:
+    case kG92_2:
+    case kG92_3:
+      axis_offsets(block, block.g[kGroupNonModal]);
+      break;
+    default:
+      break;
+  }
 
+  if (block.g[kGroupNonModal] == kG53 && motion != kG0 && motion != kG1) {
+    fail(block.g_column[kGroupNonModal], "must use G0 or G1 with G53");
+  }
   if (motion != -1) {
     // Any motion other than a canned cycle ends a run of cycles (the G98 initial level).
     if (!is_cycle(motion)) cycle_initial_level_set_ = false;
@@ -946,6 +1136,15 @@ bool Interpreter::execute(const Block& block) {
 }
 
 Vec3 Interpreter::find_end(const Block& block) const {
+  if (block.g[kGroupNonModal] == kG53) {
+    // Machine coordinates for this line's move (offsets suspended), absolute.
+    Vec3 end = position_;
+    for (int axis = 0; axis < 3; ++axis) {
+      const Word& w = block[static_cast<char>('x' + axis)];
+      if (w.present) end[axis] = w.value - origin_offset_[axis] - axis_offset_[axis];
+    }
+    return end;
+  }
   Vec3 end = position_;
   for (int axis = 0; axis < 3; ++axis) {
     const Word& w = block[static_cast<char>('x' + axis)];
@@ -958,7 +1157,7 @@ Vec3 Interpreter::find_end(const Block& block) const {
 Move Interpreter::new_move(MotionMode mode) const {
   Move move;
   move.mode = mode;
-  move.start = position_ * scale();
+  move.start = machine(position_);
   move.feed_rate = mode == MotionMode::kFeed ? feed_mm_per_min_ : 0.0;
   move.spindle_speed = spindle_speed_;
   move.spindle = spindle_;
@@ -973,13 +1172,17 @@ Move Interpreter::new_move(MotionMode mode) const {
 void Interpreter::emit_line(MotionMode mode, const Vec3& to) {
   Move move = new_move(mode);
   move.shape = MoveShape::kLine;
-  move.end = to * scale();
+  move.end = machine(to);
   result_.moves.push_back(move);
   idle_iterations_ = 0;
   position_ = to;
 }
 
 void Interpreter::straight(const Block& block, int motion, int column) {
+  if (block.g[kGroupNonModal] == kG53) {
+    if (incremental_) fail(block.g_column[kGroupNonModal], "cannot use G53 incremental");
+    warn_machine("G53 (machine coordinates)");
+  }
   if (motion == kG1 && feed_mm_per_min_ == 0.0) {
     fail(column, "cannot do G1 with zero feed rate");
   }
@@ -1124,11 +1327,11 @@ void Interpreter::arc(const Block& block, int motion, int column) {
 
   Move move = new_move(MotionMode::kFeed);
   move.shape = MoveShape::kArc;
-  move.end = arc_end * scale();
+  move.end = machine(arc_end);
   Vec3 center = position_;
   center[axes.first] = c1;
   center[axes.second] = c2;
-  move.center = center * scale();
+  move.center = machine(center);
   move.normal = Vec3::Zero();
   move.normal[axes.normal] = sign;
   move.sweep = angle + kTwoPi * (turns - 1);

@@ -157,6 +157,7 @@ TEST(GcodeGolden, DrillingCycles) { expect_matches_golden("drilling"); }
 TEST(GcodeGolden, PeckCyclesInInches) { expect_matches_golden("drilling_inch"); }
 TEST(GcodeGolden, ParametersAndExpressions) { expect_matches_golden("parameters"); }
 TEST(GcodeGolden, SubroutinesConditionsAndLoops) { expect_matches_golden("owords"); }
+TEST(GcodeGolden, CoordinateSystems) { expect_matches_golden("offsets"); }
 
 // ---------------------------------------------------------------------------------------------
 // Straight moves, modal state, words
@@ -770,12 +771,6 @@ TEST(GcodeErrors, NotSupported) {
       {"G42", 1, "cutter radius compensation"},
       {"G41.1 D1", 1, "cutter radius compensation"},
       {"G0 X1 D1", 7, "D word (cutter radius compensation) is not supported"},
-      {"G55", 1, "work offsets other than G54 (G55 to G59.3) are not supported"},
-      {"G59.3", 1, "work offsets other than G54"},
-      {"G92 X0", 1, "coordinate system offsets (G92, G92.1, G92.2, G92.3) are not supported"},
-      {"G92.1", 1, "coordinate system offsets"},
-      {"G52 X1", 1, "local coordinate offsets (G52) are not supported"},
-      {"G53 G0 X1", 1, "motion in machine coordinates (G53) is not supported"},
       {"G0 A1", 4, "rotary axis words (A, B, C) are not supported: A"},
       {"G0 B1", 4, "rotary axis words"},
       {"G0 C1", 4, "rotary axis words"},
@@ -783,9 +778,6 @@ TEST(GcodeErrors, NotSupported) {
       {"G93", 1, "inverse time feed (G93) is not supported"},
       {"G95", 1, "feed per revolution (G95) is not supported"},
       {"G96 S100", 1, "constant surface speed (G96) is not supported"},
-      {"G28", 1, "returns to a stored position (G28, G30) are not supported"},
-      {"G30", 1, "returns to a stored position"},
-      {"G28.1", 1, "storing a position"},
       {"G84 X1 Z-1 R1", 1, "canned cycles other than G73, G81, G82 and G83 are not supported"},
       {"G85 X1 Z-1 R1", 1, "canned cycles other than"},
       {"G89 X1 Z-1 R1 P1", 1, "canned cycles other than"},
@@ -794,7 +786,8 @@ TEST(GcodeErrors, NotSupported) {
       {"G33 Z-1 K1", 1, "spindle-synchronised motion"},
       {"G38.2 Z-1", 1, "probing (G38.2 to G38.5) is not supported"},
       {"G5.1 X1 I1 J1", 1, "splines"},
-      {"G10 L2 P1 X0", 1, "G10 (setting offsets and tool data) is not supported"},
+      {"G10 L1 P1 R2", 1, "G10 L1: setting tool table data is not supported"},
+      {"G10 L2 P1 R45", 11, "coordinate system rotation (G10 L2 R) is not supported"},
       {"G43.1 Z1", 1, "dynamic tool length offsets"},
       {"G7", 1, "lathe diameter and radius modes"},
       {"G17.1", 1, "UVW planes"},

@@ -61,25 +61,46 @@ class Canon(Translated, ArcsToSegmentsMixin):
     def next_line(self, state): self.lineno = state.sequence_number
     def set_plane(self, plane): self.plane = plane
 
+    # Canonical positions are in the program's coordinates; Translated's rotate_and_translate
+    # adds the G92 and G5x offsets (and the XY rotation) to give machine coordinates, which cwe
+    # reports.
+    def machine(self, a):
+        a = tuple(a) + (0.0,) * (9 - len(a))
+        return self.rotate_and_translate(*a)
+
     def straight_traverse(self, *a):
+        a = self.machine(a)
         self.note_axes(a)
         self.lo = tuple(a)
         self.lines.append("rapid %d %s %s %s" % (self.lineno, fmt(a[0]), fmt(a[1]), fmt(a[2])))
 
     def straight_feed(self, *a):
+        a = self.machine(a)
         self.note_axes(a)
         self.lo = tuple(a)
         self.lines.append("feed %d %s %s %s" % (self.lineno, fmt(a[0]), fmt(a[1]), fmt(a[2])))
 
     def arc_feed(self, first_end, second_end, first_center, second_center, rotation, axis_end,
                  *rest):
-        if self.plane == 1:
-            x, y, z = first_end, second_end, axis_end
-        elif self.plane == 3:
-            x, y, z = second_end, axis_end, first_end
-        else:
-            x, y, z = axis_end, first_end, second_end
-        self.lo = (x, y, z) + tuple(rest[:3]) + (0.0, 0.0, 0.0)
+        def xyz(first, second, axis):
+            if self.plane == 1:
+                return first, second, axis
+            if self.plane == 3:
+                return second, axis, first
+            return axis, first, second
+
+        def plane_of(p):
+            if self.plane == 1:
+                return p[0], p[1]
+            if self.plane == 3:
+                return p[2], p[0]
+            return p[1], p[2]
+
+        end = self.machine(xyz(first_end, second_end, axis_end) + tuple(rest[:3]))
+        x, y, z = end[0:3]
+        first_center, second_center = plane_of(
+            self.machine(xyz(first_center, second_center, axis_end))[0:3])
+        self.lo = (x, y, z) + tuple(end[3:6]) + (0.0, 0.0, 0.0)
         self.note_axes(self.lo)
         self.lines.append("arc %d %s %s %s %s %s %s %d" % (
             self.lineno, PLANES[self.plane], fmt(x), fmt(y), fmt(z), fmt(first_center),
