@@ -193,7 +193,7 @@ constexpr CodeInfo kMCodes[] = {
     {52, 9, "override switches (M48 to M53) are"},
     {53, 9, "override switches (M48 to M53) are"},
     {60, kMGroupStop, "pallet changes (M60) are"},
-    {61, kMGroupToolChange, "setting the loaded tool without a change (M61) is"},
+    {61, kMGroupToolChange, nullptr},
     {62, 5, "digital and analog I/O (M62 to M68) is"},
     {63, 5, "digital and analog I/O (M62 to M68) is"},
     {64, 5, "digital and analog I/O (M62 to M68) is"},
@@ -973,8 +973,15 @@ void Interpreter::check_words(const Block& block, int motion) const {
       block.g[kGroupPathControl] != kG64) {
     fail(block['p'].column, "P word with no G2, G3, G4, G64 or G82 to use it");
   }
-  if (block.has('q') && motion != kG73 && motion != kG83 && block.g[kGroupPathControl] != kG64) {
-    fail(block['q'].column, "Q word with no G64, G73 or G83 to use it");
+  const bool m61 = block.m[kMGroupToolChange] == 61;
+  if (m61 && !block.has('q')) fail(block.m_column[kMGroupToolChange], "need Q parameter with M61");
+  if (m61 && (block['q'].value < 0.0 || std::abs(block['q'].value - std::round(block['q'].value)) >
+                                            tol::kGcodeIntegerWord)) {
+    fail(block['q'].column, "Q value with M61 must be a tool number, 0 or more");
+  }
+  if (block.has('q') && motion != kG73 && motion != kG83 && block.g[kGroupPathControl] != kG64 &&
+      !m61) {
+    fail(block['q'].column, "Q word with no G64, G73, G83 or M61 to use it");
   }
   if (block.has('l') && !is_cycle(motion) && !g10) {
     fail(block['l'].column, "L word with no canned cycle to use it");
@@ -1023,6 +1030,11 @@ bool Interpreter::execute(const Block& block) {
     loaded_tool_ = selected_tool_;
     result_.tool_changes.push_back({loaded_tool_, SourceLocation{source_, line_, 1}});
     spindle_ = SpindleDirection::kStopped;
+  } else if (block.m[kMGroupToolChange] == 61) {
+    // M61 Q: the spindle holds tool Q from now on, without a change (the spindle keeps turning).
+    loaded_tool_ = static_cast<int>(std::lround(block['q'].value));
+    result_.tool_changes.push_back(
+        {loaded_tool_, SourceLocation{source_, line_, block.m_column[kMGroupToolChange]}});
   }
   switch (block.m[kMGroupSpindle]) {
     case 3:

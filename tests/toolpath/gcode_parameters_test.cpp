@@ -239,6 +239,19 @@ TEST_F(GcodeSubroutineFiles, ErrorsInASubroutineFileNameThatFile) {
   EXPECT_THROW(read_gcode_file(caller), InputError);  // endsub missing
 }
 
+TEST(GcodeTools, M61SetsTheLoadedToolWithoutAChange) {
+  const Toolpath path = read("G21 T3 M6 M3 S1000\nG0 X1\nM61 Q5\nG0 X2\nM2\n");
+  ASSERT_EQ(path.moves.size(), 2u);
+  EXPECT_EQ(path.moves[0].tool, 3);
+  EXPECT_EQ(path.moves[1].tool, 5);
+  EXPECT_EQ(path.moves[1].spindle, SpindleDirection::kClockwise);  // no change: it keeps turning
+  ASSERT_EQ(path.tool_changes.size(), 2u);
+  EXPECT_EQ(path.tool_changes[1].tool, 5);
+  EXPECT_EQ(path.tool_changes[1].location.line, 3);
+  expect_error("M61\nM2", 1, 1, "need Q parameter with M61");
+  expect_error("M61 Q-1\nM2", 1, 5, "must be a tool number");
+}
+
 TEST(GcodeOWords, Errors) {
   expect_error("o100 endif\nM2", 1, 1, "o100 endif: undefined O-word label");
   expect_error("o1 if [1]\no2 endif\nM2", 2, 1, "o2 endif: undefined O-word label");

@@ -721,7 +721,7 @@ TEST(GcodeErrors, WordsWithoutACodeToUseThem) {
   expect_error("F1 G1 X1 R1\nM2", 1, 10, "R word with no G2, G3 or canned cycle to use it");
   expect_error("G0 X1 P1\nM2", 1, 7, "P word with no G2, G3, G4, G64 or G82 to use it");
   expect_error("G61 P1\nM2", 1, 5, "P word with no");
-  expect_error("G0 X1 Q1\nM2", 1, 7, "Q word with no G64, G73 or G83 to use it");
+  expect_error("G0 X1 Q1\nM2", 1, 7, "Q word with no G64, G73, G83 or M61 to use it");
   expect_error("G0 X1 L1\nM2", 1, 7, "L word with no canned cycle to use it");
   expect_error("G0 X1 H1\nM2", 1, 7, "H word with no G43 to use it");
   expect_error("G4\nM2", 1, 1, "dwell time missing with G4");
@@ -792,7 +792,6 @@ TEST(GcodeErrors, NotSupported) {
       {"G7", 1, "lathe diameter and radius modes"},
       {"G17.1", 1, "UVW planes"},
       {"M60", 1, "pallet changes (M60) are not supported"},
-      {"M61 Q1", 1, "M61"},
       {"M19", 1, "spindle orientation (M19) is not supported"},
       {"M48", 1, "override switches"},
       {"M62 P1", 1, "digital and analog I/O"},

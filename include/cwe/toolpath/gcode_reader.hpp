@@ -1,10 +1,13 @@
 #pragma once
-// G-code (RS274NGC as LinuxCNC interprets it) to moves.
+// G-code (RS274NGC as LinuxCNC 2.9 interprets it) to moves.
 //
-// The subset CAM post-processors emit, with LinuxCNC's semantics; anything outside it is refused
-// with an InputError naming file, line and column ("not supported"), never ignored or misread.
-// See docs/gcode.md for the exact list. The program is in tool-tip coordinates; the tool axis is
-// +Z throughout. Lengths are converted to millimetres (G20 programs are scaled by 25.4).
+// The language LinuxCNC's interpreter reads, with its semantics, move for move: parameters and
+// expressions, O-word subroutines, conditions and loops (subroutine files from a search path),
+// coordinate systems, canned cycles. What cwe does not model (rotary axes, cutter compensation,
+// lathe modes, I/O, …) is refused with an InputError naming file, line and column ("not
+// supported"), never ignored or misread. See docs/gcode.md. Moves are in machine coordinates of
+// the tool tip; the tool axis is +Z throughout. Lengths are converted to millimetres (G20 programs
+// are scaled by 25.4).
 
 #include <string>
 #include <string_view>
