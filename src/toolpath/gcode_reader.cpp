@@ -380,6 +380,15 @@ class Interpreter {
   };
   // The next line to read, or false at the end of the current file.
   bool next_line(std::string_view& raw);
+  // Runs one line; false when reading ends (a subroutine file after the program's end).
+  bool run_line(std::string_view raw);
+  // At the end of the main program: what was left open is an error.
+  void end_of_file();
+  bool seen_content_ = false;  // a line with something other than blanks (main program)
+  int last_content_line_ = 0;
+  bool percent_opened_ = false;
+  bool ended_ = false;  // M2, M30 or the closing '%'
+  int ignored_lines_ = 0, first_ignored_ = 0;
   void go_to(const Position& at);
   int file_of(const std::string& name);
 
@@ -1493,60 +1502,19 @@ void Interpreter::go_to(const Position& at) {
   here_.source = source_;
 }
 
-Toolpath Interpreter::run() {
-  bool seen_content = false;  // a line with something other than blanks (main program)
-  int last_content_line = 0;
-  bool percent_opened = false;
-  bool ended = false;
-  int ignored_lines = 0, first_ignored = 0;
-  for (;;) {
-    std::string_view raw;
-    if (!next_line(raw)) {
-      if (!skipping_to_sub_.empty()) {  // a call found no definition: blame the call
-        go_to(skipping_start_);
-        line_ = skipping_start_.line;
-        fail(0, fmt::format("subroutine o<{}> is not defined: not in the program, and no {}.ngc "
-                            "in the program's folder or the subroutine path",
-                            skipping_to_sub_, skipping_to_sub_));
-      }
-      if (frames_.size() > 1) {
-        fail(0, fmt::format("the file ends inside subroutine o<{}>: 'o<{}> endsub' missing",
-                            frames_.back().sub_name, frames_.back().sub_name));
-      }
-      break;
-    }
-    const bool main = at_.file == 0;
-    std::string bare;  // the line without blanks, to recognise '%'
-    for (char c : raw) {
-      if (c != ' ' && c != '\t') bare.push_back(c);
-    }
-    if (main && !bare.empty() && !ended) last_content_line = line_;
-    if (ended) {
-      if (!main) break;
-      if (!bare.empty() && bare != "%" && ignored_lines++ == 0) first_ignored = line_;
-    } else if (main && bare == "%" && !seen_content) {
-      percent_opened = true;  // the optional '%' opening the program
-      seen_content = true;
-    } else if (main && bare == "%" && percent_opened) {
-      ended = true;  // the closing '%': the rest of the file is ignored
-    } else {
-      if (!bare.empty()) seen_content = true;
-      const CompactLine line = compact(raw);
-      if (line.code.empty()) continue;
-      const std::size_t i = after_line_number(line);
-      if (line.at(i) == 'o') {
-        control(read_o(line, i));
-      } else if (skipping_o_.empty()) {
-        const Block block = read_block(line, i);
-        if (!execute(block)) ended = true;
-        publish_state();
-      }
-    }
+void Interpreter::end_of_file() {
+  if (!skipping_to_sub_.empty()) {  // a call found no definition: blame the call
+    go_to(skipping_start_);
+    line_ = skipping_start_.line;
+    fail(0, fmt::format("subroutine o<{}> is not defined: not in the program, and no {}.ngc in "
+                        "the program's folder or the subroutine path",
+                        skipping_to_sub_, skipping_to_sub_));
   }
-  if (!seen_content) {
-    throw InputError(SourceLocation{source_, 0, 0}, "empty program: no G-code in the file");
+  if (frames_.size() > 1) {
+    fail(0, fmt::format("the file ends inside subroutine o<{}>: 'o<{}> endsub' missing",
+                        frames_.back().sub_name, frames_.back().sub_name));
   }
-  if (!skipping_o_.empty() && !ended) {
+  if (!skipping_o_.empty() && !ended_) {
     line_ = skipping_start_.line;
     fail(0, defining_sub_
                 ? fmt::format("'o<{}> sub' has no 'o<{}> endsub' before the end of the file",
@@ -1554,18 +1522,97 @@ Toolpath Interpreter::run() {
                 : fmt::format("the file ends while skipping to the end of o-word {} from here",
                               skipping_o_));
   }
-  if (!ended) {
-    // LinuxCNC refuses such a file at its end; the path is complete, so cwe only warns.
-    warn(last_content_line, 0,
-         percent_opened ? "file ended with no closing percent sign (the program is read to the "
-                          "end)"
-                        : "file ended with no program end (M2, M30) or percent sign (the "
-                          "program is read to the end)");
+}
+
+bool Interpreter::run_line(std::string_view raw) {
+  const bool main = at_.file == 0;
+  std::string bare;  // the line without blanks, to recognise '%'
+  for (char c : raw) {
+    if (c != ' ' && c != '\t') bare.push_back(c);
   }
-  if (ignored_lines > 0) {
-    warn(first_ignored, 0,
-         fmt::format("{} line{} after the program end ignored, as LinuxCNC does", ignored_lines,
-                     ignored_lines == 1 ? "" : "s"));
+  if (main && !bare.empty() && !ended_) last_content_line_ = line_;
+  if (ended_) {
+    if (!main) return false;
+    if (!bare.empty() && bare != "%" && ignored_lines_++ == 0) first_ignored_ = line_;
+    return true;
+  }
+  if (main && bare == "%" && !seen_content_) {
+    percent_opened_ = true;  // the optional '%' opening the program
+    seen_content_ = true;
+    return true;
+  }
+  if (main && bare == "%" && percent_opened_) {
+    ended_ = true;  // the closing '%': the rest of the file is ignored
+    return true;
+  }
+  if (!bare.empty()) seen_content_ = true;
+  const CompactLine line = compact(raw);
+  if (line.code.empty()) return true;
+  const std::size_t i = after_line_number(line);
+  if (line.at(i) == 'o') {
+    control(read_o(line, i));
+  } else if (skipping_o_.empty()) {
+    const Block block = read_block(line, i);
+    if (!execute(block)) ended_ = true;
+    publish_state();
+  }
+  return true;
+}
+
+Toolpath Interpreter::run() {
+  // Every error in the program, not only the first: a line in error is dropped and reading goes
+  // on with the next (as LinuxCNC's rs274 -n 0 does). The first kErrorsKept are reported, then a
+  // count; reading stops at kErrorsRead (a line in error inside an endless loop).
+  constexpr std::size_t kErrorsKept = 20, kErrorsRead = 1000;
+  std::vector<InputError> errors;
+  std::size_t more = 0;
+  const auto record = [&](const InputError& e) {
+    if (errors.size() < kErrorsKept) {
+      errors.push_back(e);
+    } else {
+      ++more;
+    }
+    return errors.size() + more < kErrorsRead;
+  };
+  for (;;) {
+    std::string_view raw;
+    if (!next_line(raw)) {
+      try {
+        end_of_file();
+      } catch (const InputError& e) {
+        record(e);
+      }
+      break;
+    }
+    try {
+      if (!run_line(raw)) break;
+    } catch (const InputError& e) {
+      if (!record(e)) {
+        errors.push_back(
+            InputError(e.location(), fmt::format("reading stopped after {} errors", kErrorsRead)));
+        break;
+      }
+    }
+  }
+  if (!errors.empty()) {
+    if (errors.size() == 1 && more == 0) throw errors.front();
+    throw InputErrors(std::move(errors), more);
+  }
+  if (!seen_content_) {
+    throw InputError(SourceLocation{source_, 0, 0}, "empty program: no G-code in the file");
+  }
+  if (!ended_) {
+    // LinuxCNC refuses such a file at its end; the path is complete, so cwe only warns.
+    warn(last_content_line_, 0,
+         percent_opened_ ? "file ended with no closing percent sign (the program is read to the "
+                           "end)"
+                         : "file ended with no program end (M2, M30) or percent sign (the "
+                           "program is read to the end)");
+  }
+  if (ignored_lines_ > 0) {
+    warn(first_ignored_, 0,
+         fmt::format("{} line{} after the program end ignored, as LinuxCNC does", ignored_lines_,
+                     ignored_lines_ == 1 ? "" : "s"));
   }
   return std::move(result_);
 }

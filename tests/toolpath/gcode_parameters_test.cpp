@@ -299,3 +299,60 @@ TEST(GcodeOWords, ArgumentsAndLocalsBelongToTheCall) {
 
 }  // namespace
 }  // namespace cwe
+
+namespace cwe {
+namespace {
+
+TEST(GcodeErrors, EveryErrorOfTheFileNotOnlyTheFirst) {
+  // Three bad lines among good ones: all three, in order, each at its line and column; the
+  // exception's own location is the first.
+  try {
+    read("G21 F100\nG1 X1 G7\nG1 X2\nG1 X[1/0]\nG1 X3 Y#<nope>\nG1 X4\nM2\n");
+    ADD_FAILURE() << "no error";
+  } catch (const InputErrors& e) {
+    ASSERT_EQ(e.errors().size(), 3u) << e.what();
+    EXPECT_EQ(e.more(), 0u);
+    EXPECT_EQ(e.location().line, 2);
+    EXPECT_EQ(e.errors()[1].location().line, 4);
+    EXPECT_EQ(e.errors()[1].location().column, 7);
+    EXPECT_EQ(e.errors()[2].location().line, 5);
+    const std::string text = e.what();
+    EXPECT_NE(text.find("p.ngc:2:7: error: G7"), std::string::npos) << text;
+    EXPECT_NE(text.find("\np.ngc:4:7: error: attempt to divide by zero"), std::string::npos);
+    EXPECT_NE(text.find("\np.ngc:5:8: error: named parameter #<nope> not defined"),
+              std::string::npos);
+  }
+  // A single error is a plain InputError, as before.
+  try {
+    read("G21\nG1 X1 F0\nM2\n");
+    ADD_FAILURE() << "no error";
+  } catch (const InputErrors&) {
+    ADD_FAILURE() << "one error came as several";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.location().line, 2);
+  }
+  // Twenty are listed, then a count.
+  std::string many = "G21 F100\n";
+  for (int k = 0; k < 25; ++k) many += "G1 X[1/0]\n";
+  try {
+    read(many + "M2\n");
+    ADD_FAILURE() << "no error";
+  } catch (const InputErrors& e) {
+    EXPECT_EQ(e.errors().size(), 20u);
+    EXPECT_EQ(e.more(), 5u);
+    EXPECT_NE(std::string(e.what()).find("\n… and 5 more errors"), std::string::npos);
+  }
+  // An erroring line inside an endless loop: reading stops at a thousand errors.
+  try {
+    read("G21\no1 while [1]\nG1 X[1/0]\no1 endwhile\nM2\n");
+    ADD_FAILURE() << "no error";
+  } catch (const InputErrors& e) {
+    EXPECT_EQ(e.errors().size(), 21u);
+    EXPECT_EQ(e.more(), 980u);
+    EXPECT_NE(e.errors().back().message().find("reading stopped after 1000 errors"),
+              std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace cwe

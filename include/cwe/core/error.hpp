@@ -6,8 +6,10 @@
 // internal invariant is a CWE_ASSERT failure (see assert.hpp). Numerical "no solution" is never
 // an error: it is an empty interval or std::nullopt.
 
+#include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace cwe {
 
@@ -34,6 +36,23 @@ class InputError : public std::runtime_error {
  private:
   SourceLocation location_;
   std::string message_;
+};
+
+// Several input errors found in one pass over an input (a G-code program read to its end). The
+// first is this exception's own location and message; what() lists every error kept, a line
+// each, then how many more there were.
+class InputErrors : public InputError {
+ public:
+  InputErrors(std::vector<InputError> errors, std::size_t more);
+
+  const std::vector<InputError>& errors() const { return errors_; }
+  std::size_t more() const { return more_; }  // errors found beyond those kept
+  const char* what() const noexcept override { return text_.c_str(); }
+
+ private:
+  std::vector<InputError> errors_;
+  std::size_t more_ = 0;
+  std::string text_;
 };
 
 }  // namespace cwe
