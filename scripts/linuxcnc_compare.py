@@ -65,7 +65,8 @@ def rs274(program, ini):
     except (subprocess.TimeoutExpired, FileNotFoundError) as e:
         return None, "rs274: %s" % e, set(), 0.0
     if run.returncode != 0 or not os.path.exists(canon):
-        return None, (run.stdout + run.stderr).strip().splitlines()[0:1] or ["rs274 failed"], set(), 0.0
+        message = (run.stdout + run.stderr).strip().splitlines()
+        return None, message[0] if message else "rs274 failed", set(), 0.0
     scale, plane, offset, moves, flags, precision = 1.0, "XY", [0.0] * 3, [], set(), 0.0
     g5x, g92 = [0.0] * 3, [0.0] * 3
     for line in open(canon):
@@ -153,6 +154,7 @@ def main():
     ini.close()
     rows, counted, matched, excluded = [], 0, 0, 0
     for program in programs:
+        program = os.path.abspath(program)
         name = os.path.basename(program)
         reference, error, flags = oracle(program, ini.name)
         tolerance, by = TOLERANCE, ""

@@ -1672,8 +1672,10 @@ Interpreter::OLine Interpreter::read_o(const CompactLine& line, std::size_t i) {
   }
   if (o.type == OType::kNone) {
     if (line.at(i) == '\0') {
-      fail(o_column, fmt::format("O{}: Fanuc-style subprograms (a bare O number, M98, M99) are "
-                                 "not supported",
+      // A bare O number: in the main program LinuxCNC runs on (a program number, as posts
+      // write "O1001" first); it only matters as the target of M98, which cwe does not read.
+      if (frames_.size() == 1 && skipping_o_.empty()) return o;
+      fail(o_column, fmt::format("O{}: Fanuc-style subprograms (M98, M99) are not supported",
                                  o.label));
     }
     fail(line.column(i), "unknown O-word command: expected sub, endsub, call, do, while, repeat, "

@@ -263,7 +263,6 @@ TEST(GcodeOWords, Errors) {
   expect_error("o1 if\nM2", 1, 6, "o1 if: a bracketed expression must follow");
   expect_error("o1 if [1] G0 X1\nM2", 1, 11, "unexpected character after O-word");
   expect_error("o1 foo\nM2", 1, 4, "unknown O-word command");
-  expect_error("O2000\nM2", 1, 1, "Fanuc-style subprograms");
   expect_error("G0 X1 o1 call\nM2", 1, 7, "an O-word must be the first word of its line");
   expect_error("G21\no<nowhere> call\nM2", 2, 0, "subroutine o<nowhere> is not defined");
   expect_error("o1 if [0]\no1 endif\no1 if [1]\no1 endif\nM2", 3, 1,
@@ -302,6 +301,41 @@ TEST(GcodeOWords, ArgumentsAndLocalsBelongToTheCall) {
 
 namespace cwe {
 namespace {
+
+TEST(GcodePosts, AFusionStyleHeaderReadsAsItIs) {
+  // The header and footer a Fusion 360 style post writes for LinuxCNC and Fanuc-like controls: a
+  // program number, G53 and G28 retracts, a work offset, a tool change.
+  const Toolpath path = read(
+      "%\n"
+      "O1001 (PART)\n"
+      "(T1 D=10. CR=0. - ZMIN=-2. - FLAT END MILL)\n"
+      "G90 G94 G17\n"
+      "G21\n"
+      "G53 G0 Z0.\n"
+      "T1 M6\n"
+      "S8000 M3\n"
+      "G55\n"
+      "G0 X10. Y5.\n"
+      "G43 Z15. H1\n"
+      "G1 Z-2. F300.\n"
+      "X40.\n"
+      "G0 Z15.\n"
+      "G28 G91 Z0.\n"
+      "G90\n"
+      "M5\n"
+      "M30\n"
+      "%\n");
+  ASSERT_EQ(path.moves.size(), 8u);
+  // G53 Z0: machine Z0 (no machine definition: the program's frame with zero offsets).
+  EXPECT_EQ(path.moves[0].end.z(), 0.0);
+  EXPECT_EQ(path.moves[1].end, Vec3(10, 5, 0));  // G55 with zero offsets is the same frame
+  EXPECT_EQ(path.moves[3].end, Vec3(10, 5, -2));
+  EXPECT_EQ(path.moves[4].end, Vec3(40, 5, -2));
+  EXPECT_EQ(path.moves[6].end, Vec3(40, 5, 15));  // G28 G91 Z0: through the current point…
+  EXPECT_EQ(path.moves[7].end, Vec3(40, 5, 0));   // …to the stored home's Z, machine 0
+  ASSERT_FALSE(path.warnings.empty());
+  EXPECT_NE(path.warnings[0].message.find("G53"), std::string::npos);
+}
 
 TEST(GcodeErrors, EveryErrorOfTheFileNotOnlyTheFirst) {
   // Three bad lines among good ones: all three, in order, each at its line and column; the
