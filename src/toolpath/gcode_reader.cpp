@@ -258,6 +258,9 @@ struct Block {
   }
   bool has(char letter) const { return (*this)[letter].present; }
   bool has_axis() const { return has('x') || has('y') || has('z'); }
+  // Polar coordinates: @ radius, ^ angle (degrees), about the XY origin.
+  Word polar_radius, polar_angle;
+  bool has_polar() const { return polar_radius.present || polar_angle.present; }
   // Column of the first axis word, for errors about a modal motion.
   int first_axis_column() const {
     int column = 0;
@@ -355,6 +358,7 @@ class Interpreter {
   int motion_to_be(const Block& block, int& column) const;
   void check_words(const Block& block, int motion) const;
   Vec3 find_end(const Block& block) const;
+  Vec2 polar_end(const Block& block) const;
   void straight(const Block& block, int motion, int column);
   void arc(const Block& block, int motion, int column);
   void cycle(const Block& block, int motion, int column);
@@ -715,8 +719,14 @@ Block Interpreter::read_block(const CompactLine& line, std::size_t i) const {
         block.settings.push_back(values(line).setting(i));
         continue;
       case '@':
-      case '^':
-        fail(column, "polar coordinates (@, ^) are not supported");
+      case '^': {
+        Word& word = c == '@' ? block.polar_radius : block.polar_angle;
+        if (word.present) fail(column, fmt::format("multiple {} words on one line", c));
+        word.value = values(line).real(i);
+        word.present = true;
+        word.column = column;
+        continue;
+      }
       case '$':
         fail(column, "spindle selection ($) is not supported");
       case 'n':
@@ -936,25 +946,39 @@ int Interpreter::motion_to_be(const Block& block, int& column) const {
   // enhance_block).
   const bool zero_takes_axes =
       zero == kG10 || zero == kG28 || zero == kG30 || zero == kG52 || zero == kG92;
+  if (block.has_polar()) {
+    const int at = block.polar_radius.present ? block.polar_radius.column : block.polar_angle.column;
+    if (plane_ != Plane::kXY) fail(at, "cannot use polar coordinate except in G17 plane");
+    if (block.has('x')) fail(at, "cannot specify both polar coordinate and X word");
+    if (block.has('y')) fail(at, "cannot specify both polar coordinate and Y word");
+    if (zero == kG53) fail(at, "cannot use polar coordinates with G53");
+    if (zero == kG92 || zero == kG52 || zero == kG10 || zero == kG28 || zero == kG30) {
+      fail(at, "polar coordinates can only be used for motion");
+    }
+  }
+  const bool motion_words = block.has_axis() || block.has_polar();
   if ((zero == kG52 || zero == kG92) && !block.has_axis()) {
     fail(block.g_column[kGroupNonModal], fmt::format("all axes missing with {}", g_name(zero)));
   }
   if (motion != -1) {
     column = block.g_column[kGroupMotion];
     if (motion == kG80) {
-      if (block.has_axis() && !zero_takes_axes) {
-        fail(block.first_axis_column(), "cannot use axis values with G80");
+      if (motion_words && !zero_takes_axes) {
+        fail(block.has_axis() ? block.first_axis_column() : column,
+             "cannot use axis values with G80");
       }
     } else if (zero_takes_axes) {
       fail(column, fmt::format("cannot use two G codes that both use axis values: {} and {}",
                                g_name(zero), g_name(motion)));
-    } else if (!block.has_axis() && is_cycle(motion)) {
+    } else if (!motion_words && is_cycle(motion)) {
       fail(column, fmt::format("all axes missing with motion code {}", g_name(motion)));
     }
     return motion;
   }
-  if (zero_takes_axes || !block.has_axis()) return -1;
-  column = block.first_axis_column();
+  if (zero_takes_axes || !motion_words) return -1;
+  column = block.has_axis() ? block.first_axis_column()
+                            : (block.polar_radius.present ? block.polar_radius.column
+                                                          : block.polar_angle.column);
   if (motion_mode_ == kG80) {
     fail(column, "cannot use axis values without a G code that uses them (no motion mode)");
   }
@@ -1172,7 +1196,36 @@ Vec3 Interpreter::find_end(const Block& block) const {
     if (!w.present) continue;
     end[axis] = incremental_ ? position_[axis] + w.value : w.value;
   }
+  if (block.has_polar()) end.head<2>() = polar_end(block);
   return end;
+}
+
+// LinuxCNC's find_ends for @ and ^: absolute, the radius and angle given (the current ones for
+// a missing word); incremental, added to the current ones.
+Vec2 Interpreter::polar_end(const Block& block) const {
+  const double x = position_.x(), y = position_.y();
+  const Word& r = block.polar_radius;
+  const Word& a = block.polar_angle;
+  const int column = r.present ? r.column : a.column;
+  const double degree = kPi / 180.0;
+  if (!incremental_) {
+    if (r.present && a.present) return {r.value * std::cos(a.value * degree),
+                                        r.value * std::sin(a.value * degree)};
+    if (r.present) {
+      if (x == 0.0 && y == 0.0) fail(column, "must specify angle in polar coordinate if at the origin");
+      const double theta = std::atan2(y, x);
+      return {r.value * std::cos(theta), r.value * std::sin(theta)};
+    }
+    const double radius = std::hypot(y, x);
+    return {radius * std::cos(a.value * degree), radius * std::sin(a.value * degree)};
+  }
+  if (x == 0.0 && y == 0.0) {
+    fail(column, "incremental motion with polar coordinates is indeterminate when at the origin");
+  }
+  double radius = std::hypot(y, x), theta = std::atan2(y, x);
+  if (r.present) radius += r.value;
+  if (a.present) theta += a.value * degree;
+  return {radius * std::cos(theta), radius * std::sin(theta)};
 }
 
 Move Interpreter::new_move(MotionMode mode) const {
@@ -1238,7 +1291,7 @@ void Interpreter::arc(const Block& block, int motion, int column) {
     offset2 = block[axes.second_offset].value;
   } else {
     const auto in_plane = [&](int axis) { return block.has(static_cast<char>('x' + axis)); };
-    if (!in_plane(axes.first) && !in_plane(axes.second)) {
+    if (!in_plane(axes.first) && !in_plane(axes.second) && !block.has_polar()) {
       // LinuxCNC names the axes in alphabetical order here.
       const char low = std::min(axes.first_letter, axes.second_letter);
       const char high = std::max(axes.first_letter, axes.second_letter);
@@ -1397,13 +1450,23 @@ void Interpreter::cycle(const Block& block, int motion, int column) {
     cycle_initial_level_set_ = true;
   }
   double aa = position_.x(), bb = position_.y(), aa_increment = 0.0, bb_increment = 0.0;
+  double radius_increment = 0.0, theta_increment = 0.0;  // polar repeats (LinuxCNC's CYCLE_MACRO)
   double r = r_number, cc = z_number;
   if (incremental_) {
     // X, Y and R are increments from the current point (R from the initial level), Z from R.
     aa_increment = block['x'].value;
     bb_increment = block['y'].value;
+    if (block.polar_radius.present) radius_increment = block.polar_radius.value;
+    if (block.polar_angle.present) theta_increment = block.polar_angle.value * kPi / 180.0;
     r = r_number + old_cc;
     cc = r + z_number;
+  } else if (block.has_polar()) {
+    const double radius =
+        block.polar_radius.present ? block.polar_radius.value : std::hypot(bb, aa);
+    const double theta = block.polar_angle.present ? block.polar_angle.value * kPi / 180.0
+                                                   : std::atan2(bb, aa);
+    aa = radius * std::cos(theta);
+    bb = radius * std::sin(theta);
   } else {
     if (block.has('x')) aa = block['x'].value;
     if (block.has('y')) bb = block['y'].value;
@@ -1446,6 +1509,17 @@ void Interpreter::cycle(const Block& block, int motion, int column) {
   for (int repeat = repeats; repeat > 0; --repeat) {
     aa += aa_increment;
     bb += bb_increment;
+    // The radius, then the angle, stepped in turn, as LinuxCNC does.
+    const auto step = [&](double d_radius, double d_theta) {
+      if (aa == 0.0 && bb == 0.0) {
+        fail(column, "incremental motion with polar coordinates is indeterminate when at the origin");
+      }
+      const double radius = std::hypot(bb, aa) + d_radius, theta = std::atan2(bb, aa) + d_theta;
+      aa = radius * std::cos(theta);
+      bb = radius * std::sin(theta);
+    };
+    if (radius_increment != 0.0) step(radius_increment, 0.0);
+    if (theta_increment != 0.0) step(0.0, theta_increment);
     // The first positioning move happens at the current height (raised to R above), later
     // ones at the clearance height.
     if (repeat == repeats && current_cc > r) {

@@ -337,6 +337,16 @@ TEST(GcodePosts, AFusionStyleHeaderReadsAsItIs) {
   EXPECT_NE(path.warnings[0].message.find("G53"), std::string::npos);
 }
 
+TEST(GcodePolar, Errors) {
+  expect_error("G21 G18\nG0 @1 ^90\nM2", 2, 4, "cannot use polar coordinate except in G17 plane");
+  expect_error("G0 X1 @1\nM2", 1, 7, "cannot specify both polar coordinate and X word");
+  expect_error("G53 G0 @1\nM2", 1, 8, "cannot use polar coordinates with G53");
+  expect_error("G92 @1\nM2", 1, 5, "polar coordinates can only be used for motion");
+  expect_error("G0 @1\nM2", 1, 4, "must specify angle in polar coordinate if at the origin");
+  expect_error("G91 G0 ^10\nM2", 1, 8, "indeterminate when at the origin");
+  expect_error("G0 @1 @2\nM2", 1, 7, "multiple @ words on one line");
+}
+
 TEST(GcodeErrors, EveryErrorOfTheFileNotOnlyTheFirst) {
   // Three bad lines among good ones: all three, in order, each at its line and column; the
   // exception's own location is the first.

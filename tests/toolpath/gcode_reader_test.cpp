@@ -158,6 +158,7 @@ TEST(GcodeGolden, PeckCyclesInInches) { expect_matches_golden("drilling_inch"); 
 TEST(GcodeGolden, ParametersAndExpressions) { expect_matches_golden("parameters"); }
 TEST(GcodeGolden, SubroutinesConditionsAndLoops) { expect_matches_golden("owords"); }
 TEST(GcodeGolden, CoordinateSystems) { expect_matches_golden("offsets"); }
+TEST(GcodeGolden, PolarCoordinates) { expect_matches_golden("polar"); }
 
 // ---------------------------------------------------------------------------------------------
 // Straight moves, modal state, words
@@ -798,7 +799,6 @@ TEST(GcodeErrors, NotSupported) {
       {"M98 P100", 1, "subprogram calls (M98, M99) are not supported"},
       {"M100", 1, "user-defined M codes (M100 to M199) are not supported"},
       {"G0 X1 E1", 7, "E word is not supported"},
-      {"G0 @1 ^90", 4, "polar coordinates"},
       {"M3 $1", 4, "spindle selection ($) is not supported"},
   };
   for (const Case& c : cases) {
