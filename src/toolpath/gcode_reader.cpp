@@ -93,8 +93,8 @@ constexpr CodeInfo kGCodes[] = {
     {51, kGroupMotion, "splines (G5, G5.1, G5.2, G5.3) are"},
     {52, kGroupMotion, "splines (G5, G5.1, G5.2, G5.3) are"},
     {53, kGroupMotion, "splines (G5, G5.1, G5.2, G5.3) are"},
-    {70, kGroupLathe, "lathe diameter and radius modes (G7, G8) are"},
-    {80, kGroupLathe, "lathe diameter and radius modes (G7, G8) are"},
+    {70, kGroupLathe, "lathe diameter mode (G7) is"},
+    {80, kGroupLathe, nullptr},  // radius mode: the default, nothing to change
     {100, kGroupNonModal, nullptr},
     {170, kGroupPlane, nullptr},
     {171, kGroupPlane, "UVW planes (G17.1, G18.1, G19.1) are"},
@@ -201,10 +201,10 @@ constexpr CodeInfo kMCodes[] = {
     {66, 5, "digital and analog I/O (M62 to M68) is"},
     {67, 5, "digital and analog I/O (M62 to M68) is"},
     {68, 5, "digital and analog I/O (M62 to M68) is"},
-    {70, 10, "saving and restoring modal state (M70 to M73) is"},
-    {71, 10, "saving and restoring modal state (M70 to M73) is"},
-    {72, 10, "saving and restoring modal state (M70 to M73) is"},
-    {73, 10, "saving and restoring modal state (M70 to M73) is"},
+    {70, kMGroupSpindle, nullptr},
+    {71, kMGroupSpindle, nullptr},
+    {72, kMGroupSpindle, nullptr},
+    {73, kMGroupSpindle, nullptr},
     {98, 10, "subprogram calls (M98, M99) are"},
     {99, 10, "subprogram calls (M98, M99) are"},
 };
@@ -412,11 +412,28 @@ class Interpreter {
     Position at;
     int repeat_count = -1;
   };
+  // The modal state M70/M73 save and M72 restores (LinuxCNC's save_settings: units, F, S,
+  // plane, distance modes, coordinate system, retract mode, whether G92 applies, spindle,
+  // coolant; not the motion mode).
+  struct ModalState {
+    bool inches = false;
+    double feed = 0.0;  // program units per minute, as LinuxCNC's feed_rate
+    double speed = 0.0;
+    Plane plane = Plane::kXY;
+    bool incremental = false, arc_absolute = false, retract_to_r = true, g92_applied = false;
+    int origin = 1;
+    SpindleDirection spindle = SpindleDirection::kStopped;
+    bool mist = false, flood = false;
+  };
   struct Frame {
     std::string sub_name;  // empty at the main level
     Position return_to;    // where the caller goes on (kept in the caller's frame)
     std::array<double, 30> saved{};  // the caller's #1-#30
+    std::optional<ModalState> state;  // M70/M73
+    bool restore_on_return = false;   // M73
   };
+  ModalState modal_state() const;
+  void restore(const ModalState& saved);
   static constexpr int kMaxCallLevels = 10;  // LinuxCNC's INTERP_SUB_ROUTINE_LEVELS
   static constexpr std::size_t kSubroutineArguments = 30;
   std::size_t after_line_number(const CompactLine& line) const;
@@ -920,6 +937,51 @@ void Interpreter::go_home(const Block& block, int code) {
   emit_line(MotionMode::kRapid, end);
 }
 
+Interpreter::ModalState Interpreter::modal_state() const {
+  ModalState m;
+  m.inches = inches_;
+  m.feed = feed_mm_per_min_ / scale();
+  m.speed = spindle_speed_;
+  m.plane = plane_;
+  m.incremental = incremental_;
+  m.arc_absolute = arc_absolute_;
+  m.retract_to_r = retract_to_r_;
+  m.g92_applied = parameters_.numbered(5210) != 0.0;
+  m.origin = origin_index_;
+  m.spindle = spindle_;
+  m.mist = mist_;
+  m.flood = flood_;
+  return m;
+}
+
+// LinuxCNC's restore_settings: it writes the differences as G-code and runs it, units first; so
+// F comes back rounded to 0.1 and S to 1 when they changed (its "F%.1f", "S%.0f").
+void Interpreter::restore(const ModalState& saved) {
+  if (saved.inches != inches_) {
+    const double factor = saved.inches ? 1.0 / kMillimetresPerInch : kMillimetresPerInch;
+    position_ *= factor;
+    origin_offset_ *= factor;
+    axis_offset_ *= factor;
+    inches_ = saved.inches;
+  }
+  if (saved.feed != feed_mm_per_min_ / scale()) {
+    feed_mm_per_min_ = std::stod(fmt::format("{:.1f}", saved.feed)) * scale();
+  }
+  if (saved.speed != spindle_speed_) spindle_speed_ = std::stod(fmt::format("{:.0f}", saved.speed));
+  plane_ = saved.plane;
+  incremental_ = saved.incremental;
+  arc_absolute_ = saved.arc_absolute;
+  retract_to_r_ = saved.retract_to_r;
+  select_origin(saved.origin);
+  if (saved.g92_applied != (parameters_.numbered(5210) != 0.0)) {
+    Block block;
+    axis_offsets(block, saved.g92_applied ? kG92_3 : kG92_2);
+  }
+  spindle_ = saved.spindle;
+  mist_ = saved.mist;
+  flood_ = saved.flood;
+}
+
 void Interpreter::warn_machine(const char* what) {
   if (warned_machine_) return;
   warned_machine_ = true;
@@ -1070,6 +1132,23 @@ bool Interpreter::execute(const Block& block) {
         {loaded_tool_, SourceLocation{source_, line_, block.m_column[kMGroupToolChange]}});
   }
   switch (block.m[kMGroupSpindle]) {
+    case 70:  // save the modal state in this call level (M73: and restore it on return)
+    case 73:
+      frames_.back().state = modal_state();
+      if (block.m[kMGroupSpindle] == 73 && frames_.size() > 1) {
+        frames_.back().restore_on_return = true;
+      }
+      break;
+    case 71:
+      frames_.back().state.reset();
+      break;
+    case 72:
+      if (!frames_.back().state) {
+        fail(block.m_column[kMGroupSpindle],
+             "cannot restore context from invalid stack frame - missing M70/M73?");
+      }
+      restore(*frames_.back().state);
+      break;
     case 3:
       spindle_ = SpindleDirection::kClockwise;
       break;
@@ -1902,7 +1981,10 @@ void Interpreter::give_back(const OLine& o) {
   }
   if (!skipping_o_.empty() && o.type == OType::kEndsub) skipping_o_.clear();
   if (frames_.size() > 1) {
-    // Back to the caller: its #1-#30, its local parameters, its place.
+    // Back to the caller: its #1-#30, its local parameters, its place; the state saved by an
+    // M73 in the subroutine.
+    const std::optional<ModalState> restored =
+        frames_.back().restore_on_return ? frames_.back().state : std::nullopt;
     frames_.pop_back();
     parameters_.pop_locals();
     const Frame& caller = frames_.back();
@@ -1911,6 +1993,7 @@ void Interpreter::give_back(const OLine& o) {
     }
     go_to(caller.return_to);
     sub_name_ = frames_.size() > 1 ? caller.sub_name : std::string();
+    if (restored) restore(*restored);
     return;
   }
   if (o.type == OType::kEndsub) {  // the end of a definition at the main level

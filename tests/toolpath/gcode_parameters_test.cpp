@@ -337,6 +337,19 @@ TEST(GcodePosts, AFusionStyleHeaderReadsAsItIs) {
   EXPECT_NE(path.warnings[0].message.find("G53"), std::string::npos);
 }
 
+TEST(GcodeModalState, RestoredAsLinuxcncWritesIt) {
+  // M72 restores a changed feed as LinuxCNC's "F%.1f" does: rounded to 0.1; S to 1.
+  const Toolpath path = read("G21 F123.456 S1000.4 M3\nM70\nF50 S20 M5\nM72\nG1 X1\nM2\n");
+  ASSERT_EQ(path.moves.size(), 1u);
+  EXPECT_NEAR(path.moves[0].feed_rate, 123.5, 1e-12);
+  EXPECT_EQ(path.moves[0].spindle_speed, 1000.0);
+  EXPECT_EQ(path.moves[0].spindle, SpindleDirection::kClockwise);
+  // Unchanged values are not rewritten.
+  EXPECT_NEAR(read("G21 F123.456\nM70\nM72\nG1 X1\nM2\n").moves[0].feed_rate, 123.456, 1e-12);
+  expect_error("M72\nM2", 1, 1, "missing M70/M73");
+  expect_error("M70\nM71\nM72\nM2", 3, 1, "missing M70/M73");
+}
+
 TEST(GcodePolar, Errors) {
   expect_error("G21 G18\nG0 @1 ^90\nM2", 2, 4, "cannot use polar coordinate except in G17 plane");
   expect_error("G0 X1 @1\nM2", 1, 7, "cannot specify both polar coordinate and X word");

@@ -159,6 +159,7 @@ TEST(GcodeGolden, ParametersAndExpressions) { expect_matches_golden("parameters"
 TEST(GcodeGolden, SubroutinesConditionsAndLoops) { expect_matches_golden("owords"); }
 TEST(GcodeGolden, CoordinateSystems) { expect_matches_golden("offsets"); }
 TEST(GcodeGolden, PolarCoordinates) { expect_matches_golden("polar"); }
+TEST(GcodeGolden, SavingAndRestoringTheModalState) { expect_matches_golden("modal"); }
 
 // ---------------------------------------------------------------------------------------------
 // Straight moves, modal state, words
@@ -790,7 +791,7 @@ TEST(GcodeErrors, NotSupported) {
       {"G10 L1 P1 R2", 1, "G10 L1: setting tool table data is not supported"},
       {"G10 L2 P1 R45", 11, "coordinate system rotation (G10 L2 R) is not supported"},
       {"G43.1 Z1", 1, "dynamic tool length offsets"},
-      {"G7", 1, "lathe diameter and radius modes"},
+      {"G7", 1, "lathe diameter mode (G7) is not supported"},
       {"G17.1", 1, "UVW planes"},
       {"M60", 1, "pallet changes (M60) are not supported"},
       {"M19", 1, "spindle orientation (M19) is not supported"},
