@@ -155,10 +155,8 @@ int ValueReader::integer(std::size_t& i) const {
   return static_cast<int>(lower);
 }
 
-// LinuxCNC's read_real_number: an optional sign, digits with at most one decimal point.
-double ValueReader::number(std::size_t& i) const {
-  const std::string& s = line_.code;
-  const std::size_t begin = i;
+PlainNumber scan_number(const std::string& s, std::size_t i) {
+  PlainNumber n;
   std::size_t j = i;
   bool negative = false;
   if (j < s.size() && (s[j] == '+' || s[j] == '-')) negative = s[j++] == '-';
@@ -171,20 +169,39 @@ double ValueReader::number(std::size_t& i) const {
       ++digits;
     }
   }
-  if (digits == 0 || points > 1) {
-    fail(begin, fmt::format("bad number format: '{}'", s.substr(begin, std::max<std::size_t>(
-                                                                            1, j - begin))));
+  n.end = j;
+  if (digits == 0) {
+    n.status = PlainNumber::Status::kNoDigits;
+    return n;
   }
-  double value = 0.0;
+  if (points > 1) {
+    n.status = PlainNumber::Status::kTwoPoints;
+    return n;
+  }
   const auto [end, error] =
-      std::from_chars(s.data() + digits_begin, s.data() + j, value, std::chars_format::fixed);
-  if (error == std::errc::result_out_of_range || !std::isfinite(value) ||
-      value > kLargestInputValue) {
-    fail(begin, fmt::format("number out of range (larger than {:g})", kLargestInputValue));
+      std::from_chars(s.data() + digits_begin, s.data() + j, n.value, std::chars_format::fixed);
+  if (error == std::errc::result_out_of_range || !std::isfinite(n.value) ||
+      n.value > kLargestInputValue) {
+    n.status = PlainNumber::Status::kOutOfRange;
+  } else if (error != std::errc() || end != s.data() + j) {
+    n.status = PlainNumber::Status::kBad;
   }
-  if (error != std::errc() || end != s.data() + j) fail(begin, "bad number format");
-  i = j;
-  return negative ? -value : value;
+  if (negative) n.value = -n.value;
+  return n;
+}
+
+double ValueReader::number(std::size_t& i) const {
+  const PlainNumber n = scan_number(line_.code, i);
+  switch (n.status) {
+    case PlainNumber::Status::kOk:
+      i = n.end;
+      return n.value;
+    case PlainNumber::Status::kOutOfRange:
+      fail(i, fmt::format("number out of range (larger than {:g})", kLargestInputValue));
+    default:
+      fail(i, fmt::format("bad number format: '{}'",
+                          line_.code.substr(i, std::max<std::size_t>(1, n.end - i))));
+  }
 }
 
 std::string ValueReader::name(std::size_t& i) const {

@@ -37,6 +37,16 @@ struct CompactLine {
   char at(std::size_t i) const { return i < code.size() ? code[i] : '\0'; }
 };
 
+// A number as LinuxCNC writes it (read_real_number) at code[i]: an optional sign, digits with at
+// most one decimal point, no exponent. `end` is past it; the caller words its own errors.
+struct PlainNumber {
+  enum class Status { kOk, kNoDigits, kTwoPoints, kOutOfRange, kBad };
+  Status status = Status::kOk;
+  double value = 0.0;
+  std::size_t end = 0;
+};
+PlainNumber scan_number(const std::string& code, std::size_t i);
+
 // Numbered parameters #1 … #5601, named parameters — global when the name starts with '_',
 // otherwise local to the current subroutine call — and the interpreter's predefined read-only
 // ones (#<_x>, #<_metric>, …), which it supplies through a lookup.

@@ -551,37 +551,23 @@ double Interpreter::read_number(const CompactLine& line, std::size_t& i, int wor
     }
     return value;
   }
-  std::size_t j = i;
-  bool negative = false;
-  if (j < s.size() && sign) negative = s[j++] == '-';
-  const std::size_t begin = j;
-  int digits = 0, points = 0;
-  for (; j < s.size() && ((s[j] >= '0' && s[j] <= '9') || s[j] == '.'); ++j) {
-    if (s[j] == '.') {
-      ++points;
-    } else {
-      ++digits;
-    }
+  const gcode::PlainNumber n = gcode::scan_number(s, i);
+  switch (n.status) {
+    case gcode::PlainNumber::Status::kOk:
+      i = n.end;
+      return n.value;
+    case gcode::PlainNumber::Status::kNoDigits:
+      fail(word_column, fmt::format("bad number format: {} needs a number", upper));
+    case gcode::PlainNumber::Status::kTwoPoints:
+      fail(word_column,
+           fmt::format("bad number format: {} has more than one decimal point", upper));
+    case gcode::PlainNumber::Status::kOutOfRange:
+      fail(word_column,
+           fmt::format("{} value out of range (larger than {:g})", upper, kLargestInputValue));
+    case gcode::PlainNumber::Status::kBad:
+      break;
   }
-  if (digits == 0) {
-    fail(word_column, fmt::format("bad number format: {} needs a number", upper));
-  }
-  if (points > 1) {
-    fail(word_column, fmt::format("bad number format: {} has more than one decimal point", upper));
-  }
-  double value = 0.0;
-  const auto [end, error] =
-      std::from_chars(s.data() + begin, s.data() + j, value, std::chars_format::fixed);
-  if (error == std::errc::result_out_of_range || !std::isfinite(value) ||
-      value > kLargestInputValue) {
-    fail(word_column,
-         fmt::format("{} value out of range (larger than {:g})", upper, kLargestInputValue));
-  }
-  if (error != std::errc() || end != s.data() + j) {
-    fail(word_column, fmt::format("bad number format after {}", upper));
-  }
-  i = j;
-  return negative ? -value : value;
+  fail(word_column, fmt::format("bad number format after {}", upper));
 }
 
 // LinuxCNC's read_integer_value: a real within kGcodeIntegerWord of an integer.
@@ -1969,7 +1955,9 @@ void Interpreter::call(const OLine& o) {
     caller.saved[k] = parameters_.numbered(static_cast<int>(k + 1));
     parameters_.set_numbered(static_cast<int>(k + 1), k < o.args.size() ? o.args[k] : 0.0);
   }
-  frames_.push_back(Frame{o.name, {}, {}});
+  Frame frame;
+  frame.sub_name = o.name;
+  frames_.push_back(frame);
   parameters_.push_locals();
   skipping_o_.clear();
   back_to(o);
