@@ -17,11 +17,15 @@ namespace {
 
 nlohmann::json vec_json(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
-// One JSON object per move, millimetres whatever the program units.
+// One JSON object per move, millimetres whatever the program units. A move from a subroutine
+// file also names that file ("file"); `line` is always the line in the move's own file.
 void dump_moves(const Toolpath& path, std::ostream& out) {
   for (const Move& m : path.moves) {
     nlohmann::json j;
     j["line"] = m.line;
+    if (m.source > 0 && static_cast<std::size_t>(m.source) < path.sources.size()) {
+      j["file"] = path.sources[static_cast<std::size_t>(m.source)];
+    }
     j["type"] = m.is_arc() ? "arc" : (m.is_rapid() ? "rapid" : "feed");
     j["end"] = vec_json(m.end);
     if (m.is_arc()) {

@@ -184,6 +184,39 @@ TEST(CliPath, CutterLocationPoints) {
   EXPECT_EQ(run_cwe({"path", file.string(), "--cl-step", "0"}).status, 2);
 }
 
+TEST(CliPath, SubroutineFilesFromTheSearchPath) {
+  // A program calling a subroutine kept in a library folder, as LinuxCNC's SUBROUTINE_PATH.
+  const auto lib = std::filesystem::temp_directory_path() / "cwe-cli-test-path" / "sublib";
+  std::filesystem::create_directories(lib);
+  std::ofstream(lib / "side.ngc") << "o<side> sub\nG1 X#1 F100\no<side> endsub\n";
+  const auto file = write_program("calls.ngc", "G21 G0 Z1\no<side> call [7]\nG0 Z5\nM2\n");
+  const Result missing = run_cwe({"path", file.string()});
+  EXPECT_EQ(missing.status, 2);
+  EXPECT_NE(missing.err.find(file.string() + ":2: error: subroutine o<side> is not defined"),
+            std::string::npos)
+      << missing.err;
+  const Result r = run_cwe({"path", file.string(), "--dump", "--subroutine-path", lib.string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::vector<nlohmann::json> moves = json_lines(r.out);
+  ASSERT_EQ(moves.size(), 3u);
+  EXPECT_FALSE(moves[0].contains("file"));
+  EXPECT_EQ(moves[1]["file"], (lib / "side.ngc").string());
+  EXPECT_EQ(moves[1]["line"], 2);
+  EXPECT_EQ(moves[1]["end"][0], 7.0);
+  EXPECT_FALSE(moves[2].contains("file"));
+}
+
+TEST(CliPath, EveryErrorOfAProgram) {
+  const auto file = write_program("errors.ngc", "G21 F100\nG1 X[1/0]\nG1 X1\nG1 Y#<two>\nM2\n");
+  const Result r = run_cwe({"path", file.string()});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.err.rfind(file.string() + ":2:7: error: attempt to divide by zero\n" +
+                            file.string() + ":4:5: error: named parameter #<two> not defined",
+                        0),
+            0u)
+      << r.err;
+}
+
 TEST(CliPath, ErrorsNameFileLineAndColumn) {
   const auto file = write_program("bad.ngc", "G0 X0\nG1 X1 Y#<two> F100\n");
   const Result r = run_cwe({"path", file.string()});
