@@ -26,7 +26,7 @@ __all__ = ["Job", "Operation", "Run", "Tool", "InputError", "run"]
 
 _JOB_SETTINGS = [
     "stock", "tool", "path", "operations", "tools", "tool_for_all", "tool_units", "start",
-    "tool_change", "units", "resolution", "tolerance", "threads", "cl_step", "forces",
+    "tool_change", "subroutine_path", "units", "resolution", "tolerance", "threads", "cl_step", "forces",
     "spindle", "feed", "flutes", "helix", "force_step", "runout",
 ]
 

@@ -820,6 +820,31 @@ TEST(CliTools, FreeCadLibraryAndBits) {
   EXPECT_NE(saw.err.find("slittingsaw"), std::string::npos) << saw.err;
 }
 
+// A job whose program calls a subroutine kept in a library folder named relative to the job.
+TEST(CliSimulate, JobSubroutinePathIsRelativeToTheJob) {
+  const auto dir = scratch_dir("job_subroutines");
+  std::filesystem::create_directories(dir / "lib");
+  // A 10 mm flat end mill slotting 1 mm deep along 40 mm of a block: 10 × 1 × 40 mm³, plus the
+  // half disc at each end of the slot, π·5²/2 × 1 mm³ each.
+  std::ofstream(dir / "lib" / "slot.ngc") << "o<slot> sub\nG1 Z#1 F300\nG1 X40\no<slot> endsub\n";
+  std::ofstream(dir / "main.ngc") << "G21 G0 X0 Y10 Z2\no<slot> call [-1]\nG0 Z5\nM2\n";
+  std::ofstream(dir / "job.json") << nlohmann::json{{"stock", "box:-10,0,-5,50,20,0"},
+                                                     {"tool", "flat:10,20"},
+                                                     {"path", "main.ngc"},
+                                                     {"subroutine_path", "lib"},
+                                                     {"resolution", 0.1},
+                                                     {"stock_only", true},
+                                                     {"out", "out"}}
+                                         .dump();
+  const Result r = run_cwe({"simulate", (dir / "job.json").string(), "--quiet"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::ifstream summary(dir / "out" / "summary.json");
+  const double expected = 10.0 * 1.0 * 40.0 + kPi * 25.0;
+  // Within 1 %: the rays at s = 0.1 mm cross the slot's round ends.
+  EXPECT_NEAR(nlohmann::json::parse(summary)["removed_volume_mm3"].get<double>(), expected,
+              0.01 * expected);
+}
+
 // LinuxCNC tool tables (tests/app/data: sim_mm.tbl and sim.tbl of LinuxCNC's sample
 // configurations): flat end mills of diameter D, in the table's units, unless a "cwe:" comment
 // names the cutter.
