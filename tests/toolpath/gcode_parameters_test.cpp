@@ -11,9 +11,11 @@
 #include <fstream>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "cwe/core/error.hpp"
 #include "cwe/toolpath/gcode_reader.hpp"
+#include "source_dir.hpp"
 
 namespace cwe {
 namespace {
@@ -358,6 +360,49 @@ TEST(GcodePolar, Errors) {
   expect_error("G0 @1\nM2", 1, 4, "must specify angle in polar coordinate if at the origin");
   expect_error("G91 G0 ^10\nM2", 1, 8, "indeterminate when at the origin");
   expect_error("G0 @1 @2\nM2", 1, 7, "multiple @ words on one line");
+}
+
+// tests/toolpath/malformed: one program per kind of error, each naming the errors it must give.
+TEST(GcodeMalformed, EveryProgramGivesItsErrors) {
+  const std::filesystem::path folder = test::source_dir() / "tests" / "toolpath" / "malformed";
+  int programs = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+    if (entry.path().extension() != ".ngc") continue;
+    ++programs;
+    SCOPED_TRACE(entry.path().filename().string());
+    struct Expected {
+      int line, column;
+      std::string text;
+    };
+    std::vector<Expected> expected;
+    std::ifstream in(entry.path());
+    std::string line;
+    while (std::getline(in, line) && line.rfind("(expect ", 0) == 0) {
+      Expected e;
+      const std::size_t colon = line.find(':'), space = line.find(' ', 8);
+      e.line = std::stoi(line.substr(8, colon - 8));
+      e.column = std::stoi(line.substr(colon + 1, space - colon - 1));
+      e.text = line.substr(space + 1, line.size() - space - 2);
+      expected.push_back(e);
+    }
+    ASSERT_FALSE(expected.empty()) << "no (expect …) line";
+    std::vector<InputError> errors;
+    try {
+      read_gcode_file(entry.path().string());
+    } catch (const InputErrors& e) {
+      errors = e.errors();
+    } catch (const InputError& e) {
+      errors = {e};
+    }
+    ASSERT_EQ(errors.size(), expected.size());
+    for (std::size_t k = 0; k < errors.size(); ++k) {
+      EXPECT_EQ(errors[k].location().source, entry.path().string());
+      EXPECT_EQ(errors[k].location().line, expected[k].line) << errors[k].what();
+      EXPECT_EQ(errors[k].location().column, expected[k].column) << errors[k].what();
+      EXPECT_NE(errors[k].message().find(expected[k].text), std::string::npos) << errors[k].what();
+    }
+  }
+  EXPECT_GE(programs, 28);
 }
 
 TEST(GcodeErrors, EveryErrorOfTheFileNotOnlyTheFirst) {
