@@ -217,6 +217,29 @@ TEST(CliPath, EveryErrorOfAProgram) {
       << r.err;
 }
 
+// Each program of the malformed G-code corpus: exit 2, and standard error is its errors, one
+// file:line:col line each, the first at the location its first (expect …) comment names.
+TEST(CliPath, MalformedProgramsExitTwoWithTheirErrors) {
+  const auto folder = test::source_dir() / "tests" / "toolpath" / "malformed";
+  int programs = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+    if (entry.path().extension() != ".ngc") continue;
+    ++programs;
+    std::ifstream in(entry.path());
+    std::string first;
+    std::getline(in, first);  // (expect LINE:COLUMN text)
+    const std::string where = first.substr(8, first.find(' ', 8) - 8);
+    const Result r = run_cwe({"path", entry.path().string()});
+    EXPECT_EQ(r.status, 2) << entry.path();
+    const std::string prefix =
+        entry.path().string() + ":" + (where.ends_with(":0") ? where.substr(0, where.size() - 2)
+                                                              : where) + ": error: ";
+    EXPECT_EQ(r.err.rfind(prefix, 0), 0u) << r.err;
+    EXPECT_TRUE(r.out.empty()) << r.out;
+  }
+  EXPECT_GE(programs, 28);
+}
+
 TEST(CliPath, ErrorsNameFileLineAndColumn) {
   const auto file = write_program("bad.ngc", "G0 X0\nG1 X1 Y#<two> F100\n");
   const Result r = run_cwe({"path", file.string()});
