@@ -205,8 +205,8 @@ constexpr CodeInfo kMCodes[] = {
     {71, kMGroupSpindle, nullptr},
     {72, kMGroupSpindle, nullptr},
     {73, kMGroupSpindle, nullptr},
-    {98, 10, "subprogram calls (M98, M99) are"},
-    {99, 10, "subprogram calls (M98, M99) are"},
+    {98, 10, nullptr},           // read as an O-word when first on its line (read_m98)
+    {99, kMGroupStop, nullptr},  // likewise inside a subprogram; in the main program, its end
 };
 
 template <std::size_t N>
@@ -397,14 +397,18 @@ class Interpreter {
   int file_of(const std::string& name);
 
   // O-word control flow (LinuxCNC's interp_o_word.cc): subroutines, conditions and loops.
+  // kFanuc is a bare "O100" (a Fanuc-style subprogram, or a program number); kM98 and kM99 are
+  // Fanuc-style calls and returns.
   enum class OType { kNone, kSub, kEndsub, kCall, kDo, kWhile, kRepeat, kIf, kElseif, kElse,
-                     kEndif, kBreak, kContinue, kEndwhile, kEndrepeat, kReturn };
+                     kEndif, kBreak, kContinue, kEndwhile, kEndrepeat, kReturn, kFanuc, kM98,
+                     kM99 };
   struct OLine {
     OType type = OType::kNone;
     std::string name;  // sub, endsub, call, return: the label; others: "sub#label"
     std::string label;  // as written, for messages
     double test = 0.0;  // while, if, elseif, repeat
     std::vector<double> args;  // call
+    int repeats = -1;          // M98 L (-1: none)
     Position at;        // the line's own position
   };
   struct OffsetEntry {
@@ -431,6 +435,8 @@ class Interpreter {
     std::array<double, 30> saved{};  // the caller's #1-#30
     std::optional<ModalState> state;  // M70/M73
     bool restore_on_return = false;   // M73
+    bool m98 = false;                 // entered by M98 (returns with M99; #1-#30 shared)
+    int m98_loop = -1;                // the M98 L repeats left, in the caller's frame
   };
   ModalState modal_state() const;
   void restore(const ModalState& saved);
@@ -438,6 +444,7 @@ class Interpreter {
   static constexpr std::size_t kSubroutineArguments = 30;
   std::size_t after_line_number(const CompactLine& line) const;
   OLine read_o(const CompactLine& line, std::size_t i);
+  std::optional<OLine> read_m98(const CompactLine& line, std::size_t i);
   void control(const OLine& o);
   void call(const OLine& o);
   void give_back(const OLine& o);  // endsub, return
@@ -620,6 +627,7 @@ void Interpreter::read_m(const CompactLine& line, std::size_t& i, int column, Bl
   }
   const CodeInfo* info = find_code(kMCodes, number);
   if (info == nullptr) fail(column, fmt::format("unknown M code: M{}", number));
+  if (number == 98) fail(column, "M98 must be the first word of its line");
   if (info->unsupported != nullptr) {
     fail(column, fmt::format("M{}: {} not supported", number, info->unsupported));
   }
@@ -1242,7 +1250,13 @@ bool Interpreter::execute(const Block& block) {
     }
   }
   const int stop = block.m[kMGroupStop];
-  return stop != 2 && stop != 30;  // M0, M1 (pauses) do not change the path
+  if (stop == 99) {
+    // M99 in the main program: LinuxCNC starts the program over, forever.
+    warn(line_, block.m_column[kMGroupStop],
+         "M99 in the main program: LinuxCNC would run the program again and again; cwe reads it "
+         "once, as if M99 were M30");
+  }
+  return stop != 2 && stop != 30 && stop != 99;  // M0, M1 (pauses) do not change the path
 }
 
 Vec3 Interpreter::find_end(const Block& block) const {
@@ -1690,6 +1704,8 @@ bool Interpreter::run_line(std::string_view raw) {
   const std::size_t i = after_line_number(line);
   if (line.at(i) == 'o') {
     control(read_o(line, i));
+  } else if (const std::optional<OLine> m = read_m98(line, i)) {
+    control(*m);
   } else if (skipping_o_.empty()) {
     const Block block = read_block(line, i);
     if (!execute(block)) ended_ = true;
@@ -1777,6 +1793,9 @@ const char* Interpreter::o_name(OType type) const {
     case OType::kContinue: return "continue";
     case OType::kEndwhile: return "endwhile";
     case OType::kEndrepeat: return "endrepeat";
+    case OType::kFanuc: return "(Fanuc-style subprogram)";
+    case OType::kM98: return "M98";
+    case OType::kM99: return "M99";
     case OType::kReturn: break;
   }
   return "return";
@@ -1811,11 +1830,11 @@ Interpreter::OLine Interpreter::read_o(const CompactLine& line, std::size_t i) {
   }
   if (o.type == OType::kNone) {
     if (line.at(i) == '\0') {
-      // A bare O number: in the main program LinuxCNC runs on (a program number, as posts
-      // write "O1001" first); it only matters as the target of M98, which cwe does not read.
-      if (frames_.size() == 1 && skipping_o_.empty()) return o;
-      fail(o_column, fmt::format("O{}: Fanuc-style subprograms (M98, M99) are not supported",
-                                 o.label));
+      // A bare O number: a Fanuc-style subprogram that M98 calls, or (run into) a program
+      // number, as posts write "O1001" first: LinuxCNC runs on.
+      o.type = OType::kFanuc;
+      o.name = o.label;
+      return o;
     }
     fail(line.column(i), "unknown O-word command: expected sub, endsub, call, do, while, repeat, "
                          "if, elseif, else, endif, break, continue, endwhile, endrepeat or return");
@@ -1875,6 +1894,38 @@ Interpreter::OLine Interpreter::read_o(const CompactLine& line, std::size_t i) {
   }
   if (!skipping_o_.empty()) return o;  // the rest of a skipped line is not looked at
   if (i < line.code.size()) fail(line.column(i), "unexpected character after O-word");
+  return o;
+}
+
+// LinuxCNC's read_items: M98, and M99 inside a subprogram, first on their line, are O-words.
+std::optional<Interpreter::OLine> Interpreter::read_m98(const CompactLine& line, std::size_t i) {
+  if (line.at(i) != 'm') return std::nullopt;
+  std::size_t j = i + 1;
+  int number = 0;
+  try {
+    number = values(line).integer(j);
+  } catch (const InputError&) {
+    return std::nullopt;  // read_block reports it
+  }
+  if (number != 98 && !(number == 99 && frames_.size() > 1)) return std::nullopt;
+  OLine o;
+  o.at = Position{at_.file, line_offset_, line_};
+  if (number == 99) {
+    if (defining_sub_) fail(line.column(i), "found 'M99' instead of 'O endsub' after 'O sub'");
+    o.type = OType::kM99;
+    o.name = o.label = frames_.back().sub_name;
+    return o;
+  }
+  o.type = OType::kM98;
+  if (!skipping_o_.empty()) return o;  // not looked at while skipping
+  const Block block = read_block(line, j);
+  if (!block.has('p')) fail(line.column(i), "found 'M98' code with no P-word");
+  const double p = block['p'].value;
+  if (std::abs(p - std::round(p)) > tol::kGcodeIntegerWord) {
+    fail(block['p'].column, fmt::format("non-integer value for integer: P{:g}", p));
+  }
+  o.name = o.label = fmt::format("{}", static_cast<long long>(std::llround(p)));
+  if (block.has('l')) o.repeats = static_cast<int>(block['l'].value);
   return o;
 }
 
@@ -1951,12 +2002,24 @@ void Interpreter::call(const OLine& o) {
   if (static_cast<int>(frames_.size()) >= kMaxCallLevels) fail(1, "too many subroutine levels");
   Frame& caller = frames_.back();
   caller.return_to = at_;
-  for (std::size_t k = 0; k < kSubroutineArguments; ++k) {
-    caller.saved[k] = parameters_.numbered(static_cast<int>(k + 1));
-    parameters_.set_numbered(static_cast<int>(k + 1), k < o.args.size() ? o.args[k] : 0.0);
+  const bool m98 = o.type == OType::kM98;
+  if (!m98) {
+    for (std::size_t k = 0; k < kSubroutineArguments; ++k) {
+      caller.saved[k] = parameters_.numbered(static_cast<int>(k + 1));
+      parameters_.set_numbered(static_cast<int>(k + 1), k < o.args.size() ? o.args[k] : 0.0);
+    }
+  } else if (o.repeats > 0) {
+    // M98 L: the return goes back to the M98 line itself until the repeats are done.
+    if (caller.m98_loop == -1) caller.m98_loop = o.repeats;
+    if (--caller.m98_loop > 0) {
+      caller.return_to = Position{o.at.file, o.at.offset, o.at.line - 1};
+    } else {
+      caller.m98_loop = -1;
+    }
   }
   Frame frame;
   frame.sub_name = o.name;
+  frame.m98 = m98;
   frames_.push_back(frame);
   parameters_.push_locals();
   skipping_o_.clear();
@@ -1973,11 +2036,19 @@ void Interpreter::give_back(const OLine& o) {
     // M73 in the subroutine.
     const std::optional<ModalState> restored =
         frames_.back().restore_on_return ? frames_.back().state : std::nullopt;
+    const bool m98 = frames_.back().m98;
+    if (m98 != (o.type == OType::kM99)) {
+      fail(1, m98 ? "Fanuc 'O....' subroutine definition must end with 'M99'"
+                  : "'O.... endsub' or 'O.... return' must follow 'O.... sub' subroutine "
+                    "definition");
+    }
     frames_.pop_back();
     parameters_.pop_locals();
     const Frame& caller = frames_.back();
-    for (std::size_t k = 0; k < kSubroutineArguments; ++k) {
-      parameters_.set_numbered(static_cast<int>(k + 1), caller.saved[k]);
+    if (!m98) {
+      for (std::size_t k = 0; k < kSubroutineArguments; ++k) {
+        parameters_.set_numbered(static_cast<int>(k + 1), caller.saved[k]);
+      }
     }
     go_to(caller.return_to);
     sub_name_ = frames_.size() > 1 ? caller.sub_name : std::string();
@@ -1994,9 +2065,26 @@ void Interpreter::give_back(const OLine& o) {
 
 void Interpreter::control(const OLine& o) {
   if (!skipping_o_.empty() && skipping_o_ != o.name) return;
-  if (!skipping_to_sub_.empty() && o.type != OType::kSub) return;
+  if (!skipping_to_sub_.empty() && o.type != OType::kSub && o.type != OType::kFanuc) return;
   switch (o.type) {
     case OType::kNone:
+      return;
+    case OType::kFanuc:
+      if (frames_.size() > 1 && !frames_.back().m98) {
+        fail(1, "Fanuc 'O....' subroutine must be called with 'M98'");
+      }
+      if (!skipping_o_.empty()) {  // found the subprogram an M98 was looking for
+        save_offset(o);
+        skipping_o_.clear();
+      }
+      skipping_to_sub_.clear();
+      return;  // run on, into it
+    case OType::kM98:
+      if (o.repeats == 0) return;  // L0: no call
+      call(o);
+      return;
+    case OType::kM99:
+      give_back(o);
       return;
     case OType::kSub:
       if (!skipping_o_.empty()) {  // found the sub a call was looking for
@@ -2004,6 +2092,9 @@ void Interpreter::control(const OLine& o) {
         skipping_o_.clear();
       }
       skipping_to_sub_.clear();
+      if (frames_.size() > 1 && frames_.back().m98) {
+        fail(1, "'O.... sub' subroutine must be called with 'O.... call'");
+      }
       if (frames_.size() > 1) return;  // a call: run its body
       // A definition: remember it and skip to its endsub.
       save_offset(o);

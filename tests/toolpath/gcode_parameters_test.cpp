@@ -352,6 +352,22 @@ TEST(GcodeModalState, RestoredAsLinuxcncWritesIt) {
   expect_error("M70\nM71\nM72\nM2", 3, 1, "missing M70/M73");
 }
 
+TEST(GcodeFanuc, M98AndM99) {
+  expect_error("M98\nM2", 1, 1, "found 'M98' code with no P-word");
+  expect_error("G0 X1 M98 P1\nM2", 1, 7, "M98 must be the first word of its line");
+  expect_error("M98 P7\nM2", 1, 0, "subroutine o<7> is not defined");
+  expect_error("M98 P5\nM30\nO5\nG0 X1\no5 endsub\n", 5, 1, "must end with 'M99'");
+  expect_error("o5 call\nM30\nO5\nM99\n", 3, 1, "must be called with 'M98'");
+  expect_error("M98 P5\nM30\no5 sub\nM99\n", 3, 1, "must be called with 'O.... call'");
+  // M99 in the main program: LinuxCNC runs the program forever; cwe reads it once and says so.
+  const Toolpath path = read("G0 X1\nM99\nG0 X2\n");
+  ASSERT_EQ(path.moves.size(), 1u);
+  ASSERT_FALSE(path.warnings.empty());
+  EXPECT_NE(path.warnings[0].message.find("M99 in the main program"), std::string::npos);
+  // L0 calls nothing.
+  EXPECT_EQ(read("G0 X1\nM98 P5 L0\nM30\nO5\nG0 X9\nM99\n").moves.size(), 1u);
+}
+
 TEST(GcodePolar, Errors) {
   expect_error("G21 G18\nG0 @1 ^90\nM2", 2, 4, "cannot use polar coordinate except in G17 plane");
   expect_error("G0 X1 @1\nM2", 1, 7, "cannot specify both polar coordinate and X word");

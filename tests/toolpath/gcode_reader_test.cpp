@@ -160,6 +160,7 @@ TEST(GcodeGolden, SubroutinesConditionsAndLoops) { expect_matches_golden("owords
 TEST(GcodeGolden, CoordinateSystems) { expect_matches_golden("offsets"); }
 TEST(GcodeGolden, PolarCoordinates) { expect_matches_golden("polar"); }
 TEST(GcodeGolden, SavingAndRestoringTheModalState) { expect_matches_golden("modal"); }
+TEST(GcodeGolden, FanucStyleSubprograms) { expect_matches_golden("fanuc"); }
 
 // ---------------------------------------------------------------------------------------------
 // Straight moves, modal state, words
@@ -797,7 +798,6 @@ TEST(GcodeErrors, NotSupported) {
       {"M19", 1, "spindle orientation (M19) is not supported"},
       {"M48", 1, "override switches"},
       {"M62 P1", 1, "digital and analog I/O"},
-      {"M98 P100", 1, "subprogram calls (M98, M99) are not supported"},
       {"M100", 1, "user-defined M codes (M100 to M199) are not supported"},
       {"G0 X1 E1", 7, "E word is not supported"},
       {"M3 $1", 4, "spindle selection ($) is not supported"},
