@@ -499,6 +499,7 @@ class Interpreter {
   Vec3 origin_offset_ = Vec3::Zero();
   Vec3 axis_offset_ = Vec3::Zero();
   bool warned_machine_ = false;
+  bool warned_tool_data_ = false;
   Vec3 machine(const Vec3& p) const { return (p + origin_offset_ + axis_offset_) * scale(); }
   Vec3 stored_offset(int first_parameter) const;  // #first … #first+2, mm → program units
   void set_stored_offset(int first_parameter, const Vec3& offset);
@@ -851,7 +852,18 @@ void Interpreter::setup_offsets(const Block& block) {
   const int column = block.g_column[kGroupNonModal];
   const int l = static_cast<int>(block['l'].value);
   if (l == 1 || l == 10 || l == 11) {
-    fail(column, fmt::format("G10 L{}: setting tool table data is not supported", l));
+    // Tool table data (length, radius, orientation): nothing on the tip path cwe reads changes
+    // (tool length offsets are not applied; cutter compensation is not read).
+    if (!(block['p'].value >= 1.0)) {
+      fail(block['p'].column, fmt::format("G10 L{} needs a tool number P of 1 or more", l));
+    }
+    if (!warned_tool_data_) {
+      warned_tool_data_ = true;
+      warn(line_, column, fmt::format("G10 L{} (tool table data) changes nothing on the tip path "
+                                      "cwe reads; later G10 L1, L10 and L11 lines say nothing",
+                                      l));
+    }
+    return;
   }
   if (l != 2 && l != 20) fail(block['l'].column, fmt::format("G10 L{}: expected L2 or L20", l));
   const double p_value = block['p'].value;

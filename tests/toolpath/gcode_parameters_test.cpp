@@ -368,6 +368,16 @@ TEST(GcodeFanuc, M98AndM99) {
   EXPECT_EQ(read("G0 X1\nM98 P5 L0\nM30\nO5\nG0 X9\nM99\n").moves.size(), 1u);
 }
 
+TEST(GcodeTools, ToolTableDataChangesNothingOnTheTipPath) {
+  const Toolpath path = read("G21\nG10 L1 P1 R3 Z50\nG0 X1\nG10 L10 P2 Z0\nG10 L11 P3 X0\nM2\n");
+  ASSERT_EQ(path.moves.size(), 1u);
+  EXPECT_EQ(path.moves[0].end, Vec3(1, 0, 0));
+  ASSERT_EQ(path.warnings.size(), 1u);  // once
+  EXPECT_EQ(path.warnings[0].location.line, 2);
+  EXPECT_NE(path.warnings[0].message.find("G10 L1 (tool table data)"), std::string::npos);
+  expect_error("G10 L1 P0 R1\nM2", 1, 8, "needs a tool number P of 1 or more");
+}
+
 TEST(GcodePolar, Errors) {
   expect_error("G21 G18\nG0 @1 ^90\nM2", 2, 4, "cannot use polar coordinate except in G17 plane");
   expect_error("G0 X1 @1\nM2", 1, 7, "cannot specify both polar coordinate and X word");

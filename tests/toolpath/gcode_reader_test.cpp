@@ -789,7 +789,6 @@ TEST(GcodeErrors, NotSupported) {
       {"G33 Z-1 K1", 1, "spindle-synchronised motion"},
       {"G38.2 Z-1", 1, "probing (G38.2 to G38.5) is not supported"},
       {"G5.1 X1 I1 J1", 1, "splines"},
-      {"G10 L1 P1 R2", 1, "G10 L1: setting tool table data is not supported"},
       {"G10 L2 P1 R45", 11, "coordinate system rotation (G10 L2 R) is not supported"},
       {"G43.1 Z1", 1, "dynamic tool length offsets"},
       {"G7", 1, "lathe diameter mode (G7) is not supported"},
