@@ -157,20 +157,6 @@ std::vector<Interval> Cutter::intersect_patch(int patch, const Ray& ray) const {
   return normalize(std::move(out), scale > 0.0 ? tol::kLength / scale : 0.0);
 }
 
-Interval Cutter::hull_chord(const Ray& ray) const {
-  Interval chord = Interval::empty();
-  for (std::size_t i = 0; i < patches_.size(); ++i) {
-    const ProfileSegment& s = profile_.segments()[i];  // one patch per piece, in order
-    if (s.kind == ProfileSegment::Kind::kLine || s.counterclockwise) {
-      chord = hull(chord, convex_piece_chord(s, ray));
-    } else {
-      for (const Interval& part : intersect_patch(static_cast<int>(i), ray))
-        chord = hull(chord, part);
-    }
-  }
-  return chord;
-}
-
 std::vector<Interval> Cutter::intersect(const Ray& ray) const {
   std::vector<Interval> all;
   for (std::size_t i = 0; i < patches_.size(); ++i) {

@@ -183,29 +183,6 @@ TEST(Cutter, RayChordsAgreeWithPointSampling) {
   }
 }
 
-TEST(Cutter, HullChordIsTheHullOfTheChords) {
-  test::Random random(12);
-  for (const Cutter& c : all_cutters()) {
-    SCOPED_TRACE(c.name());
-    const double r = c.bounding_cylinder().radius;
-    const double h = c.bounding_cylinder().z_max;
-    for (int k = 0; k < 2000; ++k) {
-      const Vec3 through(random.uniform(-r, r), random.uniform(-r, r), random.uniform(-1, h + 1));
-      Vec3 direction = random.unit_vector();
-      if (k % 4 == 1) direction = Vec3(direction.x(), direction.y(), 0.0).normalized();
-      if (k % 4 == 2) direction = Vec3::UnitZ();
-      const Ray ray{through, direction};
-      const std::vector<Interval> chords = c.intersect(ray);
-      const Interval hull_chord = c.hull_chord(ray);
-      ASSERT_EQ(hull_chord.is_empty(), chords.empty()) << k;
-      if (chords.empty()) continue;
-      // The same per-piece chords, merged differently: equal to rounding.
-      EXPECT_NEAR(hull_chord.lo, chords.front().lo, 1e-12 * (r + h)) << k;
-      EXPECT_NEAR(hull_chord.hi, chords.back().hi, 1e-12 * (r + h)) << k;
-    }
-  }
-}
-
 TEST(Profile, HeightsReachingAgreeWithSampledRadii) {
   // Oracle: the lowest and highest of 20,001 sampled heights where the radius reaches r. The
   // answer may extend past a sampled extreme by up to one sample spacing, never fall short.

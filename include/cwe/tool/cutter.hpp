@@ -92,9 +92,6 @@ class Cutter {
   // The ray's chords through the part of the solid swept by the patch's piece:
   // { z within the piece's height range, ρ ≤ radius of the piece at z }.
   std::vector<Interval> intersect_patch(int patch, const Ray& ray) const;
-  // The smallest interval holding every chord of the ray through the solid cutting part, without
-  // allocating: the chord itself for a convex cutter (every APT cutter is one).
-  Interval hull_chord(const Ray& ray) const;
   // The ray's chords through the whole solid cutting part (top disc included), sorted and
   // disjoint.
   std::vector<Interval> intersect(const Ray& ray) const;
