@@ -15,6 +15,7 @@
 
 #include "cwe/core/error.hpp"
 #include "cwe/toolpath/gcode_reader.hpp"
+#include "reader_testing.hpp"
 #include "source_dir.hpp"
 
 namespace cwe {
@@ -33,15 +34,8 @@ double value_of(const std::string& expression, const std::string& before = "") {
 }
 
 void expect_error(std::string_view text, int line, int column, const std::string& fragment) {
-  SCOPED_TRACE(std::string(text));
-  try {
-    read(text);
-    ADD_FAILURE() << "expected an InputError containing: " << fragment;
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.location().line, line) << e.what();
-    EXPECT_EQ(e.location().column, column) << e.what();
-    EXPECT_NE(e.message().find(fragment), std::string::npos) << e.what();
-  }
+  test::expect_input_error([](std::string_view t) { return read(t); }, "p.ngc", text, line,
+                           column, fragment);
 }
 
 TEST(GcodeExpressions, PrecedenceAndLeftToRight) {
@@ -164,11 +158,6 @@ TEST(GcodeParameters, Errors) {
   expect_error("#1=1\n#2=2\nG0 X[#1/[#2-2]]\nM2", 3, 8, "attempt to divide by zero");
 }
 
-}  // namespace
-}  // namespace cwe
-
-namespace cwe {
-namespace {
 
 // A folder of G-code files for subroutine calls by name.
 class GcodeSubroutineFiles : public ::testing::Test {
@@ -298,11 +287,6 @@ TEST(GcodeOWords, ArgumentsAndLocalsBelongToTheCall) {
   EXPECT_EQ(path.moves[1].end, Vec3(7, 8, 1));
 }
 
-}  // namespace
-}  // namespace cwe
-
-namespace cwe {
-namespace {
 
 TEST(GcodePosts, AFusionStyleHeaderReadsAsItIs) {
   // The header and footer a Fusion 360 style post writes for LinuxCNC and Fanuc-like controls: a

@@ -46,21 +46,7 @@ const auto read_program = [](std::string_view text) { return read(text); };
 
 // Reading `text` throws an InputError at line:column whose message contains `fragment`.
 void expect_error(std::string_view text, int line, int column, const std::string& fragment) {
-  SCOPED_TRACE(std::string(text));
-  try {
-    read(text);
-    ADD_FAILURE() << "expected cwe::InputError containing: " << fragment;
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.location().source, "test.ngc");
-    EXPECT_EQ(e.location().line, line) << e.what();
-    EXPECT_EQ(e.location().column, column) << e.what();
-    EXPECT_NE(e.message().find(fragment), std::string::npos)
-        << "message: " << e.what() << "\nexpected to contain: " << fragment;
-    EXPECT_EQ(std::string(e.what()).find("test.ngc:" + std::to_string(line) + ":" +
-                                         std::to_string(column) + ": error: "),
-              0u)
-        << e.what();
-  }
+  test::expect_input_error(read_program, "test.ngc", text, line, column, fragment);
 }
 
 // Reading `text` succeeds with moves.

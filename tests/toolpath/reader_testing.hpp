@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <exception>
+#include <string>
 #include <string_view>
 
 #include "cwe/core/error.hpp"
@@ -37,6 +38,28 @@ bool read_or_input_error(const Reader& read, std::string_view text) {
   } catch (const std::exception& e) {
     ADD_FAILURE() << "unexpected exception " << e.what() << " for input:\n" << text;
     return false;
+  }
+}
+
+// Reading `text` with `read` throws an InputError from `source` at line:column (0: not named)
+// whose message contains `fragment`, and what() starts with that location.
+template <typename Reader>
+void expect_input_error(const Reader& read, const std::string& source, std::string_view text,
+                        int line, int column, const std::string& fragment) {
+  SCOPED_TRACE(std::string(text));
+  try {
+    read(text);
+    ADD_FAILURE() << "expected cwe::InputError containing: " << fragment;
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.location().source, source);
+    EXPECT_EQ(e.location().line, line) << e.what();
+    EXPECT_EQ(e.location().column, column) << e.what();
+    EXPECT_NE(e.message().find(fragment), std::string::npos)
+        << "message: " << e.what() << "\nexpected to contain: " << fragment;
+    std::string where = source;
+    if (line > 0) where += ":" + std::to_string(line);
+    if (line > 0 && column > 0) where += ":" + std::to_string(column);
+    EXPECT_EQ(std::string(e.what()).rfind(where + ": error: ", 0), 0u) << e.what();
   }
 }
 
