@@ -25,6 +25,17 @@ import tempfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 ORACLE = os.path.join(HERE, "..", "tests", "toolpath", "golden", "linuxcnc_oracle.py")
 TOLERANCE = 1e-6  # mm
+# The tool table both interpreters get: tools 1-99, 1/16 in end mills (rs274 reads a table's
+# diameters in inches; cwe's JSON table is in mm). Cutter radius compensation offsets by them.
+TOOLS = range(1, 100)
+TOOL_DIAMETER_INCH = 0.0625
+
+
+def cwe_tool_table(folder):
+    table = os.path.join(folder, "tools.json")
+    with open(table, "w") as t:
+        json.dump({str(n): "flat:%g" % (TOOL_DIAMETER_INCH * 25.4) for n in TOOLS}, t)
+    return table
 
 
 def oracle(program, ini):
@@ -54,9 +65,9 @@ def rs274(program, ini):
     """LinuxCNC's standalone interpreter: moves as (kind, line, x, y, z) in mm, offsets applied."""
     folder = tempfile.mkdtemp()
     table = os.path.join(folder, "tools.tbl")
-    with open(table, "w") as t:  # tools 1-99, 0.125 in end mills (their sizes do not move the tip)
-        for n in range(1, 100):
-            t.write("T%d P%d D0.125 Z0\n" % (n, n))
+    with open(table, "w") as t:
+        for n in TOOLS:
+            t.write("T%d P%d D%g Z0\n" % (n, n, TOOL_DIAMETER_INCH))
     canon = os.path.join(folder, "out.canon")
     try:
         run = subprocess.run(["rs274", "-g", "-i", ini, "-t", table, program, canon],
@@ -105,8 +116,8 @@ def rs274(program, ini):
     return moves, None, flags, max(precision, 0.6e-4)
 
 
-def cwe_moves(cwe, program, path):
-    args = [cwe, "path", program, "--dump"]
+def cwe_moves(cwe, program, path, tools):
+    args = [cwe, "path", program, "--dump", "--tools", tools]
     if path:
         args += ["--subroutine-path", path]
     try:
@@ -152,6 +163,7 @@ def main():
     ini = tempfile.NamedTemporaryFile("w", suffix=".ini", delete=False)
     ini.write("[RS274NGC]\nSUBROUTINE_PATH = %s\n" % args.subroutine_path)
     ini.close()
+    tools = cwe_tool_table(tempfile.mkdtemp())
     rows, counted, matched, excluded = [], 0, 0, 0
     for program in programs:
         program = os.path.abspath(program)
@@ -166,7 +178,7 @@ def main():
             rows.append((name, "not counted", error or ", ".join(sorted(flags))))
             continue
         counted += 1
-        moves, failure = cwe_moves(args.cwe, program, args.subroutine_path)
+        moves, failure = cwe_moves(args.cwe, program, args.subroutine_path, tools)
         if moves is not None:
             failure = compare(reference, moves, tolerance)
         if failure is None:

@@ -16,6 +16,7 @@
 #include "cwe/io/fcs_svg.hpp"
 #include "cwe/io/mesh_io.hpp"
 #include "cwe/job/tool_choice.hpp"
+#include "cwe/job/tool_table.hpp"
 #include "cwe/tool/tool_spec.hpp"
 #include "cwe/toolpath/toolpath_reader.hpp"
 
@@ -170,6 +171,7 @@ nlohmann::json envelope_of_move(const EnvelopeCommandOptions& options, const Cut
 int run_envelope_command(const EnvelopeCommandOptions& options, std::ostream& out) {
   GcodeOptions gcode;
   gcode.subroutine_path = parse_search_path(options.subroutine_path);
+  gcode.tool_diameter = compensation_diameters(std::nullopt, options.tool);
   const ReadToolpath read = read_toolpath_file(options.path, gcode);
   const Toolpath& path = read.toolpath;
   const Cutter cutter = choose_cutter(options.tool, path, options.path);

@@ -8,7 +8,9 @@
 #include <nlohmann/json.hpp>
 
 #include "cwe/core/error.hpp"
+#include "cwe/core/text_file.hpp"
 #include "cwe/geometry/tolerance.hpp"
+#include "cwe/job/tool_table.hpp"
 #include "cwe/toolpath/cl_sampling.hpp"
 #include "cwe/toolpath/toolpath_reader.hpp"
 
@@ -188,6 +190,16 @@ void add_path_command(CLI::App& app, PathCommandOptions& options) {
   path->add_option("--subroutine-path", options.subroutine_path,
                    "Folders (':'-separated) searched for a G-code subroutine file <name>.ngc that "
                    "the program calls but does not define, after the program's own folder");
+  path->add_option("--tool", options.tool,
+                   "The cutter whose diameter G41/G42 (cutter radius compensation) offset by, "
+                   "whatever the tool number: a tool specification or JSON tool file");
+  path->add_option("--tools", options.tools,
+                   "Tool table (JSON, FreeCAD .fctl or LinuxCNC .tbl): the diameters G41/G42 "
+                   "offset by, by tool number (D word, or the tool in the spindle)");
+  path->add_option("--tool-units", options.tool_units,
+                   "Units of the bare lengths of --tool and --tools: mm or in")
+      ->check(CLI::IsMember({"mm", "in"}))
+      ->capture_default_str();
   path->add_option("--cl-step", options.cl_step, "CL spacing along the tip path, mm")
       ->capture_default_str();
   path->add_option("--cl-angle", options.cl_angle_deg, "CL spacing in tool-axis turn, degrees")
@@ -198,6 +210,11 @@ int run_path_command(const PathCommandOptions& options, std::ostream& out) {
   if (options.dump && options.cl_dump) throw InputError("--dump and --cl-dump: choose one");
   GcodeOptions gcode;
   gcode.subroutine_path = parse_search_path(options.subroutine_path);
+  const bool inches = options.tool_units == "in";
+  std::optional<ToolTable> table;
+  if (!options.tools.empty()) table = read_tool_table(options.tools, inches);
+  gcode.tool_diameter =
+      compensation_diameters(table, options.tool, inches ? kMillimetresPerInch : 1.0);
   const ReadToolpath read = read_toolpath_file(options.file, gcode);
   SamplingOptions sampling;
   sampling.step = options.cl_step;

@@ -15,6 +15,10 @@ struct PathCommandOptions {
   double cl_step = 0.5;       // mm
   double cl_angle_deg = 1.0;  // degrees of tool-axis turn
   std::string subroutine_path;  // ':'-separated folders for G-code subroutine files
+  // The cutters whose diameters G41/G42 (cutter radius compensation) offset by.
+  std::string tool;
+  std::string tools;
+  std::string tool_units = "mm";
 };
 
 void add_path_command(CLI::App& app, PathCommandOptions& options);

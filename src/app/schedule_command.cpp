@@ -39,6 +39,7 @@ struct ScheduledFile {
   ToolpathFormat format = ToolpathFormat::kGcode;
   std::filesystem::path target;
   LineFeeds lines;
+  GcodeOptions gcode;  // what the job read it with
 };
 
 // Where each scheduled program goes: --out itself for one program, else --out/<its name>; no
@@ -56,7 +57,7 @@ std::vector<ScheduledFile> scheduled_files(const PreparedJob& job, const std::st
       continue;
     }
     file_of.push_back(files.size());
-    files.push_back({op.path, op.read.format, {}, {}});
+    files.push_back({op.path, op.read.format, {}, {}, op.gcode});
   }
   for (ScheduledFile& file : files) {
     const PreparedOperation& op = *std::find_if(
@@ -251,7 +252,8 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
   std::vector<std::string> texts;
   for (const ScheduledFile& file : files) {
     const std::string text = read_text_file(file.path, "toolpath");
-    texts.push_back(rewrite_feeds(text, file.format, file.lines, file.path));
+    texts.push_back(
+        rewrite_feeds(text, file.format, file.lines, file.path, FeedRewriteOptions{file.gcode}));
   }
 
   // Everything is computed: write the programs, each whole.

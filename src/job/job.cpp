@@ -118,7 +118,7 @@ PreparedJob prepare_job(Job& options) {
                      job.forces->model);
     }
     job.operations.push_back({program, std::move(run.read), std::move(run.cutter), sampling, cls,
-                              std::move(forces), run.tool, o});
+                              std::move(forces), run.tool, o, std::move(run.gcode)});
   }
   return job;
 }

@@ -36,14 +36,12 @@ SourceLocation loading(const Toolpath& path, int tool, const std::string& file, 
   return found != nullptr ? found->location : SourceLocation{file};
 }
 
-// The program read with its tool starting where `rules` say. For "auto", a first reading from the
-// origin finds the program's first XY (the end of the first move that leaves the origin's XY,
-// else the origin's), and the program is read again from kStartClearance above the stock's top
-// there. A CLDATA program with FROM starts there whatever the rule.
-ReadToolpath read_program(const std::string& path, const EntryRules& rules,
-                          const std::string& subroutine_path) {
-  GcodeOptions gcode;
-  gcode.subroutine_path = parse_search_path(subroutine_path);
+// The program read with `gcode` and its tool starting where `rules` say (set in `gcode`). For
+// "auto", a first reading from the origin finds the program's first XY (the end of the first move
+// that leaves the origin's XY, else the origin's), and the program is read again from
+// kStartClearance above the stock's top there. A CLDATA program with FROM starts there whatever
+// the rule.
+ReadToolpath read_program(const std::string& path, const EntryRules& rules, GcodeOptions& gcode) {
   if (rules.start == EntryRules::Kind::kOrigin) return read_toolpath_file(path, gcode);
   if (rules.start == EntryRules::Kind::kGiven) {
     gcode.initial_position = rules.start_at;
@@ -134,7 +132,11 @@ EntryRules entry_rules(const Job& options, double stock_top) {
 
 std::vector<ToolRun> program_runs(const Operation& op, const Job& options,
                                   const EntryRules& rules) {
-  const ReadToolpath read = read_program(op.path, rules, options.subroutine_path);
+  GcodeOptions gcode;
+  gcode.subroutine_path = parse_search_path(options.subroutine_path);
+  gcode.tool_diameter =
+      compensation_diameters(options.tool_table, op.tool, unit_length(options.units));
+  const ReadToolpath read = read_program(op.path, rules, gcode);
   const Toolpath& path = read.toolpath;
   std::vector<int> tools;  // the tool of each move, moves before any change taking the first
   int first = 0;
@@ -157,13 +159,12 @@ std::vector<ToolRun> program_runs(const Operation& op, const Job& options,
   if (used.size() <= 1 && (!table || !op.tool.empty() || used.empty() || used.front() == 0)) {
     const int tool = used.empty() ? 0 : used.front();
     return {{read, choose_cutter(op.tool, path, op.path, unit_length(options.units)), tool,
-             std::nullopt,
-             loading(path, tool, op.path)}};
+             std::nullopt, loading(path, tool, op.path), gcode}};
   }
   if (!table) {
     if (!op.tool.empty() && options.tool_for_all) {
       return {{read, choose_cutter(op.tool, path, op.path, unit_length(options.units)), 0,
-               std::nullopt, SourceLocation{op.path}}};
+               std::nullopt, SourceLocation{op.path}, gcode}};
     }
     const bool defined = std::all_of(used.begin(), used.end(), [&](int t) {
       return path.tool_definitions.count(t) > 0;
@@ -228,7 +229,7 @@ std::vector<ToolRun> program_runs(const Operation& op, const Job& options,
       if (entry != options.tool_table->tools.end()) coefficients = entry->second.coefficients;
     }
     runs.push_back({std::move(part), cutters.at(tools[m]), tools[m], std::move(coefficients),
-                    loaded});
+                    loaded, gcode});
     m = end;
   }
   return runs;

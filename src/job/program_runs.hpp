@@ -41,6 +41,7 @@ struct ToolRun {
   int tool = 0;  // 0: the program loads no tool
   std::optional<CuttingCoefficients> coefficients;  // the tool table's for this tool, if any
   SourceLocation loaded;  // where the program loads the tool (the file when it does not)
+  GcodeOptions gcode;     // what the program was read with (G-code)
 };
 
 // The program of `op` read with its tool starting where `rules` say, cut into stretches of one

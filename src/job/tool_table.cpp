@@ -2,6 +2,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <memory>
 #include <string_view>
 #include <optional>
 
@@ -416,6 +417,29 @@ Cutter cutter_of(const ToolEntry& entry) {
   options.shank = base.shank();
   options.apt = base.apt();
   return Cutter(base.profile(), options);
+}
+
+double compensation_diameter(const Cutter& cutter) {
+  return cutter.apt() ? cutter.apt()->d : cutter.diameter();
+}
+
+std::function<std::optional<double>(int tool)> compensation_diameters(
+    const std::optional<ToolTable>& table, const std::string& tool_spec, double unit) {
+  if (!tool_spec.empty()) {
+    const double d = compensation_diameter(cutter_from_spec(tool_spec, SourceLocation{"--tool"}, unit));
+    return [d](int) { return std::optional<double>(d); };
+  }
+  if (!table) return {};
+  // Each tool's cutter is made once, when a program first compensates with it.
+  auto known = std::make_shared<std::map<int, double>>();
+  return [tools = table->tools, known](int tool) -> std::optional<double> {
+    if (const auto k = known->find(tool); k != known->end()) return k->second;
+    const auto entry = tools.find(tool);
+    if (entry == tools.end()) return std::nullopt;
+    const double d = compensation_diameter(cutter_of(entry->second));
+    known->emplace(tool, d);
+    return d;
+  };
 }
 
 }  // namespace cwe

@@ -16,7 +16,7 @@ namespace cwe::gcode {
 namespace {
 
 // LinuxCNC's TOLERANCE_EQUAL: EQ and NE compare within it.
-constexpr double kEqualTolerance = 0.0001;
+constexpr double kEqualTolerance = tol::kGcodeEqual;
 
 enum class Op {
   kRightBracket,

@@ -27,6 +27,7 @@
 
 #include "cwe/core/text_file.hpp"
 #include "cwe/geometry/tolerance.hpp"
+#include "gcode_compensation.hpp"
 #include "gcode_expression.hpp"
 #include "gcode_tolerance.hpp"
 
@@ -45,7 +46,7 @@ constexpr double kMaxCycleMoves = 1e6;
 constexpr int kG10 = 100, kG28 = 280, kG28_1 = 281, kG30 = 300, kG30_1 = 301, kG52 = 520,
               kG53 = 530, kG92 = 920, kG92_1 = 921, kG92_2 = 922, kG92_3 = 923;
 constexpr int kG0 = 0, kG1 = 10, kG2 = 20, kG3 = 30, kG4 = 40, kG17 = 170, kG18 = 180, kG19 = 190,
-              kG20 = 200, kG43 = 430, kG64 = 640, kG73 = 730, kG80 = 800, kG81 = 810, kG82 = 820,
+              kG20 = 200, kG40 = 400, kG41 = 410, kG41_1 = 411, kG42 = 420, kG42_1 = 421, kG43 = 430, kG64 = 640, kG73 = 730, kG80 = 800, kG81 = 810, kG82 = 820,
               kG83 = 830, kG90_1 = 901, kG91 = 910, kG99 = 990;
 
 // LinuxCNC's modal groups (interp_internal.hh GM_*), indices into Block::g.
@@ -115,10 +116,10 @@ constexpr CodeInfo kGCodes[] = {
     {384, kGroupMotion, "probing (G38.2 to G38.5) is"},
     {385, kGroupMotion, "probing (G38.2 to G38.5) is"},
     {400, kGroupCutterComp, nullptr},
-    {410, kGroupCutterComp, "cutter radius compensation (G41, G42) is"},
-    {411, kGroupCutterComp, "cutter radius compensation (G41.1, G42.1) is"},
-    {420, kGroupCutterComp, "cutter radius compensation (G41, G42) is"},
-    {421, kGroupCutterComp, "cutter radius compensation (G41.1, G42.1) is"},
+    {410, kGroupCutterComp, nullptr},
+    {411, kGroupCutterComp, nullptr},
+    {420, kGroupCutterComp, nullptr},
+    {421, kGroupCutterComp, nullptr},
     {430, kGroupToolLength, nullptr},
     {431, kGroupToolLength, "dynamic tool length offsets (G43.1, G43.2) are"},
     {432, kGroupToolLength, "dynamic tool length offsets (G43.1, G43.2) are"},
@@ -316,6 +317,7 @@ class Interpreter {
       : source_(source), options_(options) {
     inches_ = options.initial_units == ProgramUnits::kInches;
     position_ = options.initial_position / scale();  // no offsets yet: machine = program
+    tip_ = options.initial_position;
     files_.push_back(std::make_unique<ProgramFile>(ProgramFile{source, {}, text}));
     result_.sources = {source};
     result_.units = options.initial_units;
@@ -358,14 +360,53 @@ class Interpreter {
   int motion_to_be(const Block& block, int& column) const;
   void check_words(const Block& block, int motion) const;
   Vec3 find_end(const Block& block) const;
-  Vec2 polar_end(const Block& block) const;
+  Vec2 polar_end(const Block& block, const Vec3& from) const;
   void straight(const Block& block, int motion, int column);
   void arc(const Block& block, int motion, int column);
+  Vec2 arc_center(const Block& block, int motion, int column, const Vec2& start,
+                  const Vec2& end) const;
   void cycle(const Block& block, int motion, int column);
 
-  // Emitting moves (positions in program units).
+  // Cutter radius compensation (gcode_compensation.hpp), in the plane's coordinates.
+  gcode::CutterCompensation compensation_{
+      [this](const gcode::CompensatedMove& m) { emit_compensated(m); }};
+  bool warned_no_tool_radius_ = false;
+  void compensation_on(const Block& block, int code);
+  void compensation_off(int column);
+  double tool_radius(int tool, int column);  // program units
+  void refuse_with_compensation(bool refused, int column, const char* message) const {
+    if (refused && compensation_.on()) fail(column, message);
+  }
+  template <class F>
+  auto compensating(int column, F&& f) {
+    try {
+      return f();
+    } catch (const gcode::CompensationError& e) {
+      fail(column, e.what());
+    }
+  }
+  Vec3 to_plane(const Vec3& p) const {
+    const PlaneAxes a = plane_axes(plane_);
+    return {p[a.first], p[a.second], p[a.normal]};
+  }
+  Vec3 from_plane(const Vec3& q) const {
+    const PlaneAxes a = plane_axes(plane_);
+    Vec3 p;
+    p[a.first] = q.x();
+    p[a.second] = q.y();
+    p[a.normal] = q.z();
+    return p;
+  }
+  void set_units(bool inches);
+
+  // Emitting moves (positions in program units). A move starts where the last one ended (tip_),
+  // which is machine(position_) except after G40, where position_ becomes the programmed point.
   Move new_move(MotionMode mode) const;
+  void push(const Move& move);
   void emit_line(MotionMode mode, const Vec3& to);
+  void emit_arc(const Vec3& start, const Vec3& end, const Vec2& center, int turn, bool may_close,
+                int column, Move move);
+  void emit_compensated(const gcode::CompensatedMove& m);
   void cycle_traverse(double x, double y, double z) { emit_line(MotionMode::kRapid, {x, y, z}); }
   void cycle_feed(double x, double y, double z) { emit_line(MotionMode::kFeed, {x, y, z}); }
 
@@ -479,6 +520,7 @@ class Interpreter {
 
   // Modal state, as LinuxCNC's setup_struct.
   Vec3 position_ = Vec3::Zero();  // program units
+  Vec3 tip_ = Vec3::Zero();       // machine coordinates, mm: where the last move ended
   bool inches_ = false;
   bool units_seen_ = false;
   Plane plane_ = Plane::kXY;
@@ -684,7 +726,8 @@ Block Interpreter::read_block(const CompactLine& line, std::size_t i) const {
       case 's':
       case 't':
       case 'h':
-      case 'l': {
+      case 'l':
+      case 'd': {
         Word& word = block[c];
         const char upper = static_cast<char>(c - 'a' + 'A');
         if (word.present) fail(column, fmt::format("multiple {} words on one line", upper));
@@ -720,8 +763,6 @@ Block Interpreter::read_block(const CompactLine& line, std::size_t i) const {
       case 'w':
         fail(column, fmt::format("U, V and W axis words are not supported: {}",
                                  static_cast<char>(c - 'a' + 'A')));
-      case 'd':
-        fail(column, "D word (cutter radius compensation) is not supported");
       case 'e':
         fail(column, "E word is not supported");
       case 'o':
@@ -873,6 +914,9 @@ void Interpreter::setup_offsets(const Block& block) {
                                         l, p_value));
   }
   if (p == 0) p = origin_index_;
+  refuse_with_compensation(
+      p == origin_index_, block['p'].column,
+      "cannot change the active coordinate system with cutter radius compensation on");
   if (block.has('r') && block['r'].value != 0.0) {
     fail(block['r'].column, "coordinate system rotation (G10 L2 R) is not supported");
   }
@@ -963,13 +1007,7 @@ Interpreter::ModalState Interpreter::modal_state() const {
 // LinuxCNC's restore_settings: it writes the differences as G-code and runs it, units first; so
 // F comes back rounded to 0.1 and S to 1 when they changed (its "F%.1f", "S%.0f").
 void Interpreter::restore(const ModalState& saved) {
-  if (saved.inches != inches_) {
-    const double factor = saved.inches ? 1.0 / kMillimetresPerInch : kMillimetresPerInch;
-    position_ *= factor;
-    origin_offset_ *= factor;
-    axis_offset_ *= factor;
-    inches_ = saved.inches;
-  }
+  set_units(saved.inches);
   if (saved.feed != feed_mm_per_min_ / scale()) {
     feed_mm_per_min_ = std::stod(fmt::format("{:.1f}", saved.feed)) * scale();
   }
@@ -986,6 +1024,82 @@ void Interpreter::restore(const ModalState& saved) {
   spindle_ = saved.spindle;
   mist_ = saved.mist;
   flood_ = saved.flood;
+}
+
+// LinuxCNC's convert_cutter_compensation_on: G41/G42 take the radius of tool D (D0 or no D: the
+// tool in the spindle) from the tool table, G41.1/G42.1 the diameter D itself.
+void Interpreter::compensation_on(const Block& block, int code) {
+  const int column = block.g_column[kGroupCutterComp];
+  const bool left = code == kG41 || code == kG41_1;
+  if (plane_ == Plane::kYZ) {
+    fail(column, "cutter radius compensation allowed only in XY, XZ planes");
+  }
+  if (compensation_.on()) fail(column, "cannot turn cutter radius comp on when on");
+  double radius = 0.0;
+  if (code == kG41_1 || code == kG42_1) {
+    if (!block.has('d')) fail(column, fmt::format("G{}.1 with no D word", code / 10));
+    if (block.has('l')) {
+      fail(block['l'].column,
+           "lathe tool orientation (L with G41.1 or G42.1) is not supported");
+    }
+    radius = block['d'].value / 2.0;
+  } else {
+    int tool = loaded_tool_;
+    if (block.has('d')) {
+      const Word& d = block['d'];
+      const int number = static_cast<int>(d.value + 0.5);  // LinuxCNC's is_near_int
+      if (std::abs(number - d.value) >= tol::kGcodeIntegerWord) {
+        fail(d.column, fmt::format("G{} requires D word to be a whole number", code / 10));
+      }
+      if (number < 0) fail(d.column, "negative D word tool radius index used");
+      if (number != 0) tool = number;
+    }
+    radius = tool_radius(tool, block.has('d') ? block['d'].column : column);
+  }
+  compensation_.turn_on(left ? gcode::CompensationSide::kLeft : gcode::CompensationSide::kRight,
+                        radius, inches_);
+}
+
+// The radius of `tool` in program units; 0 for no tool (T0), as LinuxCNC's empty spindle.
+double Interpreter::tool_radius(int tool, int column) {
+  if (tool == 0) {
+    if (!warned_no_tool_radius_) {
+      warned_no_tool_radius_ = true;
+      warn(line_, column,
+           "cutter radius compensation with no tool in the spindle (tool 0): the radius is 0 and "
+           "the path is not offset, as in LinuxCNC");
+    }
+    return 0.0;
+  }
+  const std::optional<double> diameter =
+      options_.tool_diameter ? options_.tool_diameter(tool) : std::nullopt;
+  if (!diameter) {
+    fail(column, fmt::format("cutter radius compensation needs the diameter of tool {}, which is "
+                             "not in the tool table (give one: --tools, or the job's \"tools\")",
+                             tool));
+  }
+  return *diameter / 2.0 / scale();
+}
+
+// LinuxCNC's convert_cutter_compensation_off: the held moves are released, and the next move
+// starts from the programmed point in the program's terms.
+void Interpreter::compensation_off(int column) {
+  const bool released =
+      compensating(column, [&] { return compensation_.turn_off(to_plane(position_)); });
+  if (released) position_ = from_plane(compensation_.programmed());
+}
+
+// LinuxCNC's convert_length_units: the current position, the offsets and the moves held by
+// cutter compensation are converted; the feed rate stays the same physical rate (kept here in
+// mm/min).
+void Interpreter::set_units(bool inches) {
+  if (inches == inches_) return;
+  const double factor = inches ? 1.0 / kMillimetresPerInch : kMillimetresPerInch;
+  position_ *= factor;
+  origin_offset_ *= factor;
+  axis_offset_ *= factor;
+  compensation_.scale(factor, inches);
+  inches_ = inches;
 }
 
 void Interpreter::warn_machine(const char* what) {
@@ -1084,8 +1198,12 @@ void Interpreter::check_words(const Block& block, int motion) const {
       !m61) {
     fail(block['q'].column, "Q word with no G64, G73, G83 or M61 to use it");
   }
-  if (block.has('l') && !is_cycle(motion) && !g10) {
+  const int comp = block.g[kGroupCutterComp];
+  if (block.has('l') && !is_cycle(motion) && !g10 && comp != kG41_1 && comp != kG42_1) {
     fail(block['l'].column, "L word with no canned cycle to use it");
+  }
+  if (block.has('d') && comp != kG41 && comp != kG42 && comp != kG41_1 && comp != kG42_1) {
+    fail(block['d'].column, "D word with no G41, G41.1, G42 or G42.1 to use it");
   }
   if (block.has('h') && block.g[kGroupToolLength] != kG43) {
     fail(block['h'].column, "H word with no G43 to use it");
@@ -1126,11 +1244,16 @@ bool Interpreter::execute(const Block& block) {
   if (block.has('f')) feed_mm_per_min_ = block['f'].value * scale();  // canon's SET_FEED_RATE
   if (block.has('s')) spindle_speed_ = block['s'].value;
   if (block.has('t')) selected_tool_ = static_cast<int>(block['t'].value);
+  refuse_with_compensation(block.m[kMGroupToolChange] == 6, block.m_column[kMGroupToolChange],
+                           "cannot change tools with cutter radius compensation on");
   if (block.m[kMGroupToolChange] == 6) {
-    // M6 loads the selected tool and stops the spindle (LinuxCNC's convert_tool_change).
+    // M6 loads the selected tool and stops the spindle (LinuxCNC's convert_tool_change). The
+    // interpreter then takes the position from the machine: where the last move ended, which
+    // after G40 is not the programmed point it had.
     loaded_tool_ = selected_tool_;
     result_.tool_changes.push_back({loaded_tool_, SourceLocation{source_, line_, 1}});
     spindle_ = SpindleDirection::kStopped;
+    position_ = tip_ / scale() - origin_offset_ - axis_offset_;
   } else if (block.m[kMGroupToolChange] == 61) {
     // M61 Q: the spindle holds tool Q from now on, without a change (the spindle keeps turning).
     loaded_tool_ = static_cast<int>(std::lround(block['q'].value));
@@ -1180,20 +1303,14 @@ bool Interpreter::execute(const Block& block) {
     default:
       break;
   }
-  // M7, M8, M9 (coolant), G4 (dwell), G40, G43/G49, G54, G61/G61.1/G64, G94, G97: accepted,
-  // no effect on the tip path.
-  switch (block.g[kGroupPlane]) {
-    case kG17:
-      plane_ = Plane::kXY;
-      break;
-    case kG18:
-      plane_ = Plane::kXZ;
-      break;
-    case kG19:
-      plane_ = Plane::kYZ;
-      break;
-    default:
-      break;
+  // M7, M8, M9 (coolant), G4 (dwell), G43/G49, G54, G61/G61.1/G64, G94, G97: accepted, no
+  // effect on the tip path.
+  if (block.g[kGroupPlane] != -1) {
+    const int code = block.g[kGroupPlane];
+    const Plane plane = code == kG17 ? Plane::kXY : (code == kG18 ? Plane::kXZ : Plane::kYZ);
+    refuse_with_compensation(plane != plane_, block.g_column[kGroupPlane],
+                             "cannot change planes with cutter radius compensation on");
+    plane_ = plane;
   }
   if (block.g[kGroupUnits] != -1) {
     const bool inches = block.g[kGroupUnits] == kG20;
@@ -1201,16 +1318,19 @@ bool Interpreter::execute(const Block& block) {
       units_seen_ = true;
       result_.units = inches ? ProgramUnits::kInches : ProgramUnits::kMillimetres;
     }
-    if (inches != inches_) {
-      // LinuxCNC's convert_length_units: the current position is converted; the feed rate
-      // stays the same physical rate (kept here in mm/min).
-      const double factor = inches ? 1.0 / kMillimetresPerInch : kMillimetresPerInch;
-      position_ *= factor;
-      origin_offset_ *= factor;  // the offsets too, as LinuxCNC converts them
-      axis_offset_ *= factor;
-      inches_ = inches;
-    }
+    set_units(inches);
   }
+  if (block.g[kGroupCutterComp] == kG40) {
+    compensation_off(block.g_column[kGroupCutterComp]);
+  } else if (block.g[kGroupCutterComp] != -1) {
+    compensation_on(block, block.g[kGroupCutterComp]);
+  }
+  refuse_with_compensation(block.g[kGroupCoordSystem] != -1, block.g_column[kGroupCoordSystem],
+                           "cannot change coordinate systems with cutter radius compensation on");
+  refuse_with_compensation(block.g[kGroupPathControl] != -1, block.g_column[kGroupPathControl],
+                           "cannot change control mode with cutter radius compensation on");
+  refuse_with_compensation(block.g[kGroupRetract] != -1, block.g_column[kGroupRetract],
+                           "cannot change retract mode with cutter radius compensation on");
   if (block.g[kGroupCoordSystem] != -1) {
     // G54 … G59 are 1 … 6, G59.1 … G59.3 are 7 … 9.
     const int code = block.g[kGroupCoordSystem];
@@ -1219,7 +1339,16 @@ bool Interpreter::execute(const Block& block) {
   if (block.g[kGroupDistance] != -1) incremental_ = block.g[kGroupDistance] == kG91;
   if (block.g[kGroupArcDistance] != -1) arc_absolute_ = block.g[kGroupArcDistance] == kG90_1;
   if (block.g[kGroupRetract] != -1) retract_to_r_ = block.g[kGroupRetract] == kG99;
-  switch (block.g[kGroupNonModal]) {  // LinuxCNC's convert_modal_0, before the motion
+  const int zero = block.g[kGroupNonModal];
+  const int zero_column = block.g_column[kGroupNonModal];
+  refuse_with_compensation(zero == kG28 || zero == kG30, zero_column,
+                           "cannot use G28 or G30 with cutter radius comp");
+  refuse_with_compensation(zero == kG28_1 || zero == kG30_1, zero_column,
+                           "cannot set reference point with cutter compensation in effect");
+  refuse_with_compensation(zero == kG52 || zero == kG92 || zero == kG92_1 || zero == kG92_2 ||
+                               zero == kG92_3,
+                           zero_column, "cannot change axis offsets with cutter radius comp");
+  switch (zero) {  // LinuxCNC's convert_modal_0, before the motion
     case kG10:
       setup_offsets(block);
       break;
@@ -1262,6 +1391,12 @@ bool Interpreter::execute(const Block& block) {
     }
   }
   const int stop = block.m[kMGroupStop];
+  if (stop == 0 || stop == 1) {
+    compensating(block.m_column[kMGroupStop],
+                 [&] { compensation_.release(to_plane(position_)); });
+  } else if (stop != -1) {
+    compensating(block.m_column[kMGroupStop], [&] { compensation_.stop(to_plane(position_)); });
+  }
   if (stop == 99) {
     // M99 in the main program: LinuxCNC starts the program over, forever.
     warn(line_, block.m_column[kMGroupStop],
@@ -1281,20 +1416,29 @@ Vec3 Interpreter::find_end(const Block& block) const {
     }
     return end;
   }
-  Vec3 end = position_;
+  // Under cutter compensation the programmed point, not the tool's, is where the plane's
+  // missing and incremental coordinates come from.
+  Vec3 from = position_;
+  if (compensation_.uses_programmed_point()) {
+    const PlaneAxes a = plane_axes(plane_);
+    const Vec3 programmed = from_plane(compensation_.programmed());
+    from[a.first] = programmed[a.first];
+    from[a.second] = programmed[a.second];
+  }
+  Vec3 end = from;
   for (int axis = 0; axis < 3; ++axis) {
     const Word& w = block[static_cast<char>('x' + axis)];
     if (!w.present) continue;
-    end[axis] = incremental_ ? position_[axis] + w.value : w.value;
+    end[axis] = incremental_ ? from[axis] + w.value : w.value;
   }
-  if (block.has_polar()) end.head<2>() = polar_end(block);
+  if (block.has_polar()) end.head<2>() = polar_end(block, from);
   return end;
 }
 
 // LinuxCNC's find_ends for @ and ^: absolute, the radius and angle given (the current ones for
 // a missing word); incremental, added to the current ones.
-Vec2 Interpreter::polar_end(const Block& block) const {
-  const double x = position_.x(), y = position_.y();
+Vec2 Interpreter::polar_end(const Block& block, const Vec3& from) const {
+  const double x = from.x(), y = from.y();
   const Word& r = block.polar_radius;
   const Word& a = block.polar_angle;
   const int column = r.present ? r.column : a.column;
@@ -1322,7 +1466,7 @@ Vec2 Interpreter::polar_end(const Block& block) const {
 Move Interpreter::new_move(MotionMode mode) const {
   Move move;
   move.mode = mode;
-  move.start = machine(position_);
+  move.start = tip_;
   move.feed_rate = mode == MotionMode::kFeed ? feed_mm_per_min_ : 0.0;
   move.spindle_speed = spindle_speed_;
   move.spindle = spindle_;
@@ -1334,30 +1478,64 @@ Move Interpreter::new_move(MotionMode mode) const {
 
 // Zero-length moves are emitted as LinuxCNC emits them (a G1 without axis words, the repeated
 // traverses of canned cycles); samplers skip them.
+void Interpreter::push(const Move& move) {
+  result_.moves.push_back(move);
+  tip_ = move.end;
+  idle_iterations_ = 0;
+}
+
 void Interpreter::emit_line(MotionMode mode, const Vec3& to) {
   Move move = new_move(mode);
   move.shape = MoveShape::kLine;
   move.end = machine(to);
-  result_.moves.push_back(move);
-  idle_iterations_ = 0;
+  push(move);
   position_ = to;
 }
 
+void Interpreter::emit_compensated(const gcode::CompensatedMove& m) {
+  Move move = m.attributes;
+  move.start = tip_;
+  if (m.kind == gcode::CompensatedMove::Kind::kArc) {
+    emit_arc(from_plane(m.start), from_plane(m.end), m.center, m.turn, true, 0, move);
+    return;
+  }
+  move.shape = MoveShape::kLine;
+  if (m.kind == gcode::CompensatedMove::Kind::kTraverse) {
+    move.mode = MotionMode::kRapid;
+    move.feed_rate = 0.0;
+  }
+  move.end = machine(from_plane(m.end));
+  push(move);
+}
+
 void Interpreter::straight(const Block& block, int motion, int column) {
-  if (block.g[kGroupNonModal] == kG53) {
+  const bool g53 = block.g[kGroupNonModal] == kG53;
+  if (g53) {
     if (incremental_) fail(block.g_column[kGroupNonModal], "cannot use G53 incremental");
     warn_machine("G53 (machine coordinates)");
   }
   if (motion == kG1 && feed_mm_per_min_ == 0.0) {
     fail(column, "cannot do G1 with zero feed rate");
   }
-  emit_line(motion == kG0 ? MotionMode::kRapid : MotionMode::kFeed, find_end(block));
   motion_mode_ = motion;
+  const Vec3 end = find_end(block);
+  if (!compensation_.offsetting()) {
+    compensation_.straight_move_made();
+    emit_line(motion == kG0 ? MotionMode::kRapid : MotionMode::kFeed, end);
+    return;
+  }
+  if (g53) fail(block.g_column[kGroupNonModal], "cannot use G53 with cutter radius comp");
+  position_ = from_plane(compensating(column, [&] {
+    return compensation_.straight(motion == kG0, to_plane(position_), to_plane(end),
+                                  new_move(MotionMode::kFeed));
+  }));
 }
 
-// LinuxCNC's convert_arc, convert_arc2, arc_data_ijk and arc_data_r (interp_arc.cc), without
-// cutter compensation.
+// LinuxCNC's convert_arc and convert_arc2, or convert_arc_comp1/2 under cutter compensation.
 void Interpreter::arc(const Block& block, int motion, int column) {
+  if (!compensation_.arc_allowed()) {
+    fail(column, "the move just after exiting cutter compensation mode must be straight, not an arc");
+  }
   const bool ijk = block.has('i') || block.has('j') || block.has('k');
   const bool r_format = block.has('r');
   if (!r_format && !ijk) fail(column, "R, I, J and K words all missing for arc");
@@ -1366,7 +1544,6 @@ void Interpreter::arc(const Block& block, int motion, int column) {
 
   const PlaneAxes axes = plane_axes(plane_);
   const auto upper = [](char c) { return static_cast<char>(c - 'a' + 'A'); };
-  double offset1 = 0.0, offset2 = 0.0;
   if (ijk) {
     if (block.has(axes.forbidden_offset)) {
       fail(block[axes.forbidden_offset].column,
@@ -1378,8 +1555,6 @@ void Interpreter::arc(const Block& block, int motion, int column) {
         fail(column, fmt::format("{} word missing in absolute center arc (G90.1)", upper(c)));
       }
     }
-    offset1 = block[axes.first_offset].value;
-    offset2 = block[axes.second_offset].value;
   } else {
     const auto in_plane = [&](int axis) { return block.has(static_cast<char>('x' + axis)); };
     if (!in_plane(axes.first) && !in_plane(axes.second) && !block.has_polar()) {
@@ -1394,15 +1569,41 @@ void Interpreter::arc(const Block& block, int motion, int column) {
       block.has('p') ? static_cast<int>(std::round(block['p'].value)) : 1;  // checked ≥ 1
 
   const Vec3 end = find_end(block);
-  const double s1 = position_[axes.first], s2 = position_[axes.second];
-  const double e1 = end[axes.first], e2 = end[axes.second];
+  motion_mode_ = motion;
+  const Vec2 e(end[axes.first], end[axes.second]);
+  if (compensation_.offsetting()) {
+    gcode::ProgrammedArc programmed;
+    programmed.counter_clockwise = motion == kG3;
+    programmed.turns = turns;
+    programmed.r_format = r_format;
+    programmed.r = r_format ? block['r'].value : 0.0;
+    programmed.center = [&](const Vec2& start) {
+      return arc_center(block, motion, column, start, e);
+    };
+    position_ = from_plane(compensating(column, [&] {
+      return compensation_.arc(programmed, to_plane(position_), to_plane(end),
+                               new_move(MotionMode::kFeed));
+    }));
+    return;
+  }
+  const Vec2 s(position_[axes.first], position_[axes.second]);
+  const Vec2 center = arc_center(block, motion, column, s, e);
+  emit_arc(position_, end, center, motion == kG3 ? turns : -turns, ijk, column,
+           new_move(MotionMode::kFeed));
+  position_ = end;
+}
+
+// LinuxCNC's arc_data_r and arc_data_ijk (interp_arc.cc): the centre of the block's arc from
+// `start` to `end`, in the plane's (first, second) coordinates.
+Vec2 Interpreter::arc_center(const Block& block, int motion, int column, const Vec2& start,
+                             const Vec2& end) const {
+  const PlaneAxes axes = plane_axes(plane_);
+  const double s1 = start.x(), s2 = start.y(), e1 = end.x(), e2 = end.y();
   const double radius_tolerance = inches_ ? tol::kGcodeArcRadiusInch : tol::kGcodeArcRadiusMm;
   const double spiral_tolerance = inches_ ? tol::kGcodeArcSpiralInch : tol::kGcodeArcSpiralMm;
-  const char a = axes.first_letter, b = axes.second_letter;
-  double c1 = 0.0, c2 = 0.0;
-  if (r_format) {
-    // arc_data_r: the centre on the perpendicular bisector of the chord, on the side given by
-    // the sign of R (negative: more than half a circle).
+  if (block.has('r')) {
+    // The centre on the perpendicular bisector of the chord, on the side given by the sign of R
+    // (negative: more than half a circle).
     const double radius = block['r'].value;
     if (e1 == s1 && e2 == s2) fail(column, "current point same as end point of arc (R format)");
     const double abs_radius = std::abs(radius);
@@ -1420,43 +1621,57 @@ void Interpreter::arc(const Block& block, int motion, int column) {
     const bool right = (motion == kG2 && radius > 0.0) || (motion == kG3 && radius < 0.0);
     const double theta = right ? chord_angle - kPi / 2.0 : chord_angle + kPi / 2.0;
     const double offset = abs_radius * std::cos(std::asin(half_length / abs_radius));
-    c1 = mid1 + offset * std::cos(theta);
-    c2 = mid2 + offset * std::sin(theta);
-  } else {
-    // arc_data_ijk.
-    c1 = arc_absolute_ ? offset1 : s1 + offset1;
-    c2 = arc_absolute_ ? offset2 : s2 + offset2;
-    const double r1 = std::hypot(c1 - s1, c2 - s2);
-    const double r2 = std::hypot(c1 - e1, c2 - e2);
-    const std::string where = fmt::format(
-        "start=({}{:.4f},{}{:.4f}) center=({}{:.4f},{}{:.4f}) end=({}{:.4f},{}{:.4f}) "
-        "r1={:.4f} r2={:.4f}",
-        a, s1, b, s2, a, c1, b, c2, a, e1, b, e2, r1, r2);
-    if (r1 < radius_tolerance || r2 < radius_tolerance) fail(column, "zero-radius arc: " + where);
-    const double abs_err = std::abs(r1 - r2);
-    const double rel_err = abs_err / std::max(r1, r2);
-    if (abs_err > 100.0 * spiral_tolerance ||
-        (rel_err > tol::kGcodeArcSpiralRelative && abs_err > spiral_tolerance)) {
-      fail(column, fmt::format("radius to end of arc differs from radius to start: {} "
-                               "abs_err={:.4g} rel_err={:.4f}%",
-                               where, abs_err, rel_err * 100.0));
-    }
+    return {mid1 + offset * std::cos(theta), mid2 + offset * std::sin(theta)};
   }
+  const double offset1 = block[axes.first_offset].value;
+  const double offset2 = block[axes.second_offset].value;
+  const double c1 = arc_absolute_ ? offset1 : s1 + offset1;
+  const double c2 = arc_absolute_ ? offset2 : s2 + offset2;
+  const double r1 = std::hypot(c1 - s1, c2 - s2);
+  const double r2 = std::hypot(c1 - e1, c2 - e2);
+  const char a = axes.first_letter, b = axes.second_letter;
+  const std::string where = fmt::format(
+      "start=({}{:.4f},{}{:.4f}) center=({}{:.4f},{}{:.4f}) end=({}{:.4f},{}{:.4f}) "
+      "r1={:.4f} r2={:.4f}",
+      a, s1, b, s2, a, c1, b, c2, a, e1, b, e2, r1, r2);
+  if (r1 < radius_tolerance || r2 < radius_tolerance) fail(column, "zero-radius arc: " + where);
+  const double abs_err = std::abs(r1 - r2);
+  const double rel_err = abs_err / std::max(r1, r2);
+  if (abs_err > 100.0 * spiral_tolerance ||
+      (rel_err > tol::kGcodeArcSpiralRelative && abs_err > spiral_tolerance)) {
+    fail(column, fmt::format("radius to end of arc differs from radius to start: {} "
+                             "abs_err={:.4g} rel_err={:.4f}%",
+                             where, abs_err, rel_err * 100.0));
+  }
+  return {c1, c2};
+}
 
-  // The move. An IJK arc whose end is at its start (within tol::kLength) is a full circle.
-  // Otherwise the arc must end exactly at the programmed end, though the radii r1 to the start
-  // and r2 to the end of an IJK arc may differ (LinuxCNC's planner cuts a spiral between them):
-  //  - the centre moves onto the perpendicular bisector of the chord (the circle through start
-  //    and end nearest the programmed centre) when that moves it by no more than the spiral
-  //    tolerance (LinuxCNC's own bound for "the same radius") or than |r1 - r2|, so that the
-  //    path stays as close to LinuxCNC's spiral as the data allow; for CAM data rounded to a few
-  //    decimals it moves by about |r1 - r2| * radius / chord;
-  //  - otherwise (a short chord, typically a nearly full circle with rounded data, where every
-  //    circle through start and end is far from the programmed one) the arc keeps its centre and
-  //    start radius and ends in the direction of the programmed end, and a straight feed move of
-  //    length |r1 - r2| joins it to the programmed end, with a warning.
+// An arc from `start` to `end` (program units) about `center` in the plane, `turn` as
+// LinuxCNC's ARC_FEED (+n counter-clockwise about the plane's normal, -n clockwise, |n| - 1 extra
+// turns). `move` carries the feed, spindle, tool and line. With `may_close`, an arc whose end is
+// at its start (within tol::kLength) is a full circle.
+//
+// The arc must end exactly at `end`, though the radii r1 to the start and r2 to the end may
+// differ (LinuxCNC's planner cuts a spiral between them):
+//  - the centre moves onto the perpendicular bisector of the chord (the circle through start and
+//    end nearest the programmed centre) when that moves it by no more than the spiral tolerance
+//    (LinuxCNC's own bound for "the same radius") or than |r1 - r2|, so that the path stays as
+//    close to LinuxCNC's spiral as the data allow; for CAM data rounded to a few decimals it
+//    moves by about |r1 - r2| * radius / chord;
+//  - otherwise (a short chord, typically a nearly full circle with rounded data, where every
+//    circle through start and end is far from the programmed one) the arc keeps its centre and
+//    start radius and ends in the direction of the programmed end, and a straight feed move of
+//    length |r1 - r2| joins it to the programmed end, with a warning.
+void Interpreter::emit_arc(const Vec3& start, const Vec3& end, const Vec2& center, int turn,
+                           bool may_close, int column, Move move) {
+  const Move attributes = move;
+  const PlaneAxes axes = plane_axes(plane_);
+  const double spiral_tolerance = inches_ ? tol::kGcodeArcSpiralInch : tol::kGcodeArcSpiralMm;
+  const double s1 = start[axes.first], s2 = start[axes.second];
+  const double e1 = end[axes.first], e2 = end[axes.second];
+  double c1 = center.x(), c2 = center.y();
   const double chord = std::hypot(e1 - s1, e2 - s2);
-  const bool full_circle = ijk && chord * scale() <= tol::kLength;
+  const bool full_circle = may_close && chord * scale() <= tol::kLength;
   bool connector = false;
   if (!full_circle) {
     const double d1 = (e1 - s1) / chord, d2 = (e2 - s2) / chord;
@@ -1469,7 +1684,7 @@ void Interpreter::arc(const Block& block, int motion, int column) {
       connector = true;
     }
   }
-  const double sign = motion == kG3 ? 1.0 : -1.0;  // rotation about +normal axis
+  const double sign = turn > 0 ? 1.0 : -1.0;  // rotation about +normal axis
   const double u1 = s1 - c1, u2 = s2 - c2, v1 = e1 - c1, v2 = e2 - c2;
   double angle = std::atan2(sign * (u1 * v2 - u2 * v1), u1 * v1 + u2 * v2);
   if (full_circle) {
@@ -1489,28 +1704,31 @@ void Interpreter::arc(const Block& block, int motion, int column) {
                      "joins it to the programmed end",
                      std::abs(r1 - r2) * scale(), std::abs(r1 - r2) * scale()));
   }
-
-  Move move = new_move(MotionMode::kFeed);
   move.shape = MoveShape::kArc;
+  move.mode = MotionMode::kFeed;
   move.end = machine(arc_end);
-  Vec3 center = position_;
-  center[axes.first] = c1;
-  center[axes.second] = c2;
-  move.center = machine(center);
+  Vec3 centre = start;
+  centre[axes.first] = c1;
+  centre[axes.second] = c2;
+  move.center = machine(centre);
   move.normal = Vec3::Zero();
   move.normal[axes.normal] = sign;
-  move.sweep = angle + kTwoPi * (turns - 1);
-  move.axial = sign * (end[axes.normal] - position_[axes.normal]) * scale();
-  result_.moves.push_back(move);
-  idle_iterations_ = 0;
-  position_ = arc_end;
-  if (connector) emit_line(MotionMode::kFeed, end);
-  motion_mode_ = motion;
+  move.sweep = angle + kTwoPi * (std::abs(turn) - 1);
+  move.axial = sign * (end[axes.normal] - start[axes.normal]) * scale();
+  push(move);
+  if (connector) {
+    Move line = attributes;
+    line.shape = MoveShape::kLine;
+    line.start = tip_;
+    line.end = machine(end);
+    push(line);
+  }
 }
 
 // LinuxCNC's convert_cycle and convert_cycle_xy with CYCLE_MACRO, for G73, G81, G82 and G83 in
 // the XY plane.
 void Interpreter::cycle(const Block& block, int motion, int column) {
+  refuse_with_compensation(true, column, "cannot use canned cycles with cutter compensation on");
   if (feed_mm_per_min_ == 0.0) fail(column, "cannot feed with zero feed rate (canned cycle)");
   if (plane_ != Plane::kXY) {
     fail(column, fmt::format("{}: canned cycles in the {} plane are not supported (only G17)",
@@ -1767,6 +1985,14 @@ Toolpath Interpreter::run() {
   }
   if (!seen_content_) {
     throw InputError(SourceLocation{source_, 0, 0}, "empty program: no G-code in the file");
+  }
+  if (compensation_.held() > 0) {
+    // LinuxCNC drops them too: only G40, M0, M1, M2 and M30 release held moves.
+    warn(compensation_.first_held_line(), 0,
+         fmt::format("the program ends with cutter radius compensation on: the {} compensated "
+                     "move(s) held from here on are never made, as in LinuxCNC (end compensation "
+                     "with G40, or the program with M2 or M30)",
+                     compensation_.held()));
   }
   if (!ended_) {
     // LinuxCNC refuses such a file at its end; the path is complete, so cwe only warns.

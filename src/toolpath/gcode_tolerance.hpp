@@ -28,5 +28,17 @@ inline constexpr double kGcodeSemicircleRelative = 1e-12;
 inline constexpr double kGcodeIntegerWord = 1e-4;
 inline constexpr double kGcodeGNumberTenths = 1e-3;
 inline constexpr double kGcodeArcTurns = 1e-3;
+// Two values LinuxCNC compares as equal (TOLERANCE_EQUAL): EQ and NE in expressions, and the
+// degenerate triangle of a cutter-compensation entry arc.
+inline constexpr double kGcodeEqual = 1e-4;
+// Cutter radius compensation (interp_internal.hh TOLERANCE_CONCAVE_CORNER, interp_queue.cc):
+// corners between moves whose directions differ by less than this (rad) are tangent, neither
+// convex nor concave; a held arc whose end is moved into a concave corner must keep its radius
+// within kGcodeCompensatedArcRadii, and may not sweep further than it was programmed to by more
+// than the gouge allowance.
+inline constexpr double kGcodeConcaveCorner = 0.05;
+inline constexpr double kGcodeCompensatedArcRadii = 0.01;
+inline constexpr double kGcodeCompensatedArcGougeInch = 0.001;
+inline constexpr double kGcodeCompensatedArcGougeMm = 0.0254;
 
 }  // namespace cwe::tol

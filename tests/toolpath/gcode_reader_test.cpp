@@ -147,6 +147,7 @@ TEST(GcodeGolden, CoordinateSystems) { expect_matches_golden("offsets"); }
 TEST(GcodeGolden, PolarCoordinates) { expect_matches_golden("polar"); }
 TEST(GcodeGolden, SavingAndRestoringTheModalState) { expect_matches_golden("modal"); }
 TEST(GcodeGolden, FanucStyleSubprograms) { expect_matches_golden("fanuc"); }
+TEST(GcodeGolden, CutterRadiusCompensation) { expect_matches_golden("compensation"); }
 
 // ---------------------------------------------------------------------------------------------
 // Straight moves, modal state, words
@@ -756,10 +757,6 @@ TEST(GcodeErrors, NotSupported) {
     const char* fragment;
   };
   const Case cases[] = {
-      {"G41 D1", 1, "G41: cutter radius compensation (G41, G42) is not supported"},
-      {"G42", 1, "cutter radius compensation"},
-      {"G41.1 D1", 1, "cutter radius compensation"},
-      {"G0 X1 D1", 7, "D word (cutter radius compensation) is not supported"},
       {"G0 A1", 4, "rotary axis words (A, B, C) are not supported: A"},
       {"G0 B1", 4, "rotary axis words"},
       {"G0 C1", 4, "rotary axis words"},

@@ -75,6 +75,7 @@ struct PreparedOperation {
   std::optional<ForceModel> forces;
   int tool = 0;  // the tool number whose moves these are (0: the program loads no tool)
   std::size_t operation = 0;  // the job's operation (program) this comes from, from 0
+  GcodeOptions gcode;  // what the program was read with (G-code), to read it again
 };
 
 struct PreparedJob {

@@ -13,6 +13,7 @@
 // job's for that tool's moves.
 
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -58,5 +59,15 @@ ToolTable read_tool_table(const std::string& path, bool inches = false);
 // The cutter of one entry (the specification with the entry's flutes and helix). Throws
 // InputError for a refused entry.
 Cutter cutter_of(const ToolEntry& entry);
+
+// The diameter G-code cutter radius compensation (G41/G42) offsets by, mm: the APT D of an APT
+// cutter (its nominal diameter, a tool table's D), else the largest diameter of its profile.
+double compensation_diameter(const Cutter& cutter);
+
+// Tool diameters for G-code cutter radius compensation (GcodeOptions::tool_diameter): with
+// `tool_spec` (--tool), that one cutter's for every tool number, as it cuts every move; else the
+// cutter of the tool's entry in `table`; else unknown. `unit`: mm per bare length of `tool_spec`.
+std::function<std::optional<double>(int tool)> compensation_diameters(
+    const std::optional<ToolTable>& table, const std::string& tool_spec, double unit = 1.0);
 
 }  // namespace cwe

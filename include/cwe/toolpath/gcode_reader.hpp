@@ -3,12 +3,14 @@
 //
 // The language LinuxCNC's interpreter reads, with its semantics, move for move: parameters and
 // expressions, O-word subroutines, conditions and loops (subroutine files from a search path),
-// coordinate systems, canned cycles. What cwe does not model (rotary axes, cutter compensation,
-// lathe modes, I/O, …) is refused with an InputError naming file, line and column ("not
+// coordinate systems, canned cycles, cutter radius compensation. What cwe does not model (rotary
+// axes, lathe modes, I/O, …) is refused with an InputError naming file, line and column ("not
 // supported"), never ignored or misread. See docs/gcode.md. Moves are in machine coordinates of
 // the tool tip; the tool axis is +Z throughout. Lengths are converted to millimetres (G20 programs
 // are scaled by 25.4).
 
+#include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -23,6 +25,10 @@ struct GcodeOptions {
   // Folders searched for <name>.ngc when the program calls a subroutine it does not define
   // (after the main program's own folder), as LinuxCNC's SUBROUTINE_PATH.
   std::vector<std::string> subroutine_path;
+  // The diameter (mm) of tool number n > 0, for cutter radius compensation (G41/G42 take the
+  // radius of tool D, or of the tool in the spindle); nullopt, or no function, when it is not
+  // known: a program that compensates with that tool is then refused.
+  std::function<std::optional<double>(int tool)> tool_diameter;
 };
 
 // Folders from a ':'-separated list (LinuxCNC's SUBROUTINE_PATH form); empty entries are dropped.
