@@ -95,6 +95,12 @@ def rs274(program, ini):
             g92 = [float(v) * scale for v in args[0:3]]
         elif name == "SET_XY_ROTATION" and abs(float(args[0])) > 1e-12:
             flags.add("rotation")
+        elif name == "RIGID_TAP":  # G33.1: to the point and back
+            a = [float(v) for v in args]
+            back = moves[-1][-3:] if moves else ["0"] * 3
+            end = [a[k] * scale + g5x[k] + g92[k] for k in range(3)]
+            moves.append(["feed", "?"] + ["%.17g" % v for v in end])
+            moves.append(["feed", "?"] + list(back))
         elif name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED", "ARC_FEED"):
             a = [float(v) for v in args]
             if name == "ARC_FEED":

@@ -43,9 +43,10 @@ constexpr double kPeckClearanceInch = 0.010;
 constexpr double kMaxCycleMoves = 1e6;
 
 // G codes as LinuxCNC stores them: ten times the number, G59.1 is 591.
-constexpr int kG10 = 100, kG28 = 280, kG28_1 = 281, kG30 = 300, kG30_1 = 301, kG52 = 520,
+constexpr int kG10 = 100, kG28 = 280, kG28_1 = 281, kG30 = 300, kG30_1 = 301, kG33 = 330,
+              kG33_1 = 331, kG52 = 520,
               kG53 = 530, kG92 = 920, kG92_1 = 921, kG92_2 = 922, kG92_3 = 923;
-constexpr int kG0 = 0, kG1 = 10, kG2 = 20, kG3 = 30, kG4 = 40, kG17 = 170, kG18 = 180, kG19 = 190,
+constexpr int kG0 = 0, kG1 = 10, kG2 = 20, kG3 = 30, kG4 = 40, kG5 = 50, kG5_1 = 51, kG17 = 170, kG18 = 180, kG19 = 190,
               kG20 = 200, kG40 = 400, kG41 = 410, kG41_1 = 411, kG42 = 420, kG42_1 = 421, kG43 = 430, kG64 = 640, kG73 = 730, kG80 = 800, kG81 = 810, kG82 = 820,
               kG83 = 830, kG90_1 = 901, kG91 = 910, kG99 = 990;
 
@@ -90,10 +91,10 @@ constexpr CodeInfo kGCodes[] = {
     {20, kGroupMotion, nullptr},
     {30, kGroupMotion, nullptr},
     {40, kGroupNonModal, nullptr},
-    {50, kGroupMotion, "splines (G5, G5.1, G5.2, G5.3) are"},
-    {51, kGroupMotion, "splines (G5, G5.1, G5.2, G5.3) are"},
-    {52, kGroupMotion, "splines (G5, G5.1, G5.2, G5.3) are"},
-    {53, kGroupMotion, "splines (G5, G5.1, G5.2, G5.3) are"},
+    {50, kGroupMotion, nullptr},
+    {51, kGroupMotion, nullptr},
+    {52, kGroupMotion, "NURBS (G5.2, G5.3) are"},
+    {53, kGroupMotion, "NURBS (G5.2, G5.3) are"},
     {70, kGroupLathe, "lathe diameter mode (G7) is"},
     {80, kGroupLathe, nullptr},  // radius mode: the default, nothing to change
     {100, kGroupNonModal, nullptr},
@@ -109,8 +110,8 @@ constexpr CodeInfo kGCodes[] = {
     {281, kGroupNonModal, nullptr},
     {300, kGroupNonModal, nullptr},
     {301, kGroupNonModal, nullptr},
-    {330, kGroupMotion, "spindle-synchronised motion (G33, G33.1) is"},
-    {331, kGroupMotion, "spindle-synchronised motion (G33, G33.1) is"},
+    {330, kGroupMotion, nullptr},
+    {331, kGroupMotion, nullptr},
     {382, kGroupMotion, "probing (G38.2 to G38.5) is"},
     {383, kGroupMotion, "probing (G38.2 to G38.5) is"},
     {384, kGroupMotion, "probing (G38.2 to G38.5) is"},
@@ -363,6 +364,9 @@ class Interpreter {
   Vec2 polar_end(const Block& block, const Vec3& from) const;
   void straight(const Block& block, int motion, int column);
   void arc(const Block& block, int motion, int column);
+  void synchronised(const Block& block, int motion, int column);
+  void spline(const Block& block, int motion, int column);
+  Vec2 spline_ij_ = Vec2::Zero();  // G5's first control point offset when I, J are left out
   Vec2 arc_center(const Block& block, int motion, int column, const Vec2& start,
                   const Vec2& end) const;
   void cycle(const Block& block, int motion, int column);
@@ -1170,12 +1174,22 @@ int Interpreter::motion_to_be(const Block& block, int& column) const {
 // LinuxCNC's check_other_codes, for the words cwe reads.
 void Interpreter::check_words(const Block& block, int motion) const {
   const bool arc = motion == kG2 || motion == kG3;
-  for (char c : {'i', 'j', 'k'}) {
-    if (block.has(c) && !arc) {
-      fail(block[c].column,
-           fmt::format("{} word with no G2 or G3 to use it", static_cast<char>(c - 'a' + 'A')));
-    }
+  const bool synchronised = motion == kG33 || motion == kG33_1;
+  const bool spline = motion == kG5 || motion == kG5_1;
+  if (block.has('i') && !arc && !spline && motion != kG33_1) {
+    fail(block['i'].column, "I word with no G2, G3, G5, G5.1 or G33.1 to use it");
   }
+  if (block.has('j') && !arc && !spline) {
+    fail(block['j'].column, "J word with no G2, G3, G5 or G5.1 to use it");
+  }
+  if (block.has('k') && !arc && !synchronised) {
+    fail(block['k'].column, "K word with no G2, G3, G33 or G33.1 to use it");
+  }
+  if (synchronised && !block.has('k')) {
+    fail(block.g[kGroupMotion] != -1 ? block.g_column[kGroupMotion] : block.first_axis_column(),
+         "K word missing with G33/G33.1");
+  }
+  if (synchronised && block.has('f')) fail(block['f'].column, "F word used with a G33/G33.1");
   const bool g10 = block.g[kGroupNonModal] == kG10;
   if (g10) {
     if (!block.has('l')) fail(block.g_column[kGroupNonModal], "line with G10 does not have L2 or L20");
@@ -1184,9 +1198,9 @@ void Interpreter::check_words(const Block& block, int motion) const {
   if (block.has('r') && !arc && !is_cycle(motion) && !g10) {
     fail(block['r'].column, "R word with no G2, G3 or canned cycle to use it");
   }
-  if (block.has('p') && !arc && motion != kG82 && block.g[kGroupNonModal] != kG4 && !g10 &&
-      block.g[kGroupPathControl] != kG64) {
-    fail(block['p'].column, "P word with no G2, G3, G4, G64 or G82 to use it");
+  if (block.has('p') && !arc && motion != kG5 && motion != kG82 &&
+      block.g[kGroupNonModal] != kG4 && !g10 && block.g[kGroupPathControl] != kG64) {
+    fail(block['p'].column, "P word with no G2, G3, G4, G5, G64 or G82 to use it");
   }
   const bool m61 = block.m[kMGroupToolChange] == 61;
   if (m61 && !block.has('q')) fail(block.m_column[kMGroupToolChange], "need Q parameter with M61");
@@ -1194,9 +1208,9 @@ void Interpreter::check_words(const Block& block, int motion) const {
                                             tol::kGcodeIntegerWord)) {
     fail(block['q'].column, "Q value with M61 must be a tool number, 0 or more");
   }
-  if (block.has('q') && motion != kG73 && motion != kG83 && block.g[kGroupPathControl] != kG64 &&
-      !m61) {
-    fail(block['q'].column, "Q word with no G64, G73, G83 or M61 to use it");
+  if (block.has('q') && motion != kG5 && motion != kG73 && motion != kG83 &&
+      block.g[kGroupPathControl] != kG64 && !m61) {
+    fail(block['q'].column, "Q word with no G5, G64, G73, G83 or M61 to use it");
   }
   const int comp = block.g[kGroupCutterComp];
   if (block.has('l') && !is_cycle(motion) && !g10 && comp != kG41_1 && comp != kG42_1) {
@@ -1382,6 +1396,10 @@ bool Interpreter::execute(const Block& block) {
     if (!is_cycle(motion)) cycle_initial_level_set_ = false;
     if (motion == kG0 || motion == kG1) {
       straight(block, motion, motion_column);
+    } else if (motion == kG33 || motion == kG33_1) {
+      synchronised(block, motion, motion_column);
+    } else if (motion == kG5 || motion == kG5_1) {
+      spline(block, motion, motion_column);
     } else if (motion == kG2 || motion == kG3) {
       arc(block, motion, motion_column);
     } else if (motion == kG80) {
@@ -1529,6 +1547,84 @@ void Interpreter::straight(const Block& block, int motion, int column) {
     return compensation_.straight(motion == kG0, to_plane(position_), to_plane(end),
                                   new_move(MotionMode::kFeed));
   }));
+}
+
+// G33 and G33.1 (LinuxCNC's convert_straight): motion at K program units per spindle
+// revolution, a straight feed at K·S per minute. G33.1 taps: to the end and back to the start
+// (LinuxCNC's RIGID_TAP), the spindle reversed on the way back, I times faster (I ≥ 1).
+void Interpreter::synchronised(const Block& block, int motion, int column) {
+  const char* name = motion == kG33 ? "G33" : "G33.1";
+  if (spindle_ == SpindleDirection::kStopped) {
+    fail(column, fmt::format("spindle not turning in {}", name));
+  }
+  refuse_with_compensation(true, column,
+                           "cannot use G33 or G33.1 with cutter radius compensation on");
+  motion_mode_ = motion;
+  compensation_.straight_move_made();
+  const Vec3 start = position_;
+  const Vec3 end = find_end(block);
+  const double feed = block['k'].value * scale() * spindle_speed_;
+  Move move = new_move(MotionMode::kFeed);
+  move.feed_rate = feed;
+  move.end = machine(end);
+  push(move);
+  position_ = end;
+  if (motion != kG33_1) return;
+  Move back = new_move(MotionMode::kFeed);
+  back.feed_rate = feed * std::max(1.0, block.has('i') ? block['i'].value : 1.0);
+  back.spindle = spindle_ == SpindleDirection::kClockwise ? SpindleDirection::kCounterClockwise
+                                                          : SpindleDirection::kClockwise;
+  back.end = machine(start);
+  push(back);
+  position_ = start;
+}
+
+// G5 (cubic) and G5.1 (quadratic) B-splines in the XY plane (LinuxCNC's convert_spline). The
+// curve is the Bézier polygon of its control points; it is cut in straight feed moves through
+// the points LinuxCNC's own interpreter gives its previews (gcodemodule.cc NURBS_FEED): 15 per
+// control point, at equal steps of the curve parameter, the step added up as LinuxCNC adds it
+// so that the moves are the same in number.
+void Interpreter::spline(const Block& block, int motion, int column) {
+  refuse_with_compensation(true, column, "cannot convert spline with cutter radius compensation");
+  if (feed_mm_per_min_ == 0.0) fail(column, "cannot make arc with zero feed rate");
+  if (plane_ != Plane::kXY) fail(column, "splines must be in the XY plane");
+  if (block.has('z')) fail(block['z'].column, "splines may not have motion in Z, A, B, or C");
+  compensation_.straight_move_made();
+  motion_mode_ = motion;
+  const Vec2 start = position_.head<2>();
+  std::vector<Vec2> points{start};
+  if (motion == kG5_1) {
+    if (!block.has('i') || !block.has('j')) fail(column, "must specify both I and J with G5.1");
+    points.push_back(start + Vec2(block['i'].value, block['j'].value));
+    points.push_back(find_end(block).head<2>());
+  } else {
+    if (block.has('i') != block.has('j')) fail(column, "must specify both I and J, or neither");
+    const Vec2 first = block.has('i') ? Vec2(block['i'].value, block['j'].value) : spline_ij_;
+    const Vec2 end = find_end(block).head<2>();
+    if (!block.has('p') || !block.has('q')) fail(column, "must specify both P and Q with G5");
+    const Vec2 last(block['p'].value, block['q'].value);
+    points.push_back(start + first);
+    points.push_back(end + last);
+    points.push_back(end);
+    spline_ij_ = -last;  // the next G5 without I, J continues the curve smoothly
+  }
+  // The Bézier point at u ∈ [0, 1] (de Casteljau).
+  const auto at = [&](double u) {
+    std::vector<Vec2> p = points;
+    for (std::size_t level = p.size() - 1; level > 0; --level) {
+      for (std::size_t i = 0; i < level; ++i) p[i] = (1.0 - u) * p[i] + u * p[i + 1];
+    }
+    return p[0];
+  };
+  const double umax = 1.0;
+  const unsigned divisions = static_cast<unsigned>(points.size()) * 15u;
+  const double step = umax / divisions;
+  const double z = position_.z();
+  for (double u = 0.0; u + step < umax; u += step) {
+    const Vec2 p = at(u + step);
+    emit_line(MotionMode::kFeed, Vec3(p.x(), p.y(), z));
+  }
+  emit_line(MotionMode::kFeed, Vec3(points.back().x(), points.back().y(), z));
 }
 
 // LinuxCNC's convert_arc and convert_arc2, or convert_arc_comp1/2 under cutter compensation.

@@ -148,6 +148,8 @@ TEST(GcodeGolden, PolarCoordinates) { expect_matches_golden("polar"); }
 TEST(GcodeGolden, SavingAndRestoringTheModalState) { expect_matches_golden("modal"); }
 TEST(GcodeGolden, FanucStyleSubprograms) { expect_matches_golden("fanuc"); }
 TEST(GcodeGolden, CutterRadiusCompensation) { expect_matches_golden("compensation"); }
+TEST(GcodeGolden, Splines) { expect_matches_golden("splines"); }
+TEST(GcodeGolden, SpindleSynchronisedMotion) { expect_matches_golden("synchronised"); }
 
 // ---------------------------------------------------------------------------------------------
 // Straight moves, modal state, words
@@ -642,7 +644,7 @@ TEST(GcodeCycles, Errors) {
   expect_error("F1 G81 Z-1 R2\nG81\nM2", 2, 1, "all axes missing with motion code G81");
   expect_error("F1 G81 Z-1 R2\nR3\nM2", 2, 1, "R word with no G2, G3 or canned cycle to use it");
   expect_error("F1 G18 G81 X1 Z-1 R2\nM2", 1, 8, "canned cycles in the XZ plane are not supported");
-  expect_error("F1 G81 X1 Z-1 R2 P1\nM2", 1, 18, "P word with no G2, G3, G4, G64 or G82");
+  expect_error("F1 G81 X1 Z-1 R2 P1\nM2", 1, 18, "P word with no G2, G3, G4, G5, G64 or G82");
   expect_error("F1 G81 X1 Z-100 R2 L1000\nG83 X1 Z-100 R2 Q0.0001\nM2", 2, 1,
                "would expand to more than");
 }
@@ -707,11 +709,11 @@ TEST(GcodeErrors, WordsWithoutACodeToUseThem) {
   expect_error("X10\nM2", 1, 1, "cannot use axis values without a G code that uses them");
   expect_error("G4 P1 X1\nM2", 1, 7, "cannot use axis values without a G code that uses them");
   expect_error("G0 X1\nG80 X1\nM2", 2, 5, "cannot use axis values with G80");
-  expect_error("G0 X1 I1\nM2", 1, 7, "I word with no G2 or G3 to use it");
+  expect_error("G0 X1 I1\nM2", 1, 7, "I word with no G2, G3");
   expect_error("F1 G1 X1 R1\nM2", 1, 10, "R word with no G2, G3 or canned cycle to use it");
-  expect_error("G0 X1 P1\nM2", 1, 7, "P word with no G2, G3, G4, G64 or G82 to use it");
+  expect_error("G0 X1 P1\nM2", 1, 7, "P word with no G2, G3, G4, G5, G64 or G82 to use it");
   expect_error("G61 P1\nM2", 1, 5, "P word with no");
-  expect_error("G0 X1 Q1\nM2", 1, 7, "Q word with no G64, G73, G83 or M61 to use it");
+  expect_error("G0 X1 Q1\nM2", 1, 7, "Q word with no G5, G64, G73, G83 or M61 to use it");
   expect_error("G0 X1 L1\nM2", 1, 7, "L word with no canned cycle to use it");
   expect_error("G0 X1 H1\nM2", 1, 7, "H word with no G43 to use it");
   expect_error("G4\nM2", 1, 1, "dwell time missing with G4");
@@ -769,9 +771,8 @@ TEST(GcodeErrors, NotSupported) {
       {"G89 X1 Z-1 R1 P1", 1, "canned cycles other than"},
       {"G74 X1 Z-1 R1", 1, "canned cycles other than"},
       {"G76 Z-1", 1, "threading (G76) is not supported"},
-      {"G33 Z-1 K1", 1, "spindle-synchronised motion"},
       {"G38.2 Z-1", 1, "probing (G38.2 to G38.5) is not supported"},
-      {"G5.1 X1 I1 J1", 1, "splines"},
+      {"G5.2 X1 Y1 P1 L3", 1, "NURBS (G5.2, G5.3) are"},
       {"G10 L2 P1 R45", 11, "coordinate system rotation (G10 L2 R) is not supported"},
       {"G43.1 Z1", 1, "dynamic tool length offsets"},
       {"G7", 1, "lathe diameter mode (G7) is not supported"},
@@ -787,6 +788,21 @@ TEST(GcodeErrors, NotSupported) {
   for (const Case& c : cases) {
     expect_error(std::string("F100\n") + c.program + "\nM2", 2, c.column, c.fragment);
   }
+}
+
+// LinuxCNC's refusals of spindle-synchronised moves and splines (its words, checked with rs274).
+TEST(GcodeErrors, SynchronisedMovesAndSplines) {
+  expect_error("F100\nG33 Z-1 K1\nM2", 2, 1, "spindle not turning in G33");
+  expect_error("F100 S100\nG33.1 Z-1 K1\nM2", 2, 1, "spindle not turning in G33.1");
+  expect_error("S100 M3\nG33 Z-1\nM2", 2, 1, "K word missing with G33/G33.1");
+  expect_error("S100 M3\nG33 Z-1 K1 F10\nM2", 2, 12, "F word used with a G33/G33.1");
+  expect_error("S100 M3\nG1 Z-1 K1 F10\nM2", 2, 8, "K word with no G2, G3, G33 or G33.1");
+  expect_error("F100\nG5.1 X1 I1\nM2", 2, 1, "must specify both I and J with G5.1");
+  expect_error("F100\nG5 X1 I1 P1 Q1\nM2", 2, 1, "must specify both I and J, or neither");
+  expect_error("F100\nG5 X1 I1 J1 P1\nM2", 2, 1, "must specify both P and Q with G5");
+  expect_error("F100\nG5.1 X1 Z1 I1 J1\nM2", 2, 9, "splines may not have motion in Z");
+  expect_error("F100 G18\nG5.1 X1 I1 J1\nM2", 2, 1, "splines must be in the XY plane");
+  expect_error("G5.1 X1 I1 J1\nM2", 1, 1, "cannot make arc with zero feed rate");
 }
 
 TEST(GcodeErrors, EmptyAndMissingFiles) {

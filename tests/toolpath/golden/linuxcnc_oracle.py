@@ -18,8 +18,9 @@ XZ: Z X, YZ: Y Z); rotation LinuxCNC's turn count: +n counter-clockwise about th
 axis (Z, Y, X), -n clockwise, |n| - 1 extra full turns. An interpreter error ends the list with
 `error <line> <message>`. cwe's tests (gcode_reader_test.cpp) read these files; they never run
 LinuxCNC. With --flags before the program, lines `flag <what>` also name what cwe's reader does
-not model: rotary (A, B, C motion), uvw, io (digital or analog I/O), probe, spindle_sync
-(scripts/linuxcnc_compare.py leaves such programs out).
+not model: rotary (A, B, C motion), uvw, io (digital or analog I/O), probe
+(scripts/linuxcnc_compare.py leaves such programs out). G33.1 (rigid tapping, one canonical call)
+is written as the preview draws it: a feed to the bottom and one back.
 """
 import os
 import sys
@@ -106,10 +107,17 @@ class Canon(Translated, ArcsToSegmentsMixin):
             self.lineno, PLANES[self.plane], fmt(x), fmt(y), fmt(z), fmt(first_center),
             fmt(second_center), rotation))
 
+    def rigid_tap(self, x, y, z, *rest):
+        # G33.1: to the point and back (the preview's two moves; the canonical call is one).
+        start = self.lo
+        a = self.machine((x, y, z))
+        self.lines.append("feed %d %s %s %s" % (self.lineno, fmt(a[0]), fmt(a[1]), fmt(a[2])))
+        self.lines.append("feed %d %s %s %s" % (self.lineno, fmt(start[0]), fmt(start[1]),
+                                                 fmt(start[2])))
+
     IO = ("set_motion_output_bit", "clear_motion_output_bit", "set_aux_output_bit",
           "clear_aux_output_bit", "set_motion_output_value", "set_aux_output_value", "wait")
-    OTHER = {"straight_probe": "probe", "rigid_tap": "spindle_sync",
-             "set_spindle_sync": "spindle_sync"}
+    OTHER = {"straight_probe": "probe"}
 
     def __getattr__(self, name):  # every other canonical call: no motion
         if name.startswith("__"):
