@@ -3,7 +3,9 @@
 //  - StraightLines: N lines of "G1 X… Y… Z…" as CAM posts write them;
 //  - Loop: a while loop whose 4-line body computes each point with parameters and expressions
 //    and makes one move; N counts executed lines (N/4 moves);
-//  - Arcs: N lines alternating G2 and G3 quarter arcs, IJK.
+//  - Arcs: N lines alternating G2 and G3 quarter arcs, IJK;
+//  - StraightLinesStreamed: StraightLines with each move handed to a sink instead of kept (how
+//    `cwe path` reads; bench/gcode_memory.sh measures its memory on 10 million lines).
 // Compare with LinuxCNC's librs274 measured the same way: docs/gcode.md, "Why cwe has its own
 // interpreter".
 #include <benchmark/benchmark.h>
@@ -67,5 +69,19 @@ void BM_Arcs(benchmark::State& state) {
   run(state, arcs(n), n);
 }
 BENCHMARK(BM_Arcs)->Arg(100000)->Unit(benchmark::kMillisecond);
+
+void BM_StraightLinesStreamed(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const std::string text = straight_lines(n);
+  std::size_t moves = 0;
+  const cwe::MoveSink sink = [&](const cwe::Move&, const std::vector<std::string>&) { ++moves; };
+  for (auto _ : state) {
+    moves = 0;
+    cwe::read_gcode(text, "bench.ngc", {}, sink);
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * n);
+  state.counters["moves"] = static_cast<double>(moves);
+}
+BENCHMARK(BM_StraightLinesStreamed)->Arg(100000)->Unit(benchmark::kMillisecond);
 
 }  // namespace

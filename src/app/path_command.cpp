@@ -19,25 +19,23 @@ namespace {
 
 nlohmann::json vec_json(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
-// One JSON object per move, millimetres whatever the program units. A move from a subroutine
+// One JSON object for a move, millimetres whatever the program units. A move from a subroutine
 // file also names that file ("file"); `line` is always the line in the move's own file.
-void dump_moves(const Toolpath& path, std::ostream& out) {
-  for (const Move& m : path.moves) {
-    nlohmann::json j;
-    j["line"] = m.line;
-    if (m.source > 0 && static_cast<std::size_t>(m.source) < path.sources.size()) {
-      j["file"] = path.sources[static_cast<std::size_t>(m.source)];
-    }
-    j["type"] = m.is_arc() ? "arc" : (m.is_rapid() ? "rapid" : "feed");
-    j["end"] = vec_json(m.end);
-    if (m.is_arc()) {
-      j["center"] = vec_json(m.center);
-      j["normal"] = vec_json(m.normal);
-      j["turns"] = m.extra_turns();
-    }
-    j["axis"] = vec_json(m.end_axis);
-    out << j.dump() << '\n';
+void dump_move(const Move& m, const std::vector<std::string>& sources, std::ostream& out) {
+  nlohmann::json j;
+  j["line"] = m.line;
+  if (m.source > 0 && static_cast<std::size_t>(m.source) < sources.size()) {
+    j["file"] = sources[static_cast<std::size_t>(m.source)];
   }
+  j["type"] = m.is_arc() ? "arc" : (m.is_rapid() ? "rapid" : "feed");
+  j["end"] = vec_json(m.end);
+  if (m.is_arc()) {
+    j["center"] = vec_json(m.center);
+    j["normal"] = vec_json(m.normal);
+    j["turns"] = m.extra_turns();
+  }
+  j["axis"] = vec_json(m.end_axis);
+  out << j.dump() << '\n';
 }
 
 // One CL point as a JSON line; k is its index among the program's.
@@ -56,19 +54,9 @@ void dump_cl_point(std::size_t k, const ClPoint& p, std::ostream& out) {
   out << j.dump() << '\n';
 }
 
-// One JSON object per CL point, sampled move by move (memory for one move's points only).
-void dump_cl_points(const Toolpath& path, const SamplingOptions& sampling, std::ostream& out) {
-  ClSampler sampler(sampling);
-  std::vector<ClPoint> points;
-  std::size_t k = 0;
-  for (std::size_t m = 0; m < path.moves.size(); ++m) {
-    sampler.next(path.moves[m], static_cast<int>(m), points);
-    for (const ClPoint& p : points) dump_cl_point(k++, p, out);
-  }
-}
-
-// What `cwe path` reports of a program, tallied over its moves.
+// What `cwe path` reports of a program, tallied move by move.
 struct PathTally {
+  std::size_t moves = 0, cl_points = 0;
   int rapids = 0, lines = 0, arcs = 0, helices = 0, full_circles = 0, five_axis = 0, empty = 0;
   double feed_length = 0.0, rapid_length = 0.0;
   double feed_min = 0.0, feed_max = 0.0;
@@ -76,41 +64,39 @@ struct PathTally {
   Aabb bounds;
   std::map<int, int> moves_per_tool;
   std::map<std::pair<int, int>, int> spindles;  // (rpm, direction) → feed moves
+
+  void add(const Move& m, const ClSampler& sampler);
 };
 
-PathTally tally(const Toolpath& path) {
-  PathTally t;
-  for (std::size_t i = 0; i < path.moves.size(); ++i) {
-    const Move& m = path.moves[i];
-    const double length = m.length();
-    // The first move starts at an assumed position (the origin), not a programmed one.
-    if (i == 0 && !m.is_arc()) {
-      t.bounds.extend(m.end);
-    } else {
-      t.bounds.extend(m.bounds());
-    }
-    ++t.moves_per_tool[m.tool];
-    if (length <= tol::kLength && m.axis_angle() <= tol::kAngle) ++t.empty;
-    if (m.axis_angle() > tol::kAngle) ++t.five_axis;
-    if (m.is_rapid()) {
-      ++t.rapids;
-      t.rapid_length += length;
-      continue;
-    }
-    ++t.spindles[{static_cast<int>(std::lround(m.spindle_speed)), static_cast<int>(m.spindle)}];
-    t.feed_length += length;
-    if (m.is_arc()) {
-      ++t.arcs;
-      if (std::abs(m.axial) > tol::kLength) ++t.helices;
-      if (m.sweep >= kTwoPi - tol::kAngle) ++t.full_circles;
-    } else {
-      ++t.lines;
-    }
-    t.feed_min = t.any_feed ? std::min(t.feed_min, m.feed_rate) : m.feed_rate;
-    t.feed_max = t.any_feed ? std::max(t.feed_max, m.feed_rate) : m.feed_rate;
-    t.any_feed = true;
+void PathTally::add(const Move& m, const ClSampler& sampler) {
+  const double length = m.length();
+  // The first move starts at an assumed position (the origin), not a programmed one.
+  if (moves++ == 0 && !m.is_arc()) {
+    bounds.extend(m.end);
+  } else {
+    bounds.extend(m.bounds());
   }
-  return t;
+  cl_points += static_cast<std::size_t>(sampler.steps(m));
+  ++moves_per_tool[m.tool];
+  if (length <= tol::kLength && m.axis_angle() <= tol::kAngle) ++empty;
+  if (m.axis_angle() > tol::kAngle) ++five_axis;
+  if (m.is_rapid()) {
+    ++rapids;
+    rapid_length += length;
+    return;
+  }
+  ++spindles[{static_cast<int>(std::lround(m.spindle_speed)), static_cast<int>(m.spindle)}];
+  feed_length += length;
+  if (m.is_arc()) {
+    ++arcs;
+    if (std::abs(m.axial) > tol::kLength) ++helices;
+    if (m.sweep >= kTwoPi - tol::kAngle) ++full_circles;
+  } else {
+    ++lines;
+  }
+  feed_min = any_feed ? std::min(feed_min, m.feed_rate) : m.feed_rate;
+  feed_max = any_feed ? std::max(feed_max, m.feed_rate) : m.feed_rate;
+  any_feed = true;
 }
 
 // The spindle and tool lines of the summary.
@@ -138,16 +124,15 @@ void print_spindles_and_tools(const Toolpath& path, const PathTally& t, std::ost
   }
 }
 
-void print_summary(const std::string& file, const ReadToolpath& read,
-                   const PathCommandOptions& options, std::size_t cl_points, std::ostream& out) {
+void print_summary(const std::string& file, const ReadToolpath& read, const PathTally& t,
+                   const PathCommandOptions& options, std::ostream& out) {
   const Toolpath& path = read.toolpath;
-  const PathTally t = tally(path);
   fmt::print(out, "Toolpath {} ({}, written in {})\n", file, to_string(read.format),
              path.units == ProgramUnits::kMillimetres ? "millimetres" : "inches");
   fmt::print(out,
              "  moves           {}: {} rapid, {} linear feed, {} arc ({} helical, {} of a full "
              "turn or more)\n",
-             path.moves.size(), t.rapids, t.lines, t.arcs, t.helices, t.full_circles);
+             t.moves, t.rapids, t.lines, t.arcs, t.helices, t.full_circles);
   if (t.five_axis > 0) fmt::print(out, "  5-axis moves    {} (tool axis turning)\n", t.five_axis);
   if (t.empty > 0) fmt::print(out, "  zero-length     {} (no motion; not sampled)\n", t.empty);
   fmt::print(out, "  feed length     {:.3f} mm\n", t.feed_length);
@@ -163,7 +148,7 @@ void print_summary(const std::string& file, const ReadToolpath& read,
   }
   print_spindles_and_tools(path, t, out);
   fmt::print(out, "  CL points       {} (every {:g} mm of tip path and {:g} deg of axis turn)\n",
-             cl_points, options.cl_step, options.cl_angle_deg);
+             t.cl_points, options.cl_step, options.cl_angle_deg);
   fmt::print(out, "  warnings        {}\n", path.warnings.size());
   const std::size_t shown = std::min<std::size_t>(path.warnings.size(), 10);
   for (std::size_t i = 0; i < shown; ++i) {
@@ -215,18 +200,33 @@ int run_path_command(const PathCommandOptions& options, std::ostream& out) {
   if (!options.tools.empty()) table = read_tool_table(options.tools, inches);
   gcode.tool_diameter =
       compensation_diameters(table, options.tool, inches ? kMillimetresPerInch : 1.0);
-  const ReadToolpath read = read_toolpath_file(options.file, gcode);
   SamplingOptions sampling;
   sampling.step = options.cl_step;
   sampling.angular_step = degrees_to_radians(options.cl_angle_deg);
+  // The program is streamed, never held: any length reads in bounded memory. The summary is
+  // tallied in one reading; a dump reads the program twice, so that a program in error writes
+  // nothing (its errors come at the end of a reading).
+  ClSampler sampler(sampling);
+  PathTally tally;
+  const ReadToolpath read = read_toolpath_file(
+      options.file, gcode, [&](const Move& m, const std::vector<std::string>&) {
+        tally.add(m, sampler);
+      });
   if (options.dump) {
-    dump_moves(read.toolpath, out);
-    return 0;
-  }
-  if (options.cl_dump) {
-    dump_cl_points(read.toolpath, sampling, out);
+    read_toolpath_file(options.file, gcode,
+                       [&](const Move& m, const std::vector<std::string>& sources) {
+                         dump_move(m, sources, out);
+                       });
+  } else if (options.cl_dump) {
+    std::vector<ClPoint> points;
+    std::size_t k = 0;
+    int index = 0;
+    read_toolpath_file(options.file, gcode, [&](const Move& m, const std::vector<std::string>&) {
+      sampler.next(m, index++, points);  // memory for one move's points only
+      for (const ClPoint& p : points) dump_cl_point(k++, p, out);
+    });
   } else {
-    print_summary(options.file, read, options, count_cl_points(read.toolpath, sampling), out);
+    print_summary(options.file, read, tally, options, out);
   }
   return 0;
 }

@@ -1,5 +1,13 @@
 #include "cwe/core/text_file.hpp"
 
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 
@@ -8,11 +16,57 @@
 namespace cwe {
 
 std::string read_text_file(const std::string& path, const std::string& what) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw InputError(SourceLocation{path}, "the " + what + " is a directory");
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(SourceLocation{path}, "cannot open the " + what);
   std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
   if (in.bad()) throw InputError(SourceLocation{path}, "cannot read the " + what);
   return text;
+}
+
+MappedText::MappedText(const std::string& path, const std::string& what) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) {
+    throw InputError(SourceLocation{path},
+                     "cannot open the " + what + ": " + std::strerror(errno));
+  }
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || S_ISDIR(st.st_mode) || !S_ISREG(st.st_mode) || st.st_size == 0) {
+    ::close(fd);
+    if (S_ISDIR(st.st_mode)) {
+      throw InputError(SourceLocation{path}, "the " + what + " is a directory");
+    }
+    owned_ = read_text_file(path, what);  // a pipe, a device, an empty file: read it
+    text_ = owned_;
+    return;
+  }
+  size_ = static_cast<std::size_t>(st.st_size);
+  map_ = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, fd, 0);
+  ::close(fd);
+  if (map_ == MAP_FAILED) {
+    map_ = nullptr;
+    throw InputError(SourceLocation{path},
+                     "cannot read the " + what + ": " + std::strerror(errno));
+  }
+  ::madvise(map_, size_, MADV_SEQUENTIAL);
+  text_ = std::string_view(static_cast<const char*>(map_), size_);
+}
+
+MappedText::~MappedText() {
+  if (map_ != nullptr) ::munmap(map_, size_);
+}
+
+void MappedText::release_before(std::size_t offset) {
+  // Every 16 MiB of progress, all the pages before (a loop may have brought early ones back).
+  constexpr std::size_t kStep = std::size_t{16} << 20;
+  if (map_ == nullptr || offset < released_ + kStep) return;
+  const auto page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+  const std::size_t end = std::min(offset, size_) / page * page;
+  ::madvise(map_, end, MADV_DONTNEED);
+  released_ = end;
 }
 
 SourceLocation location_of(std::string_view text, std::size_t offset, const std::string& source) {

@@ -314,12 +314,15 @@ const char* plane_name(Plane plane) {
 
 class Interpreter {
  public:
-  Interpreter(std::string_view text, const std::string& source, const GcodeOptions& options)
-      : source_(source), options_(options) {
+  // `mapped`: the main program's file, when it was mapped (its pages are let go as reading moves
+  // on); `sink`: where moves go as they are made (none: into the Toolpath).
+  Interpreter(std::string_view text, const std::string& source, const GcodeOptions& options,
+              const MoveSink* sink = nullptr, MappedText* mapped = nullptr)
+      : source_(source), options_(options), sink_(sink) {
     inches_ = options.initial_units == ProgramUnits::kInches;
     position_ = options.initial_position / scale();  // no offsets yet: machine = program
     tip_ = options.initial_position;
-    files_.push_back(std::make_unique<ProgramFile>(ProgramFile{source, {}, text}));
+    files_.push_back(std::make_unique<ProgramFile>(ProgramFile{source, nullptr, mapped, text}));
     result_.sources = {source};
     result_.units = options.initial_units;
     here_.source = source;
@@ -335,7 +338,15 @@ class Interpreter {
   [[noreturn]] void fail(int column, const std::string& message) const {
     throw InputError(SourceLocation{source_, line_, column}, message);
   }
+  // The first kWarningsKept warnings, then a count (a long program may warn on every line).
+  static constexpr std::size_t kWarningsKept = 1000;
+  std::size_t warnings_dropped_ = 0;
+  bool closing_ = false;  // the program's end: its warnings are always kept
   void warn(int line, int column, const std::string& message) {
+    if (result_.warnings.size() >= kWarningsKept && !closing_) {
+      ++warnings_dropped_;
+      return;
+    }
     result_.warnings.push_back({SourceLocation{source_, line, column}, message});
   }
   double scale() const { return inches_ ? kMillimetresPerInch : 1.0; }
@@ -417,7 +428,8 @@ class Interpreter {
   // Program text: the main program and the subroutine files it calls by name, each read once.
   struct ProgramFile {
     std::string name;
-    std::string owned;  // a subroutine file's text (the main program's belongs to the caller)
+    std::unique_ptr<MappedText> owned;  // a subroutine file's (the main program's is the caller's)
+    MappedText* mapped = nullptr;       // the file, when mapped
     std::string_view text;
   };
   // A place in the program: the file, the byte offset of a line and its number there (from 1;
@@ -501,6 +513,7 @@ class Interpreter {
 
   std::string source_;  // the file of the current line
   GcodeOptions options_;
+  const MoveSink* sink_ = nullptr;
   std::vector<std::unique_ptr<ProgramFile>> files_;
   Position at_;                  // the next line to read
   std::size_t line_offset_ = 0;  // the current line's offset
@@ -1497,7 +1510,11 @@ Move Interpreter::new_move(MotionMode mode) const {
 // Zero-length moves are emitted as LinuxCNC emits them (a G1 without axis words, the repeated
 // traverses of canned cycles); samplers skip them.
 void Interpreter::push(const Move& move) {
-  result_.moves.push_back(move);
+  if (sink_ != nullptr) {
+    (*sink_)(move, result_.sources);
+  } else {
+    result_.moves.push_back(move);
+  }
   tip_ = move.end;
   idle_iterations_ = 0;
 }
@@ -1962,8 +1979,10 @@ void Interpreter::cycle(const Block& block, int motion, int column) {
 }
 
 bool Interpreter::next_line(std::string_view& raw) {
-  const std::string_view text = files_[static_cast<std::size_t>(at_.file)]->text;
+  const ProgramFile& file = *files_[static_cast<std::size_t>(at_.file)];
+  const std::string_view text = file.text;
   if (at_.offset > text.size()) return false;
+  if (file.mapped != nullptr) file.mapped->release_before(at_.offset);
   std::size_t end = text.find('\n', at_.offset);
   if (end == std::string_view::npos) end = text.size();
   raw = text.substr(at_.offset, end - at_.offset);
@@ -2081,6 +2100,10 @@ Toolpath Interpreter::run() {
   }
   if (!seen_content_) {
     throw InputError(SourceLocation{source_, 0, 0}, "empty program: no G-code in the file");
+  }
+  closing_ = true;
+  if (warnings_dropped_ > 0) {
+    warn(line_, 0, fmt::format("… and {} more warnings", warnings_dropped_));
   }
   if (compensation_.held() > 0) {
     // LinuxCNC drops them too: only G40, M0, M1, M2 and M30 release held moves.
@@ -2302,8 +2325,9 @@ int Interpreter::file_of(const std::string& path) {
   }
   auto file = std::make_unique<ProgramFile>();
   file->name = path;
-  file->owned = read_text_file(path, "G-code subroutine file");
-  file->text = file->owned;
+  file->owned = std::make_unique<MappedText>(path, "G-code subroutine file");
+  file->mapped = file->owned.get();
+  file->text = file->owned->text();
   files_.push_back(std::move(file));
   result_.sources.push_back(path);
   return static_cast<int>(files_.size() - 1);
@@ -2575,8 +2599,20 @@ Toolpath read_gcode(std::string_view text, const std::string& source, const Gcod
   return Interpreter(text, source, options).run();
 }
 
+Toolpath read_gcode(std::string_view text, const std::string& source, const GcodeOptions& options,
+                    const MoveSink& sink) {
+  return Interpreter(text, source, options, &sink).run();
+}
+
 Toolpath read_gcode_file(const std::string& path, const GcodeOptions& options) {
-  return read_gcode(read_text_file(path, "G-code file"), path, options);
+  MappedText file(path, "G-code file");
+  return Interpreter(file.text(), path, options, nullptr, &file).run();
+}
+
+Toolpath read_gcode_file(const std::string& path, const GcodeOptions& options,
+                         const MoveSink& sink) {
+  MappedText file(path, "G-code file");
+  return Interpreter(file.text(), path, options, &sink, &file).run();
 }
 
 }  // namespace cwe

@@ -51,12 +51,32 @@ ToolpathFormat detect_toolpath_format(const std::string& path, std::string_view 
 }
 
 ReadToolpath read_toolpath_file(const std::string& path, const GcodeOptions& gcode) {
-  const std::string text = read_text_file(path, "toolpath file");
+  const MappedText file(path, "toolpath file");
   ReadToolpath result;
-  result.format = detect_toolpath_format(path, text);
+  result.format = detect_toolpath_format(path, file.text());
   result.toolpath = result.format == ToolpathFormat::kGcode
-                        ? read_gcode(text, path, gcode)
-                        : read_cldata(text, path, gcode.initial_position);
+                        ? read_gcode_file(path, gcode)
+                        : read_cldata(file.text(), path, gcode.initial_position);
+  return result;
+}
+
+ReadToolpath read_toolpath_file(const std::string& path, const GcodeOptions& gcode,
+                                const MoveSink& sink) {
+  ReadToolpath result;
+  {
+    const MappedText file(path, "toolpath file");
+    result.format = detect_toolpath_format(path, file.text());
+    if (result.format == ToolpathFormat::kCldata) {
+      result.toolpath = read_cldata(file.text(), path, gcode.initial_position);
+    }
+  }
+  if (result.format == ToolpathFormat::kGcode) {
+    result.toolpath = read_gcode_file(path, gcode, sink);
+    return result;
+  }
+  for (const Move& m : result.toolpath.moves) sink(m, result.toolpath.sources);
+  result.toolpath.moves.clear();
+  result.toolpath.moves.shrink_to_fit();
   return result;
 }
 

@@ -151,6 +151,54 @@ TEST(GcodeGolden, CutterRadiusCompensation) { expect_matches_golden("compensatio
 TEST(GcodeGolden, Splines) { expect_matches_golden("splines"); }
 TEST(GcodeGolden, SpindleSynchronisedMotion) { expect_matches_golden("synchronised"); }
 
+// Streaming: the moves handed to a sink are the moves the Toolpath would hold, in order, with
+// their files; the Toolpath returned holds none.
+TEST(GcodeStreaming, TheSinkGetsEveryMoveInOrder) {
+  for (const char* name : {"owords", "compensation", "splines", "offsets"}) {
+    SCOPED_TRACE(name);
+    const std::string path = (golden_dir() / (std::string(name) + ".ngc")).string();
+    const Toolpath whole = read_gcode_file(path);
+    std::vector<Move> streamed;
+    const Toolpath rest = read_gcode_file(
+        path, {}, [&](const Move& m, const std::vector<std::string>& sources) {
+          EXPECT_LT(static_cast<std::size_t>(m.source), sources.size());
+          streamed.push_back(m);
+        });
+    EXPECT_TRUE(rest.moves.empty());
+    EXPECT_EQ(rest.sources, whole.sources);
+    EXPECT_EQ(rest.warnings.size(), whole.warnings.size());
+    ASSERT_EQ(streamed.size(), whole.moves.size());
+    for (std::size_t i = 0; i < streamed.size(); ++i) {
+      EXPECT_EQ(streamed[i].start, whole.moves[i].start);
+      EXPECT_EQ(streamed[i].end, whole.moves[i].end);
+      EXPECT_EQ(streamed[i].line, whole.moves[i].line);
+    }
+  }
+}
+
+TEST(GcodeStreaming, WarningsAreCappedWithACount) {
+  // Every arc here needs a connector (a warning each): 1000 are kept, then one counts the rest.
+  // (As GcodeArcs.NearlyFullCircleWithMismatchedRadiiGetsAConnector.)
+  std::string text = "G21 F100\n";
+  for (int k = 0; k < 1500; ++k) text += "G0 X0 Y0\nG3 X-0.01 Y0.001 I5\n";
+  const Toolpath p = read(text + "M2\n");
+  ASSERT_EQ(p.warnings.size(), 1001u);
+  EXPECT_NE(p.warnings.back().message.find("and 500 more warnings"), std::string::npos);
+}
+
+TEST(GcodeStreaming, ADirectoryIsAnErrorNamingIt) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "cwe_dir.ngc";
+  std::filesystem::create_directories(dir);
+  try {
+    read_gcode_file(dir.string());
+    ADD_FAILURE() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.location().source, dir.string());
+    EXPECT_NE(e.message().find("is a directory"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(dir);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Straight moves, modal state, words
 

@@ -1,5 +1,5 @@
 #pragma once
-// Reading the user's input files whole, with errors that name the file.
+// Reading the user's input files, with errors that name the file.
 
 #include <cstddef>
 #include <string>
@@ -20,6 +20,30 @@ inline constexpr double kLargestInputValue = 1e9;
 // The bytes of the file at `path`. Throws InputError naming the path and `what` ("G-code file",
 // "tool file", …) when it cannot be opened or read.
 std::string read_text_file(const std::string& path, const std::string& what);
+
+// The bytes of a file, in memory without a copy on the heap: a regular file is mapped (its pages
+// come from the file as they are read and can be let go again), anything else (a pipe) is read
+// whole. Throws InputError naming the path and `what` when it cannot be opened or read, or is a
+// directory.
+class MappedText {
+ public:
+  MappedText(const std::string& path, const std::string& what);
+  ~MappedText();
+  MappedText(const MappedText&) = delete;
+  MappedText& operator=(const MappedText&) = delete;
+
+  std::string_view text() const { return text_; }
+  // The pages before `offset` may leave memory; reading them again brings them back from the
+  // file (so views into the text stay valid). Keeps a long program's resident memory bounded.
+  void release_before(std::size_t offset);
+
+ private:
+  void* map_ = nullptr;
+  std::size_t size_ = 0;
+  std::size_t released_ = 0;
+  std::string owned_;
+  std::string_view text_;
+};
 
 // Line and column (from 1) of a byte offset in `text`, for errors in `source`.
 SourceLocation location_of(std::string_view text, std::size_t offset, const std::string& source);

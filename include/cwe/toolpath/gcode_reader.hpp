@@ -38,7 +38,18 @@ std::vector<std::string> parse_search_path(std::string_view text);
 Toolpath read_gcode(std::string_view text, const std::string& source,
                     const GcodeOptions& options = {});
 
-// Reads and parses a file.
+// Reads and parses a file (mapped, not copied: its pages leave memory as reading moves on).
 Toolpath read_gcode_file(const std::string& path, const GcodeOptions& options = {});
+
+// The same, handing each move to `sink` as soon as it is final instead of keeping it: the
+// returned Toolpath has no moves (its sources, tool changes, warnings and units are filled), and
+// memory stays bounded whatever the program's length. `sources` are the files read so far
+// (Move::source indexes them). Errors are thrown at the end, as above, after the moves before
+// them were handed on: a caller that must not act on a program in error reads it twice.
+using MoveSink = std::function<void(const Move& move, const std::vector<std::string>& sources)>;
+Toolpath read_gcode(std::string_view text, const std::string& source, const GcodeOptions& options,
+                    const MoveSink& sink);
+Toolpath read_gcode_file(const std::string& path, const GcodeOptions& options,
+                         const MoveSink& sink);
 
 }  // namespace cwe

@@ -28,4 +28,10 @@ struct ReadToolpath {
 // first move (of a CLDATA program, unless it has a FROM).
 ReadToolpath read_toolpath_file(const std::string& path, const GcodeOptions& gcode = {});
 
+// The same, handing each move to `sink` instead of keeping it (read_gcode_file with a sink: a
+// G-code program in bounded memory; a CLDATA program is read whole first). The result has no
+// moves.
+ReadToolpath read_toolpath_file(const std::string& path, const GcodeOptions& gcode,
+                                const MoveSink& sink);
+
 }  // namespace cwe
