@@ -179,6 +179,7 @@ PYBIND11_MODULE(_cwe, m) {
       .def_readwrite("start", &Job::start)
       .def_readwrite("tool_change", &Job::tool_change)
       .def_readwrite("subroutine_path", &Job::subroutine_path)
+      .def_readwrite("machine", &Job::machine)
       .def_readwrite("units", &Job::units)
       .def_readwrite("resolution", &Job::resolution)
       .def_readwrite("tolerance", &Job::tolerance)

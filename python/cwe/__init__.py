@@ -26,8 +26,8 @@ __all__ = ["Job", "Operation", "Run", "Tool", "InputError", "run"]
 
 _JOB_SETTINGS = [
     "stock", "tool", "path", "operations", "tools", "tool_for_all", "tool_units", "start",
-    "tool_change", "subroutine_path", "units", "resolution", "tolerance", "threads", "cl_step", "forces",
-    "spindle", "feed", "flutes", "helix", "force_step", "runout",
+    "tool_change", "subroutine_path", "machine", "units", "resolution", "tolerance", "threads",
+    "cl_step", "forces", "spindle", "feed", "flutes", "helix", "force_step", "runout",
 ]
 
 # The columns of engagement.csv and forces.csv, in their order.

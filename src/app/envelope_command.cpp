@@ -16,6 +16,7 @@
 #include "cwe/io/fcs_svg.hpp"
 #include "cwe/io/mesh_io.hpp"
 #include "cwe/job/tool_choice.hpp"
+#include "cwe/job/machine.hpp"
 #include "cwe/job/tool_table.hpp"
 #include "cwe/tool/tool_spec.hpp"
 #include "cwe/toolpath/toolpath_reader.hpp"
@@ -85,6 +86,8 @@ void add_envelope_command(CLI::App& app, EnvelopeCommandOptions& options) {
   cmd->add_option("--out", options.out, "Output folder")->required();
   cmd->add_option("--subroutine-path", options.subroutine_path,
                   "Folders (':'-separated) searched for G-code subroutine files <name>.ngc");
+  cmd->add_option("--machine", options.machine,
+                  "Machine definition (JSON: work offsets, G28/G30 positions, travel)");
   cmd->add_option("--tolerance", options.tolerance, "Swept-volume tolerance, mm")
       ->capture_default_str();
   cmd->add_option("--fcs-at", options.fcs_at,
@@ -172,6 +175,7 @@ int run_envelope_command(const EnvelopeCommandOptions& options, std::ostream& ou
   GcodeOptions gcode;
   gcode.subroutine_path = parse_search_path(options.subroutine_path);
   gcode.tool_diameter = compensation_diameters(std::nullopt, options.tool);
+  if (!options.machine.empty()) gcode.machine = read_machine_file(options.machine);
   const ReadToolpath read = read_toolpath_file(options.path, gcode);
   const Toolpath& path = read.toolpath;
   const Cutter cutter = choose_cutter(options.tool, path, options.path);

@@ -18,6 +18,7 @@ struct EnvelopeCommandOptions {
   double tolerance = 0.01;
   std::vector<double> fcs_at{0.5};  // move fractions u at which the FCS is drawn
   std::string subroutine_path;       // ':'-separated folders for G-code subroutine files
+  std::string machine;               // a machine definition file (work offsets, G28/G30, travel)
 };
 
 void add_envelope_command(CLI::App& app, EnvelopeCommandOptions& options);

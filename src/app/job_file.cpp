@@ -36,6 +36,7 @@ enum class Kind {
   kCount,         // a whole number of at least 1
   kFlag,          // true or false
   kTools,         // a tool table: a file, or the table itself
+  kMachine,       // a machine definition: a file, or the definition itself
   kOperations,    // the programs with their tools
   kComment,       // anything
 };
@@ -67,6 +68,7 @@ const JobKey kJobKeys[] = {
     {"start", Kind::kText, &Options::start},
     {"tool_change", Kind::kText, &Options::tool_change},
     {"subroutine_path", Kind::kFolders, &Options::subroutine_path},
+    {"machine", Kind::kMachine, {}},
     {"operations", Kind::kOperations, {}},
     {"resolution", Kind::kNumber, &Options::resolution},
     {"tolerance", Kind::kNumber, &Options::tolerance},
@@ -143,6 +145,14 @@ class JobFileReader {
         } else {
           options_.tool_table = tool_table_from_json(value, where(key.name).source, folder_,
                                                      unit_length(options_.units));
+        }
+        return;
+      case Kind::kMachine:
+        if (!options_.machine.empty()) return;
+        if (value.is_string()) {
+          options_.machine = text(Kind::kPath, value.get<std::string>());
+        } else {
+          options_.machine_definition = machine_from_json(value, where(key.name).source);
         }
         return;
       case Kind::kOperations:
@@ -256,6 +266,9 @@ void add_job_options(CLI::App* cmd, SimulateCommandOptions& options) {
   cmd->add_option("--subroutine-path", options.subroutine_path,
                   "Folders (':'-separated) searched for a G-code subroutine file <name>.ngc that "
                   "a program calls but does not define, after the program's own folder");
+  cmd->add_option("--machine", options.machine,
+                  "Machine definition (JSON: work offsets G54…, G28/G30 positions, travel; "
+                  "docs/gcode.md): what G53, G28, G30 and the work systems mean");
   cmd->add_option("--tool-change", options.tool_change,
                   "Where a program changes tools: auto (the old tool straight up to 5 mm above "
                   "the stock's top, the new one across to its first XY), stay, or x,y,z "

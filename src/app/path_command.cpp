@@ -10,6 +10,7 @@
 #include "cwe/core/error.hpp"
 #include "cwe/core/text_file.hpp"
 #include "cwe/geometry/tolerance.hpp"
+#include "cwe/job/machine.hpp"
 #include "cwe/job/tool_table.hpp"
 #include "cwe/toolpath/cl_sampling.hpp"
 #include "cwe/toolpath/toolpath_reader.hpp"
@@ -185,6 +186,9 @@ void add_path_command(CLI::App& app, PathCommandOptions& options) {
                    "Units of the bare lengths of --tool and --tools: mm or in")
       ->check(CLI::IsMember({"mm", "in"}))
       ->capture_default_str();
+  path->add_option("--machine", options.machine,
+                   "Machine definition (JSON: work offsets G54…, G28/G30 positions, travel; "
+                   "docs/gcode.md): what G53, G28, G30 and the work systems mean");
   path->add_option("--cl-step", options.cl_step, "CL spacing along the tip path, mm")
       ->capture_default_str();
   path->add_option("--cl-angle", options.cl_angle_deg, "CL spacing in tool-axis turn, degrees")
@@ -200,6 +204,7 @@ int run_path_command(const PathCommandOptions& options, std::ostream& out) {
   if (!options.tools.empty()) table = read_tool_table(options.tools, inches);
   gcode.tool_diameter =
       compensation_diameters(table, options.tool, inches ? kMillimetresPerInch : 1.0);
+  if (!options.machine.empty()) gcode.machine = read_machine_file(options.machine);
   SamplingOptions sampling;
   sampling.step = options.cl_step;
   sampling.angular_step = degrees_to_radians(options.cl_angle_deg);

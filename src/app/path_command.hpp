@@ -19,6 +19,7 @@ struct PathCommandOptions {
   std::string tool;
   std::string tools;
   std::string tool_units = "mm";
+  std::string machine;  // a machine definition file (work offsets, G28/G30, travel)
 };
 
 void add_path_command(CLI::App& app, PathCommandOptions& options);

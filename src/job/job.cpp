@@ -71,6 +71,7 @@ PreparedJob prepare_job(Job& options) {
   if (!options.tools.empty()) {
     options.tool_table = read_tool_table(options.tools, options.tool_units == "in");
   }
+  if (!options.machine.empty()) options.machine_definition = read_machine_file(options.machine);
   // A box written without its unit is in --units.
   if (options.units == "in" && options.stock.rfind("box:", 0) == 0 &&
       !options.stock.ends_with(":in") && !options.stock.ends_with(":mm")) {

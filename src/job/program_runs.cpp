@@ -136,6 +136,7 @@ std::vector<ToolRun> program_runs(const Operation& op, const Job& options,
   gcode.subroutine_path = parse_search_path(options.subroutine_path);
   gcode.tool_diameter =
       compensation_diameters(options.tool_table, op.tool, unit_length(options.units));
+  gcode.machine = options.machine_definition;
   const ReadToolpath read = read_program(op.path, rules, gcode);
   const Toolpath& path = read.toolpath;
   std::vector<int> tools;  // the tool of each move, moves before any change taking the first

@@ -320,8 +320,9 @@ class Interpreter {
               const MoveSink* sink = nullptr, MappedText* mapped = nullptr)
       : source_(source), options_(options), sink_(sink) {
     inches_ = options.initial_units == ProgramUnits::kInches;
-    position_ = options.initial_position / scale();  // no offsets yet: machine = program
+    if (options.machine) set_up_machine(*options.machine);
     tip_ = options.initial_position;
+    position_ = (tip_ + frame_offset_) / scale() - origin_offset_;
     files_.push_back(std::make_unique<ProgramFile>(ProgramFile{source, nullptr, mapped, text}));
     result_.sources = {source};
     result_.units = options.initial_units;
@@ -559,7 +560,13 @@ class Interpreter {
   Vec3 axis_offset_ = Vec3::Zero();
   bool warned_machine_ = false;
   bool warned_tool_data_ = false;
-  Vec3 machine(const Vec3& p) const { return (p + origin_offset_ + axis_offset_) * scale(); }
+  // Machine coordinates (mm) of a point in program coordinates, and the frame moves are reported
+  // in (the machine definition's work system; without one, machine coordinates).
+  Vec3 machine_mm(const Vec3& p) const { return (p + origin_offset_ + axis_offset_) * scale(); }
+  Vec3 machine(const Vec3& p) const { return machine_mm(p) - frame_offset_; }
+  Vec3 frame_offset_ = Vec3::Zero();  // mm
+  void set_up_machine(const MachineDefinition& machine);
+  void check_travel(const Move& move) const;
   Vec3 stored_offset(int first_parameter) const;  // #first … #first+2, mm → program units
   void set_stored_offset(int first_parameter, const Vec3& offset);
   void select_origin(int origin);
@@ -1119,8 +1126,39 @@ void Interpreter::set_units(bool inches) {
   inches_ = inches;
 }
 
+// The machine's offsets and stored positions become LinuxCNC's parameters; G54 is selected.
+void Interpreter::set_up_machine(const MachineDefinition& machine) {
+  for (int k = 0; k < 9; ++k) set_stored_offset(5221 + 20 * k, machine.work_offsets[k] / scale());
+  set_stored_offset(5161, machine.g28 / scale());
+  set_stored_offset(5181, machine.g30 / scale());
+  origin_offset_ = stored_offset(5221);
+  frame_offset_ = machine.work_offsets[static_cast<std::size_t>(machine.frame - 1)];
+}
+
+// A move beyond the machine's travel (with a margin of tol::kLength) is an error at its line.
+void Interpreter::check_travel(const Move& move) const {
+  if (!options_.machine || !options_.machine->travel) return;
+  const Aabb& travel = *options_.machine->travel;
+  Aabb box = move.bounds();
+  box.min += frame_offset_;
+  box.max += frame_offset_;
+  for (int a = 0; a < 3; ++a) {
+    const char axis = static_cast<char>('X' + a);
+    if (box.max[a] > travel.max[a] + tol::kLength) {
+      fail(0, fmt::format("the move goes beyond the machine's travel: {} {:.3f} mm, its limit {:.3f} "
+                          "mm (machine coordinates)",
+                          axis, box.max[a], travel.max[a]));
+    }
+    if (box.min[a] < travel.min[a] - tol::kLength) {
+      fail(0, fmt::format("the move goes beyond the machine's travel: {} {:.3f} mm, its limit {:.3f} "
+                          "mm (machine coordinates)",
+                          axis, box.min[a], travel.min[a]));
+    }
+  }
+}
+
 void Interpreter::warn_machine(const char* what) {
-  if (warned_machine_) return;
+  if (warned_machine_ || options_.machine) return;
   warned_machine_ = true;
   warn(line_, 0, fmt::format("{}: machine coordinates are taken equal to the program's with "
                              "zero work offsets and no tool length offset (the stored positions "
@@ -1280,7 +1318,7 @@ bool Interpreter::execute(const Block& block) {
     loaded_tool_ = selected_tool_;
     result_.tool_changes.push_back({loaded_tool_, SourceLocation{source_, line_, 1}});
     spindle_ = SpindleDirection::kStopped;
-    position_ = tip_ / scale() - origin_offset_ - axis_offset_;
+    position_ = (tip_ + frame_offset_) / scale() - origin_offset_ - axis_offset_;
   } else if (block.m[kMGroupToolChange] == 61) {
     // M61 Q: the spindle holds tool Q from now on, without a change (the spindle keeps turning).
     loaded_tool_ = static_cast<int>(std::lround(block['q'].value));
@@ -1385,7 +1423,7 @@ bool Interpreter::execute(const Block& block) {
       break;
     case kG28_1:
     case kG30_1: {
-      const Vec3 at = machine(position_);  // mm
+      const Vec3 at = machine_mm(position_);
       const int first = block.g[kGroupNonModal] == kG28_1 ? 5161 : 5181;
       for (int a = 0; a < 3; ++a) parameters_.set_numbered(first + a, at[a]);
       break;
@@ -1510,6 +1548,7 @@ Move Interpreter::new_move(MotionMode mode) const {
 // Zero-length moves are emitted as LinuxCNC emits them (a G1 without axis words, the repeated
 // traverses of canned cycles); samplers skip them.
 void Interpreter::push(const Move& move) {
+  check_travel(move);
   if (sink_ != nullptr) {
     (*sink_)(move, result_.sources);
   } else {

@@ -868,6 +868,61 @@ TEST(CliSimulate, JobSubroutinePathIsRelativeToTheJob) {
               0.01 * expected);
 }
 
+// A job's machine definition (inline) and tool table reach the G-code reader: a program in G55
+// with a G53 retract and cutter radius compensation cuts exactly what its plain equivalent in
+// the stock's frame cuts.
+TEST(CliSimulate, MachineDefinitionAndCompensationInAJob) {
+  const auto dir = scratch_dir("job_machine");
+  std::filesystem::create_directories(dir);
+  // A 10 mm tool to the left of the line Y-5 (G41 D1): its centre runs along Y0.
+  std::ofstream(dir / "posted.ngc")
+      << "G21 G90 G53 G0 Z0\nT1 M6\nG55\nG0 X-20 Y-20\nZ2\nG1 Z-1 F300\n"
+         "G41 D1 G1 X0 Y-5\nX40\nG40 G1 X60 Y-20\nG53 G0 Z0\nM2\n";
+  // Compensated by hand: the entry ends 5 mm left of (0, -5) square to its direction (4, 3)/5,
+  // at (-3, -1); an arc about (0, -5) rounds the convex corner onto Y0; G40 leaves from (40, 0).
+  std::ofstream(dir / "plain.ngc")
+      << "G21 G90 G0 Z300\nT1 M6\nG0 X-20 Y-20\nZ2\nG1 Z-1 F300\n"
+         "G1 X-3 Y-1\nG2 X0 Y0 I3 J-4\nG1 X40\nX60 Y-20\nG0 Z300\nM2\n";
+  const nlohmann::json machine = {{"work_offsets", {{"G54", {-400, -200, -300}},
+                                                    {"G55", {-300, -200, -300}}}},
+                                  {"travel", {{"min", {-800, -500, -400}}, {"max", {0, 0, 0}}}},
+                                  {"frame", "G55"}};
+  double volumes[2] = {0.0, 0.0};
+  for (int k = 0; k < 2; ++k) {
+    nlohmann::json job = {{"stock", "box:-10,-10,-5,50,10,0"},
+                          {"tools", {{"1", "flat:10,20"}}},
+                          {"path", k == 0 ? "posted.ngc" : "plain.ngc"},
+                          {"resolution", 0.2},
+                          {"stock_only", true},
+                          {"out", k == 0 ? "out0" : "out1"}};
+    if (k == 0) job["machine"] = machine;
+    std::ofstream(dir / "job.json") << job.dump();
+    const Result r = run_cwe({"simulate", (dir / "job.json").string(), "--quiet"});
+    ASSERT_EQ(r.status, 0) << r.err;
+    std::ifstream summary(dir / (k == 0 ? "out0" : "out1") / "summary.json");
+    volumes[k] = nlohmann::json::parse(summary)["removed_volume_mm3"].get<double>();
+  }
+  EXPECT_GT(volumes[0], 400.0);
+  // The moves agree to rounding (1e-12 mm): the removal is the same ray for ray.
+  EXPECT_NEAR(volumes[0], volumes[1], 1e-6 * volumes[1]);
+
+  // The same through cwe path --machine, and the definition's errors.
+  std::ofstream(dir / "machine.json") << machine.dump();
+  std::ofstream(dir / "tools.json") << R"({"1": "flat:10,20"})";
+  const Result dump = run_cwe({"path", (dir / "posted.ngc").string(), "--dump", "--tools",
+                               (dir / "tools.json").string(), "--machine",
+                               (dir / "machine.json").string()});
+  ASSERT_EQ(dump.status, 0) << dump.err;
+  EXPECT_NE(dump.out.find("\"end\":[0.0,0.0,300.0]"), std::string::npos) << dump.out;
+  std::ofstream(dir / "bad.json") << R"({"work_offsets": {"G60": [0, 0, 0]}})";
+  const Result bad = run_cwe({"path", (dir / "posted.ngc").string(), "--machine",
+                              (dir / "bad.json").string()});
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("bad.json: \"work_offsets\": error: \"G60\": expected G54"),
+            std::string::npos)
+      << bad.err;
+}
+
 // LinuxCNC tool tables (tests/app/data: sim_mm.tbl and sim.tbl of LinuxCNC's sample
 // configurations): flat end mills of diameter D, in the table's units, unless a "cwe:" comment
 // names the cutter.

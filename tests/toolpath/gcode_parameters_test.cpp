@@ -323,6 +323,43 @@ TEST(GcodePosts, AFusionStyleHeaderReadsAsItIs) {
   EXPECT_NE(path.warnings[0].message.find("G53"), std::string::npos);
 }
 
+TEST(GcodeMachine, WorkOffsetsStoredPositionsAndTravel) {
+  // The Fusion-style program on a machine whose G55 zero is at X-300 Y-200 Z-300 (machine
+  // coordinates, home at 0), moves reported in G55's frame (the stock's).
+  const std::string program =
+      "G90 G94 G17 G21\nG53 G0 Z0.\nT1 M6\nS8000 M3\nG55\nG0 X10. Y5.\nG43 Z15. H1\n"
+      "G1 Z-2. F300.\nX40.\nG0 Z15.\nG28 G91 Z0.\nG90\nM30\n";
+  GcodeOptions options;
+  MachineDefinition machine;
+  machine.work_offsets[0] = Vec3(-400, -200, -300);
+  machine.work_offsets[1] = Vec3(-300, -200, -300);
+  machine.g28 = Vec3(0, 0, 0);
+  machine.travel = Aabb{Vec3(-800, -500, -400), Vec3(0, 0, 0)};
+  machine.frame = 2;
+  options.machine = machine;
+  const Toolpath path = read_gcode(program, "test.ngc", options);
+  ASSERT_EQ(path.moves.size(), 8u);
+  EXPECT_EQ(path.moves[0].start, Vec3(0, 0, 0));
+  EXPECT_EQ(path.moves[0].end, Vec3(0, 0, 300));  // G53 Z0: the machine's top, 300 above
+  EXPECT_EQ(path.moves[1].end, Vec3(10, 5, 300));
+  EXPECT_EQ(path.moves[3].end, Vec3(10, 5, -2));
+  EXPECT_EQ(path.moves[6].end, Vec3(40, 5, 15));
+  EXPECT_EQ(path.moves[7].end, Vec3(40, 5, 300));  // G28 Z: home, machine Z0
+  EXPECT_TRUE(path.warnings.empty());  // nothing is assumed
+  // The work offsets are LinuxCNC's parameters; G54 is selected first.
+  const Toolpath p = read_gcode("G0 X#5221 Y#5242 Z#5163\nM2\n", "test.ngc", options);
+  // In G54, X-400 Y-200 Z0 is machine X-800 Y-400 Z-300: in G55's frame X-500 Y-200 Z0.
+  EXPECT_EQ(p.moves[0].end, Vec3(-500, -200, 0));
+  // Beyond the travel: an error at the move's line.
+  const auto beyond = [&](std::string_view text) {
+    return read_gcode(text, "test.ngc", options);
+  };
+  test::expect_input_error(beyond, "test.ngc", "G55 G0 X10\nG0 X301\nM2\n", 2, 0,
+                           "beyond the machine's travel: X 1.000 mm, its limit 0.000 mm");
+  test::expect_input_error(beyond, "test.ngc", "G0 Z-101\nM2\n", 1, 0,
+                           "beyond the machine's travel: Z -401.000 mm, its limit -400.000 mm");
+}
+
 TEST(GcodeModalState, RestoredAsLinuxcncWritesIt) {
   // M72 restores a changed feed as LinuxCNC's "F%.1f" does: rounded to 0.1; S to 1.
   const Toolpath path = read("G21 F123.456 S1000.4 M3\nM70\nF50 S20 M5\nM72\nG1 X1\nM2\n");

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cwe/job/force_settings.hpp"
+#include "cwe/job/machine.hpp"
 #include "cwe/job/tool_table.hpp"
 #include "cwe/process/force_model.hpp"
 #include "cwe/simulation/simulation.hpp"
@@ -46,6 +47,10 @@ struct Job {
   // Folders searched for a G-code subroutine file <name>.ngc that a program calls but does not
   // define, ':'-separated (LinuxCNC's SUBROUTINE_PATH); the program's own folder comes first.
   std::string subroutine_path;
+  // The machine (work offsets, G28/G30 positions, travel; machine.hpp): a JSON file, or the
+  // definition itself. None: G-code machine coordinates are the program's.
+  std::string machine;
+  std::optional<MachineDefinition> machine_definition;
   // "mm" (default) or "in": the unit of the lengths given without one (stock box, tool
   // specifications and tables, start and tool-change points).
   std::string units;

@@ -9,15 +9,34 @@
 // the tool tip; the tool axis is +Z throughout. Lengths are converted to millimetres (G20 programs
 // are scaled by 25.4).
 
+#include <array>
 #include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "cwe/geometry/aabb.hpp"
 #include "cwe/toolpath/toolpath.hpp"
 
 namespace cwe {
+
+// The machine a program runs on, as far as the tip path depends on it (the job key "machine",
+// docs/gcode.md "Coordinate systems"). Machine coordinates are those of the tool tip (no tool
+// length offset), mm.
+struct MachineDefinition {
+  // Where the zeros of G54 … G59.3 are in machine coordinates: the work offsets (LinuxCNC's
+  // #5221 …, its parameter file).
+  std::array<Vec3, 9> work_offsets{};
+  // The positions G28 and G30 go to (#5161 …, #5181 …).
+  Vec3 g28 = Vec3::Zero();
+  Vec3 g30 = Vec3::Zero();
+  // The tip's travel; a move beyond it is an error. None: not checked.
+  std::optional<Aabb> travel;
+  // Moves are reported in this work system's coordinates (1 = G54 … 9 = G59.3), the frame the
+  // stock is given in.
+  int frame = 1;
+};
 
 struct GcodeOptions {
   Vec3 initial_position = Vec3::Zero();  // where the tip is before the first move, mm
@@ -29,6 +48,10 @@ struct GcodeOptions {
   // radius of tool D, or of the tool in the spindle); nullopt, or no function, when it is not
   // known: a program that compensates with that tool is then refused.
   std::function<std::optional<double>(int tool)> tool_diameter;
+  // The machine (work offsets, G28/G30 positions, travel). None: every offset and stored position
+  // is 0, so machine coordinates are the program's, with a warning at the first G53, G28 or G30.
+  // `initial_position` is in the frame's coordinates either way.
+  std::optional<MachineDefinition> machine;
 };
 
 // Folders from a ':'-separated list (LinuxCNC's SUBROUTINE_PATH form); empty entries are dropped.
