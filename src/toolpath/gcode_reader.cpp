@@ -343,6 +343,24 @@ class Interpreter {
   static constexpr std::size_t kWarningsKept = 1000;
   std::size_t warnings_dropped_ = 0;
   bool closing_ = false;  // the program's end: its warnings are always kept
+  // Codes read that change nothing on the tip path cwe makes (coolant, dwell, pauses, tool length
+  // offsets, path control): one warning per kind at the end, where it first appeared, with the
+  // number of lines.
+  struct Unmodelled {
+    const char* what;
+    SourceLocation first;
+    int lines = 0;
+  };
+  std::vector<Unmodelled> unmodelled_;
+  void note_unmodelled(const char* what, int column) {
+    for (Unmodelled& u : unmodelled_) {
+      if (u.what == what) {
+        ++u.lines;
+        return;
+      }
+    }
+    unmodelled_.push_back({what, SourceLocation{source_, line_, column}, 1});
+  }
   void warn(int line, int column, const std::string& message) {
     if (result_.warnings.size() >= kWarningsKept && !closing_) {
       ++warnings_dropped_;
@@ -414,6 +432,7 @@ class Interpreter {
     return p;
   }
   void set_units(bool inches);
+  void note_unmodelled_codes(const Block& block);
 
   // Emitting moves (positions in program units). A move starts where the last one ended (tip_),
   // which is machine(position_) except after G40, where position_ becomes the programmed point.
@@ -560,6 +579,7 @@ class Interpreter {
   Vec3 axis_offset_ = Vec3::Zero();
   bool warned_machine_ = false;
   bool warned_tool_data_ = false;
+  bool warned_zero_normal_offset_ = false;
   // Machine coordinates (mm) of a point in program coordinates, and the frame moves are reported
   // in (the machine definition's work system; without one, machine coordinates).
   Vec3 machine_mm(const Vec3& p) const { return (p + origin_offset_ + axis_offset_) * scale(); }
@@ -1113,6 +1133,30 @@ void Interpreter::compensation_off(int column) {
   if (released) position_ = from_plane(compensation_.programmed());
 }
 
+void Interpreter::note_unmodelled_codes(const Block& block) {
+  if (block.m[kMGroupCoolant] != -1) {
+    note_unmodelled("coolant (M7, M8, M9): no effect on the tip path",
+                    block.m_column[kMGroupCoolant]);
+  }
+  if (block.g[kGroupNonModal] == kG4) {
+    note_unmodelled("dwell (G4): the tool stands still; the tip path is unchanged",
+                    block.g_column[kGroupNonModal]);
+  }
+  if (block.m[kMGroupStop] == 0 || block.m[kMGroupStop] == 1) {
+    note_unmodelled("pauses (M0, M1): the program is read on", block.m_column[kMGroupStop]);
+  }
+  if (block.g[kGroupToolLength] != -1) {
+    note_unmodelled("tool length offsets (G43 H, G49): not applied; the program is read in tool "
+                    "tip coordinates, as with the right offset in effect",
+                    block.g_column[kGroupToolLength]);
+  }
+  if (block.g[kGroupPathControl] != -1) {
+    note_unmodelled("path control (G61, G61.1, G64 P Q): the programmed path is followed exactly; "
+                    "a machine in G64 may round corners by up to P",
+                    block.g_column[kGroupPathControl]);
+  }
+}
+
 // LinuxCNC's convert_length_units: the current position, the offsets and the moves held by
 // cutter compensation are converted; the feed rate stays the same physical rate (kept here in
 // mm/min).
@@ -1459,6 +1503,7 @@ bool Interpreter::execute(const Block& block) {
       cycle(block, motion, motion_column);
     }
   }
+  note_unmodelled_codes(block);
   const int stop = block.m[kMGroupStop];
   if (stop == 0 || stop == 1) {
     compensating(block.m_column[kMGroupStop],
@@ -1698,9 +1743,19 @@ void Interpreter::arc(const Block& block, int motion, int column) {
   const auto upper = [](char c) { return static_cast<char>(c - 'a' + 'A'); };
   if (ijk) {
     if (block.has(axes.forbidden_offset)) {
-      fail(block[axes.forbidden_offset].column,
-           fmt::format("{} word given for arc in {} plane", upper(axes.forbidden_offset),
-                       plane_name(plane_)));
+      const Word& w = block[axes.forbidden_offset];
+      const std::string what = fmt::format("{} word given for arc in {} plane",
+                                           upper(axes.forbidden_offset), plane_name(plane_));
+      if (w.value != 0.0) fail(w.column, what);
+      // grbl posts write K0 on every XY arc (grbl ignores it; LinuxCNC refuses it): a zero
+      // offset along the plane's normal changes nothing, so it is read with one warning.
+      if (!warned_zero_normal_offset_) {
+        warned_zero_normal_offset_ = true;
+        warn(line_, w.column,
+             fmt::format("{} of 0: ignored, as grbl does (LinuxCNC refuses it); later ones say "
+                         "nothing",
+                         what));
+      }
     }
     for (char c : {axes.first_offset, axes.second_offset}) {
       if (!block.has(c) && arc_absolute_) {
@@ -2143,6 +2198,10 @@ Toolpath Interpreter::run() {
   closing_ = true;
   if (warnings_dropped_ > 0) {
     warn(line_, 0, fmt::format("… and {} more warnings", warnings_dropped_));
+  }
+  for (const Unmodelled& u : unmodelled_) {
+    result_.warnings.push_back(
+        {u.first, fmt::format("{} ({} line{})", u.what, u.lines, u.lines == 1 ? "" : "s")});
   }
   if (compensation_.held() > 0) {
     // LinuxCNC drops them too: only G40, M0, M1, M2 and M30 release held moves.

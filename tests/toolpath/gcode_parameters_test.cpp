@@ -345,7 +345,9 @@ TEST(GcodeMachine, WorkOffsetsStoredPositionsAndTravel) {
   EXPECT_EQ(path.moves[3].end, Vec3(10, 5, -2));
   EXPECT_EQ(path.moves[6].end, Vec3(40, 5, 15));
   EXPECT_EQ(path.moves[7].end, Vec3(40, 5, 300));  // G28 Z: home, machine Z0
-  EXPECT_TRUE(path.warnings.empty());  // nothing is assumed
+  // Nothing is assumed about the machine; only G43 is said to change nothing.
+  ASSERT_EQ(path.warnings.size(), 1u);
+  EXPECT_NE(path.warnings[0].message.find("tool length offsets (G43 H, G49)"), std::string::npos);
   // The work offsets are LinuxCNC's parameters; G54 is selected first.
   const Toolpath p = read_gcode("G0 X#5221 Y#5242 Z#5163\nM2\n", "test.ngc", options);
   // In G54, X-400 Y-200 Z0 is machine X-800 Y-400 Z-300: in G55's frame X-500 Y-200 Z0.
