@@ -214,9 +214,8 @@ int run_path_command(const PathCommandOptions& options, std::ostream& out) {
   ClSampler sampler(sampling);
   PathTally tally;
   const ReadToolpath read = read_toolpath_file(
-      options.file, gcode, [&](const Move& m, const std::vector<std::string>&) {
-        tally.add(m, sampler);
-      });
+      options.file, gcode,
+      [&](const Move& m, const std::vector<std::string>&) { tally.add(m, sampler); });
   if (options.dump) {
     read_toolpath_file(options.file, gcode,
                        [&](const Move& m, const std::vector<std::string>& sources) {

@@ -30,8 +30,7 @@ std::string read_text_file(const std::string& path, const std::string& what) {
 MappedText::MappedText(const std::string& path, const std::string& what) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) {
-    throw InputError(SourceLocation{path},
-                     "cannot open the " + what + ": " + std::strerror(errno));
+    throw InputError(SourceLocation{path}, "cannot open the " + what + ": " + std::strerror(errno));
   }
   struct stat st {};
   if (::fstat(fd, &st) != 0 || S_ISDIR(st.st_mode) || !S_ISREG(st.st_mode) || st.st_size == 0) {
@@ -48,8 +47,7 @@ MappedText::MappedText(const std::string& path, const std::string& what) {
   ::close(fd);
   if (map_ == MAP_FAILED) {
     map_ = nullptr;
-    throw InputError(SourceLocation{path},
-                     "cannot read the " + what + ": " + std::strerror(errno));
+    throw InputError(SourceLocation{path}, "cannot read the " + what + ": " + std::strerror(errno));
   }
   ::madvise(map_, size_, MADV_SEQUENTIAL);
   text_ = std::string_view(static_cast<const char*>(map_), size_);

@@ -15,7 +15,7 @@ namespace {
 
 // G54 … G59 are systems 1 … 6, G59.1 … G59.3 are 7 … 9; 0 for another name.
 int work_system(std::string_view name) {
-  constexpr std::array<std::string_view, 9> kNames = {"G54", "G55", "G56", "G57", "G58",
+  constexpr std::array<std::string_view, 9> kNames = {"G54", "G55",   "G56",   "G57",  "G58",
                                                       "G59", "G59.1", "G59.2", "G59.3"};
   for (std::size_t k = 0; k < kNames.size(); ++k) {
     if (name == kNames[k]) return static_cast<int>(k) + 1;
@@ -28,7 +28,8 @@ class MachineReader {
   explicit MachineReader(std::string source) : source_(std::move(source)) {}
 
   MachineDefinition read(const nlohmann::json& value) {
-    if (!value.is_object()) fail("", "expected a JSON object (docs/gcode.md, \"Coordinate systems\")");
+    if (!value.is_object())
+      fail("", "expected a JSON object (docs/gcode.md, \"Coordinate systems\")");
     for (const auto& [key, _] : value.items()) {
       if (key != "units" && key != "work_offsets" && key != "g28" && key != "g30" &&
           key != "travel" && key != "frame" && key != "comment") {
@@ -37,7 +38,8 @@ class MachineReader {
     }
     if (value.contains("units")) {
       const nlohmann::json& units = value["units"];
-      if (!units.is_string() || (units != "mm" && units != "in")) fail("units", "expected mm or in");
+      if (!units.is_string() || (units != "mm" && units != "in"))
+        fail("units", "expected mm or in");
       unit_ = units == "in" ? kMillimetresPerInch : 1.0;
     }
     MachineDefinition machine;
@@ -77,8 +79,8 @@ class MachineReader {
 
  private:
   [[noreturn]] void fail(const std::string& key, const std::string& message) const {
-    throw InputError(SourceLocation{key.empty() ? source_ : fmt::format("{}: \"{}\"", source_, key)},
-                     message);
+    throw InputError(
+        SourceLocation{key.empty() ? source_ : fmt::format("{}: \"{}\"", source_, key)}, message);
   }
 
   Vec3 point(const nlohmann::json& value, const std::string& key) const {

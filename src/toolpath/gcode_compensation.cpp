@@ -119,9 +119,10 @@ void CutterCompensation::move_endpoint_and_flush(double x, double y) {
       const double l1 = q.original_turns;
       const double l2 = find_turn(endpoint_, m.center, m.turn, to);
       if (std::abs(r1 - r2) > tol::kGcodeCompensatedArcRadii) {
-        refuse(fmt::format("cutter compensation has generated an invalid arc with mismatched "
-                           "radii r1 {:.6f} r2 {:.6f}",
-                           r1, r2));
+        refuse(
+            fmt::format("cutter compensation has generated an invalid arc with mismatched "
+                        "radii r1 {:.6f} r2 {:.6f}",
+                        r1, r2));
       }
       const double gouge =
           inches_ ? tol::kGcodeCompensatedArcGougeInch : tol::kGcodeCompensatedArcGougeMm;
@@ -130,9 +131,10 @@ void CutterCompensation::move_endpoint_and_flush(double x, double y) {
       }
     } else if (endpoint_valid_ && q.direction.dot(to - endpoint_) < 0.0) {
       // The path crosses itself: the corner backs up further than the move is long.
-      refuse(fmt::format("straight {} in concave corner cannot be reached by the tool without "
-                         "gouging",
-                         m.kind == CompensatedMove::Kind::kTraverse ? "traverse" : "feed"));
+      refuse(
+          fmt::format("straight {} in concave corner cannot be reached by the tool without "
+                      "gouging",
+                      m.kind == CompensatedMove::Kind::kTraverse ? "traverse" : "feed"));
     }
     m.end.head<2>() = to;
   }
@@ -192,8 +194,7 @@ Vec3 CutterCompensation::straight_first(bool rapid, const Vec3& current, const V
   if ((p - c).norm() <= radius_) {
     refuse("length of cutter compensation entry move is not greater than the tool radius");
   }
-  const double alpha =
-      direction(c, p) + (side_ == CompensationSide::kLeft ? kHalfPi : -kHalfPi);
+  const double alpha = direction(c, p) + (side_ == CompensationSide::kLeft ? kHalfPi : -kHalfPi);
   const Vec2 tool = polar(p, radius_, alpha);
   set_endpoint(c.x(), c.y());
   emitted_ = current;
@@ -270,8 +271,9 @@ Vec3 CutterCompensation::straight_next(bool rapid, const Vec3& current, const Ve
     const double d = oldrad_uncomp * std::cos(th - phi);  // to the old centre, square to the line
     const double l = (inside ? d - radius_ : d + radius_) / oldrad;
     if (l > 1.0 || l < -1.0) {
-      refuse("arc to straight motion makes a corner the compensated tool can't fit in without "
-             "gouging");
+      refuse(
+          "arc to straight motion makes a corner the compensated tool can't fit in without "
+          "gouging");
     }
     const bool plus = inside ? prev.turn < 0 : prev.turn > 0;
     const double angle_from_center = (plus ? std::acos(l) : -std::acos(l)) + th + kPi;
@@ -391,10 +393,12 @@ Vec3 CutterCompensation::arc_next(const ProgrammedArc& arc, const Vec3& current,
       if (oldrad == 0.0 || arc_cc == 0.0) {
         refuse("arc to arc motion is invalid because the arcs have the same center");
       }
-      const double a = (oldrad * oldrad + arc_cc * arc_cc - newrad * newrad) / (2 * oldrad * arc_cc);
+      const double a =
+          (oldrad * oldrad + arc_cc * arc_cc - newrad * newrad) / (2 * oldrad * arc_cc);
       if (a > 1.0 || a < -1.0) {
-        refuse("arc to arc motion makes a corner the compensated tool can't fit in without "
-               "gouging");
+        refuse(
+            "arc to arc motion makes a corner the compensated tool can't fit in without "
+            "gouging");
       }
       const double pullback = std::acos(a);
       const double cc_dir = direction(prev.center, center);

@@ -89,8 +89,7 @@ class CutterCompensation {
   // A straight move (or arc) from the tool at `current` to the programmed `end`, offsetting();
   // returns where the tool ends. Throws CompensationError.
   Vec3 straight(bool rapid, const Vec3& current, const Vec3& end, const Move& attributes);
-  Vec3 arc(const ProgrammedArc& arc, const Vec3& current, const Vec3& end,
-           const Move& attributes);
+  Vec3 arc(const ProgrammedArc& arc, const Vec3& current, const Vec3& end, const Move& attributes);
   // After a straight move made with compensation on but no offset (radius 0), or off.
   void straight_move_made() { arc_not_allowed_ = false; }
 
@@ -129,7 +128,7 @@ class CutterCompensation {
   bool inches_ = false;
   Vec3 programmed_ = Vec3::Zero();
   std::vector<Held> queue_;
-  Vec3 emitted_ = Vec3::Zero();  // where the last released move ended
+  Vec3 emitted_ = Vec3::Zero();   // where the last released move ended
   Vec2 endpoint_ = Vec2::Zero();  // where the held moves start (LinuxCNC's endpoint)
   bool endpoint_valid_ = false;
 };

@@ -67,8 +67,22 @@ int precedence(Op op) {
   return 6;
 }
 
-enum class Unary { kAbs, kAcos, kAsin, kAtan, kCos, kExists, kExp, kFix, kFup, kLn, kRound, kSin,
-                   kSqrt, kTan };
+enum class Unary {
+  kAbs,
+  kAcos,
+  kAsin,
+  kAtan,
+  kCos,
+  kExists,
+  kExp,
+  kFix,
+  kFup,
+  kLn,
+  kRound,
+  kSin,
+  kSqrt,
+  kTan
+};
 
 double degrees(double radians) { return radians * 180.0 / kPi; }
 double radians(double degrees) { return degrees * kPi / 180.0; }
@@ -376,10 +390,10 @@ double ValueReader::expression(std::size_t& i) const {
 double ValueReader::unary(std::size_t& i) const {
   const std::size_t start = i;
   static constexpr std::pair<std::string_view, Unary> kNames[] = {
-      {"abs", Unary::kAbs},   {"acos", Unary::kAcos},     {"asin", Unary::kAsin},
-      {"atan", Unary::kAtan}, {"cos", Unary::kCos},       {"exists", Unary::kExists},
-      {"exp", Unary::kExp},   {"fix", Unary::kFix},       {"fup", Unary::kFup},
-      {"ln", Unary::kLn},     {"round", Unary::kRound},   {"sin", Unary::kSin},
+      {"abs", Unary::kAbs},   {"acos", Unary::kAcos},   {"asin", Unary::kAsin},
+      {"atan", Unary::kAtan}, {"cos", Unary::kCos},     {"exists", Unary::kExists},
+      {"exp", Unary::kExp},   {"fix", Unary::kFix},     {"fup", Unary::kFup},
+      {"ln", Unary::kLn},     {"round", Unary::kRound}, {"sin", Unary::kSin},
       {"sqrt", Unary::kSqrt}, {"tan", Unary::kTan}};
   // The longest name that matches (exists before exp, acos before …).
   std::optional<Unary> op;

@@ -1,6 +1,6 @@
 #pragma once
-// The numeric rules of G-code (RS274NGC) input, LinuxCNC's (used by gcode_reader.cpp only; the
-// geometric tolerances are in cwe/geometry/tolerance.hpp).
+// The numeric rules of G-code (RS274NGC) input, LinuxCNC's (used by the G-code interpreter only;
+// the geometric tolerances are in cwe/geometry/tolerance.hpp).
 
 namespace cwe::tol {
 

@@ -1,8 +1,8 @@
 // Cutter radius compensation (G41, G42, G41.1, G42.1). LinuxCNC's own results are in the golden
 // program tests/toolpath/golden/compensation.ngc (gcode_reader_test.cpp); here the geometry is
 // proven without LinuxCNC: along a contour of lines, arcs, convex and concave corners, every point
-// of the compensated path (once on the contour) is exactly one tool radius from the programmed contour, on the side
-// asked for, and passes each element of it.
+// of the compensated path (once on the contour) is exactly one tool radius from the programmed
+// contour, on the side asked for, and passes each element of it.
 
 #include <gtest/gtest.h>
 
@@ -87,7 +87,7 @@ bool inside(const Vec2& p, const std::vector<Element>& contour) {
 // A plate with a rounded corner and a notch, counter-clockwise from the origin: convex corners,
 // concave corners (the notch), a line-to-arc and an arc-to-line joint.
 const std::vector<Element> kPlate = {
-    {{0, 0}, {40, 0}},   {{40, 0}, {50, 10}, true, {40, 10}},
+    {{0, 0}, {40, 0}},    {{40, 0}, {50, 10}, true, {40, 10}},
     {{50, 10}, {50, 30}}, {{50, 30}, {35, 30}},
     {{35, 30}, {35, 20}}, {{35, 20}, {25, 20}},
     {{25, 20}, {25, 30}}, {{25, 30}, {0, 30}},
@@ -256,8 +256,8 @@ TEST(GcodeCompensation, AfterG40TheNextMoveStartsWhereTheToolIs) {
 // Reading `text` throws an InputError at line:column whose message contains `fragment`.
 void expect_error(std::string_view text, int line, int column, const std::string& fragment,
                   const GcodeOptions& options = {}) {
-  test::expect_input_error([&](std::string_view t) { return read(t, options); }, "test.ngc",
-                           text, line, column, fragment);
+  test::expect_input_error([&](std::string_view t) { return read(t, options); }, "test.ngc", text,
+                           line, column, fragment);
 }
 
 TEST(GcodeCompensation, LinuxCncsErrors) {

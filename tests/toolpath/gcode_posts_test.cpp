@@ -23,7 +23,7 @@ struct Post {
   std::vector<std::string> warnings;  // a fragment of each warning, in order
 };
 
-const Aabb kSquare{Vec3(-5, -5, -3), Vec3(20, 20, 5)};         // the handwritten contour
+const Aabb kSquare{Vec3(-5, -5, -3), Vec3(20, 20, 5)};           // the handwritten contour
 const Aabb kFreeCad{Vec3(-2.5, -2.5, -1), Vec3(22.5, 12.5, 9)};  // FreeCAD's profile
 
 const char* const kLength = "tool length offsets (G43 H, G49)";
@@ -37,8 +37,10 @@ const Post kPosts[] = {
     {"fusion_linuxcnc.ngc", 12, kSquare, {"G53 (machine coordinates)", kCoolant, kLength}},
     {"fusion_fanuc.nc", 16, kSquare, {"G28 (go to the stored home position)", kLength, kCoolant}},
     {"mastercam_fanuc.nc", 15, kSquare, {"G28 (go to the stored home position)", kLength}},
-    {"sheetcam_linuxcnc.ngc", 10, kSquare, {"path control (G61, G61.1, G64 P Q)", kLength,
-                                            kCoolant}},
+    {"sheetcam_linuxcnc.ngc",
+     10,
+     kSquare,
+     {"path control (G61, G61.1, G64 P Q)", kLength, kCoolant}},
 };
 
 TEST(GcodePosts, EveryPostReadsAsItIs) {
