@@ -32,8 +32,10 @@ class MachineReader {
       fail("", "expected a JSON object (docs/gcode.md, \"Coordinate systems\")");
     for (const auto& [key, _] : value.items()) {
       if (key != "units" && key != "work_offsets" && key != "g28" && key != "g30" &&
-          key != "travel" && key != "frame" && key != "comment") {
-        fail(key, "unknown key; expected units, work_offsets, g28, g30, travel, frame or comment");
+          key != "travel" && key != "tool_change" && key != "frame" && key != "comment") {
+        fail(key,
+             "unknown key; expected units, work_offsets, g28, g30, travel, tool_change, frame or "
+             "comment");
       }
     }
     if (value.contains("units")) {
@@ -57,6 +59,8 @@ class MachineReader {
     }
     if (value.contains("g28")) machine.g28 = point(value["g28"], "g28");
     if (value.contains("g30")) machine.g30 = point(value["g30"], "g30");
+    if (value.contains("tool_change"))
+      machine.tool_change = point(value["tool_change"], "tool_change");
     if (value.contains("travel")) {
       const nlohmann::json& travel = value["travel"];
       if (!travel.is_object() || !travel.contains("min") || !travel.contains("max") ||

@@ -9,10 +9,10 @@
 #include "cwe/core/error.hpp"
 #include "cwe/core/numbers.hpp"
 #include "cwe/job/job.hpp"
+#include "cwe/job/tool_choice.hpp"
 #include "cwe/job/tool_table.hpp"
 #include "cwe/simulation/simulation.hpp"
 #include "cwe/tool/apt.hpp"
-#include "cwe/job/tool_choice.hpp"
 
 namespace cwe {
 namespace {
@@ -123,10 +123,18 @@ EntryRules entry_rules(const Job& options, double stock_top) {
     kind = EntryRules::Kind::kGiven;
     at = *point * unit_length(options.units);
   };
-  parse(options.start, "--start", "origin", EntryRules::Kind::kOrigin, rules.start,
-        rules.start_at);
+  parse(options.start, "--start", "origin", EntryRules::Kind::kOrigin, rules.start, rules.start_at);
   parse(options.tool_change, "--tool-change", "stay", EntryRules::Kind::kStay, rules.change,
         rules.change_at);
+  // "auto" on a machine with a tool-change position: there, in the frame's coordinates.
+  const std::optional<MachineDefinition>& machine = options.machine_definition;
+  if (rules.change == EntryRules::Kind::kAuto &&
+      (options.tool_change.empty() || options.tool_change == "auto") && machine &&
+      machine->tool_change) {
+    rules.change = EntryRules::Kind::kGiven;
+    rules.change_at =
+        *machine->tool_change - machine->work_offsets[static_cast<std::size_t>(machine->frame - 1)];
+  }
   return rules;
 }
 
@@ -167,9 +175,8 @@ std::vector<ToolRun> program_runs(const Operation& op, const Job& options,
       return {{read, choose_cutter(op.tool, path, op.path, unit_length(options.units)), 0,
                std::nullopt, SourceLocation{op.path}, gcode}};
     }
-    const bool defined = std::all_of(used.begin(), used.end(), [&](int t) {
-      return path.tool_definitions.count(t) > 0;
-    });
+    const bool defined = std::all_of(used.begin(), used.end(),
+                                     [&](int t) { return path.tool_definitions.count(t) > 0; });
     if (op.tool.empty() && !defined) {
       throw InputError(loading(path, used[1], op.path),
                        fmt::format("the program loads tool {} here after tool {}: give a tool "
@@ -200,9 +207,8 @@ std::vector<ToolRun> program_runs(const Operation& op, const Job& options,
     }
     const auto defined = path.tool_definitions.find(t);
     if (defined == path.tool_definitions.end()) {
-      throw InputError(loading(path, t, op.path),
-                       fmt::format("tool {} is not in the tool table {}", t,
-                                   options.tool_table->source));
+      throw InputError(loading(path, t, op.path), fmt::format("tool {} is not in the tool table {}",
+                                                              t, options.tool_table->source));
     }
     CutterOptions named;
     named.name = fmt::format("{} T{} {}", op.path, t, to_string(defined->second));
@@ -214,7 +220,10 @@ std::vector<ToolRun> program_runs(const Operation& op, const Job& options,
     std::size_t end = m;
     while (end < path.moves.size() && tools[end] == tools[m]) ++end;
     // The program's warnings go with its first stretch only.
-    ReadToolpath part{Toolpath{path.sources, {}, path.tool_definitions, path.tool_changes,
+    ReadToolpath part{Toolpath{path.sources,
+                               {},
+                               path.tool_definitions,
+                               path.tool_changes,
                                runs.empty() ? path.warnings : std::vector<Diagnostic>{},
                                path.units},
                       read.format};
@@ -229,8 +238,8 @@ std::vector<ToolRun> program_runs(const Operation& op, const Job& options,
       const auto entry = options.tool_table->tools.find(tools[m]);
       if (entry != options.tool_table->tools.end()) coefficients = entry->second.coefficients;
     }
-    runs.push_back({std::move(part), cutters.at(tools[m]), tools[m], std::move(coefficients),
-                    loaded, gcode});
+    runs.push_back(
+        {std::move(part), cutters.at(tools[m]), tools[m], std::move(coefficients), loaded, gcode});
     m = end;
   }
   return runs;

@@ -1139,6 +1139,13 @@ TEST(CliTools, ToolChangesComeFromAbove) {
   EXPECT_EQ(automatic["rapid_cuts"]["count"], 0);
   const nlohmann::json given = run({"--tool-change", "40,10,20"});
   EXPECT_EQ(given["rapid_cuts"]["count"], 0);
+  // A machine whose tool-change position is that point, with G54's zero at (-100, -50, -200):
+  // the same moves.
+  std::ofstream(dir / "machine.json")
+      << R"({"work_offsets": {"G54": [-100, -50, -200]}, "tool_change": [-60, -40, -180]})";
+  const nlohmann::json machine = run({"--machine", (dir / "machine.json").string()});
+  EXPECT_EQ(machine["operations"][0]["moves"], 4);
+  EXPECT_EQ(machine["removed_volume_mm3"], given["removed_volume_mm3"]);
   EXPECT_NEAR(given["removed_volume_mm3"].get<double>(),
               automatic["removed_volume_mm3"].get<double>(), 1e-9);
   // The old tool's way up and across are moves of their own.

@@ -33,6 +33,9 @@ struct MachineDefinition {
   Vec3 g30 = Vec3::Zero();
   // The tip's travel; a move beyond it is an error. None: not checked.
   std::optional<Aabb> travel;
+  // Where the machine changes tools (LinuxCNC's TOOL_CHANGE_POSITION). The reader does not use
+  // it: a job's tool changes go there (docs/simulate.md, "Where the tool starts").
+  std::optional<Vec3> tool_change;
   // Moves are reported in this work system's coordinates (1 = G54 … 9 = G59.3), the frame the
   // stock is given in.
   int frame = 1;
