@@ -7,13 +7,20 @@
 #include "gcode_tolerance.hpp"
 
 // A line-by-line rendering of LinuxCNC 2.9's cutter compensation (interp_convert.cc,
-// interp_queue.cc), so that cwe's compensated moves are LinuxCNC's to the last bit the
-// arithmetic allows. The variable names are LinuxCNC's.
+// interp_queue.cc), so that cwe's compensated moves are LinuxCNC's to the last bit: the variable
+// names are LinuxCNC's, lengths are hypot's as there, and where LinuxCNC adds its long double
+// M_PIl or M_PI_2l the sum is formed in long double too (kPiL, kHalfPiL) and rounded once.
 
 namespace cwe::gcode {
 namespace {
 
-constexpr double kHalfPi = kPi / 2.0;
+constexpr double kHalfPi = kPi / 2.0;  // LinuxCNC's gamma: M_PI_2l stored in a double
+
+// LinuxCNC's hypot of a difference.
+double distance(const Vec2& a, const Vec2& b) { return std::hypot(a.x() - b.x(), a.y() - b.y()); }
+
+// A long double sum rounded to double, as LinuxCNC assigns it.
+double rounded(long double value) { return static_cast<double>(value); }
 
 bool tool_inside_arc(CompensationSide side, int turn) {
   return (side == CompensationSide::kLeft && turn > 0) ||
@@ -37,11 +44,11 @@ double find_turn(const Vec2& from, const Vec2& center, int turn, const Vec2& to)
   double alpha = direction(center, from);
   double beta = direction(center, to);
   if (turn > 0) {
-    if (beta <= alpha) beta += kTwoPi;
-    return beta - alpha + (turn - 1) * kTwoPi;
+    if (beta <= alpha) beta = rounded(beta + 2 * kPiL);
+    return rounded((beta - alpha) + (turn - 1) * (2 * kPiL));
   }
-  if (alpha <= beta) alpha += kTwoPi;
-  return beta - alpha + (turn + 1) * kTwoPi;
+  if (alpha <= beta) alpha = rounded(alpha + 2 * kPiL);
+  return rounded((beta - alpha) + (turn + 1) * (2 * kPiL));
 }
 
 void CutterCompensation::turn_on(CompensationSide side, double radius, bool inches) {
@@ -114,8 +121,8 @@ void CutterCompensation::move_endpoint_and_flush(double x, double y) {
     // Several held moves (into a concave corner, then up and back down) all end there.
     CompensatedMove& m = q.move;
     if (m.kind == CompensatedMove::Kind::kArc) {
-      const double r1 = (m.end.head<2>() - m.center).norm();
-      const double r2 = (to - m.center).norm();
+      const double r1 = distance(m.end.head<2>(), m.center);
+      const double r2 = distance(to, m.center);
       const double l1 = q.original_turns;
       const double l2 = find_turn(endpoint_, m.center, m.turn, to);
       if (std::abs(r1 - r2) > tol::kGcodeCompensatedArcRadii) {
@@ -191,10 +198,11 @@ Vec3 CutterCompensation::arc(const ProgrammedArc& arc, const Vec3& current, cons
 Vec3 CutterCompensation::straight_first(bool rapid, const Vec3& current, const Vec3& end,
                                         const Move& attributes) {
   const Vec2 c = current.head<2>(), p = end.head<2>();
-  if ((p - c).norm() <= radius_) {
+  if (distance(p, c) <= radius_) {
     refuse("length of cutter compensation entry move is not greater than the tool radius");
   }
-  const double alpha = direction(c, p) + (side_ == CompensationSide::kLeft ? kHalfPi : -kHalfPi);
+  const double alpha =
+      rounded(direction(c, p) + (side_ == CompensationSide::kLeft ? kHalfPiL : -kHalfPiL));
   const Vec2 tool = polar(p, radius_, alpha);
   set_endpoint(c.x(), c.y());
   emitted_ = current;
@@ -224,21 +232,21 @@ Vec3 CutterCompensation::straight_next(bool rapid, const Vec3& current, const Ve
   double alpha = std::atan2(py - opy, px - opx);
   double beta = 0.0, gamma = 0.0;
   if (left) {
-    if (theta < alpha) theta += kTwoPi;
-    beta = theta - alpha - kHalfPi;
+    if (theta < alpha) theta = rounded(theta + 2 * kPiL);
+    beta = rounded((theta - alpha) - kHalfPiL);
     gamma = kHalfPi;
   } else {
-    if (alpha < theta) alpha += kTwoPi;
-    beta = alpha - theta - kHalfPi;
+    if (alpha < theta) alpha = rounded(alpha + 2 * kPiL);
+    beta = rounded((alpha - theta) - kHalfPiL);
     gamma = -kHalfPi;
   }
   const Vec2 end_xy = polar(Vec2(px, py), radius_, alpha + gamma);
   const Vec2 mid = polar(op, radius_, alpha + gamma);
   const Held* arc = front_arc();
   bool concave = false;
-  if (beta < -small || beta > kPi + small) {
+  if (beta < -small || beta > kPiL + small) {
     concave = true;
-  } else if (beta > kPi - small && arc != nullptr &&
+  } else if (beta > kPiL - small && arc != nullptr &&
              ((!left && arc->move.turn > 0) || (left && arc->move.turn < 0))) {
     // An "h" shape: over the round part, then down beside the straight one. Of the two ways
     // to stay on the side, LinuxCNC takes the one above.
@@ -255,16 +263,16 @@ Vec3 CutterCompensation::straight_next(bool rapid, const Vec3& current, const Ve
     dequeue();
     set_endpoint(mid.x(), mid.y());
   } else if (concave && arc == nullptr) {  // line to line: back along the held line
-    const double halfcorner = (beta + kPi) / 2.0;
+    const double halfcorner = rounded((beta + kPiL) / 2.0);
     if (halfcorner == 0.0) refuse("zero degree inside corner is invalid for cutter compensation");
     const double retreat = radius_ / std::tan(halfcorner);
     const Vec2 back = polar(Vec2(cx, cy), retreat, theta + gamma);
     move_endpoint_and_flush(back.x(), back.y());
   } else if (concave) {  // arc to line: back along the held (compensated) arc
     const CompensatedMove prev = arc->move;
-    const double oldrad = (prev.center - prev.end.head<2>()).norm();
+    const double oldrad = distance(prev.center, prev.end.head<2>());
     const double base_dir = std::atan2(py - opy, px - opx);
-    const double th = prev.turn > 0 ? base_dir + kHalfPi : base_dir - kHalfPi;
+    const double th = rounded(prev.turn > 0 ? base_dir + kHalfPiL : base_dir - kHalfPiL);
     const double phi = direction(op, prev.center);
     const bool inside = tool_inside_arc(side_, prev.turn);
     const double oldrad_uncomp = inside ? oldrad + radius_ : oldrad - radius_;
@@ -276,7 +284,7 @@ Vec3 CutterCompensation::straight_next(bool rapid, const Vec3& current, const Ve
           "gouging");
     }
     const bool plus = inside ? prev.turn < 0 : prev.turn > 0;
-    const double angle_from_center = (plus ? std::acos(l) : -std::acos(l)) + th + kPi;
+    const double angle_from_center = rounded(((plus ? std::acos(l) : -std::acos(l)) + th) + kPiL);
     const Vec2 back = polar(prev.center, oldrad, angle_from_center);
     move_endpoint_and_flush(back.x(), back.y());
   } else {  // straight on (or a tangent arc to line)
@@ -295,7 +303,7 @@ Vec3 CutterCompensation::arc_first(const ProgrammedArc& arc, const Vec3& current
                                    const Move& attributes) {
   const Vec2 c = current.head<2>();
   Vec2 e = end.head<2>();
-  if ((e - c).norm() <= radius_) {
+  if (distance(e, c) <= radius_) {
     refuse("radius of cutter compensation entry arc is not greater than the tool radius");
   }
   const int turn = arc.counter_clockwise ? arc.turns : -arc.turns;
@@ -303,7 +311,7 @@ Vec3 CutterCompensation::arc_first(const ProgrammedArc& arc, const Vec3& current
   const char* too_small = "tool radius not less than arc radius with comp";
   if (arc.r_format && std::abs(arc.r) <= radius_ && inside) refuse(too_small);
   Vec2 center = arc.center(c);
-  if (!arc.r_format && (center - c).norm() <= radius_ && inside) refuse(too_small);
+  if (!arc.r_format && distance(center, c) <= radius_ && inside) refuse(too_small);
 
   // The tool ends in direction gamma from the programmed end.
   const double gamma = inside ? direction(e, center) : direction(center, e);
@@ -313,14 +321,14 @@ Vec3 CutterCompensation::arc_first(const ProgrammedArc& arc, const Vec3& current
 
   // The centre of the compensated arc: on the line from its end to the programmed centre, at
   // the same distance from its start and its end.
-  const double b_len = (c - e).norm() / 2.0;
+  const double b_len = distance(c, e) / 2.0;
   const double ab_ang = direction(e, center);
   const double a_ang = direction(e, c) - ab_ang;
   if (std::abs(std::cos(a_ang)) < tol::kGcodeEqual) refuse(too_small);
   const double c_len = b_len / std::cos(a_ang);
   center = polar(e, c_len, ab_ang);
   const double spiral = inches_ ? tol::kGcodeArcSpiralInch : tol::kGcodeArcSpiralMm;
-  if (std::abs((center - e).norm() - (center - c).norm()) > spiral) {
+  if (std::abs(distance(center, e) - distance(center, c)) > spiral) {
     refuse("bug in tool radius comp");
   }
   emitted_ = current;
@@ -340,16 +348,16 @@ Vec3 CutterCompensation::arc_next(const ProgrammedArc& arc, const Vec3& current,
   const bool left = side_ == CompensationSide::kLeft;
   const double small = tol::kGcodeConcaveCorner;
 
-  const double arc_radius = (center - e).norm();
+  const double arc_radius = distance(center, e);
   double theta = direction(op, c);
-  theta = left ? theta - kHalfPi : theta + kHalfPi;  // the direction of the last cut
+  theta = rounded(left ? theta - kHalfPiL : theta + kHalfPiL);  // the direction of the last cut
   double delta = direction(op, center);
-  const double alpha = arc.counter_clockwise ? delta - kHalfPi : delta + kHalfPi;
+  const double alpha = rounded(arc.counter_clockwise ? delta - kHalfPiL : delta + kHalfPiL);
   double beta = left ? theta - alpha : alpha - theta;
-  if (beta > 1.5 * kPi) {
-    beta -= kTwoPi;
-  } else if (beta < -kHalfPi) {
-    beta += kTwoPi;
+  if (beta > 1.5 * kPiL) {
+    beta = rounded(beta - 2 * kPiL);
+  } else if (beta < -kHalfPiL) {
+    beta = rounded(beta + 2 * kPiL);
   }
   const bool inside = tool_inside_arc(side_, turn);
   double gamma = 0.0;
@@ -358,7 +366,7 @@ Vec3 CutterCompensation::arc_next(const ProgrammedArc& arc, const Vec3& current,
     if (arc_radius <= radius_) refuse("tool radius not less than arc radius with comp");
   } else {
     gamma = direction(center, e);
-    delta += kPi;
+    delta = rounded(delta + kPiL);
   }
   const Vec2 new_end = polar(e, radius_, gamma);
   const Vec3 tool(new_end.x(), new_end.y(), end.z());
@@ -367,11 +375,11 @@ Vec3 CutterCompensation::arc_next(const ProgrammedArc& arc, const Vec3& current,
   };
 
   // Concave, or the top of an "m" (tangent arc to arc) or "h" (tangent line to arc) shape.
-  if (beta < -small || beta > kPi + small || (std::abs(beta - kPi) < small && !inside)) {
+  if (beta < -small || beta > kPiL + small || (std::abs(beta - kPiL) < small && !inside)) {
     const Held* held_arc = front_arc();
     Vec2 mid;
     if (held_arc == nullptr) {  // line to arc
-      const double across = arc_radius * std::sin(beta - kHalfPi);
+      const double across = rounded(arc_radius * std::sin(beta - kHalfPiL));
       const double dist_from_center = inside ? arc_radius - radius_ : arc_radius + radius_;
       const double toward_nominal = inside ? across + radius_ : across - radius_;
       const double l = toward_nominal / dist_from_center;
@@ -382,14 +390,15 @@ Vec3 CutterCompensation::arc_next(const ProgrammedArc& arc, const Vec3& current,
       if (inside) {
         angle_from_center = turn > 0 ? theta + std::asin(l) : theta - std::asin(l);
       } else {
-        angle_from_center = turn > 0 ? theta + kPi - std::asin(l) : theta + kPi + std::asin(l);
+        angle_from_center =
+            rounded(turn > 0 ? (theta + kPiL) - std::asin(l) : (theta + kPiL) + std::asin(l));
       }
       mid = polar(center, dist_from_center, angle_from_center);
     } else {  // arc to arc
       const CompensatedMove& prev = held_arc->move;
-      const double oldrad = (prev.center - prev.end.head<2>()).norm();
+      const double oldrad = distance(prev.center, prev.end.head<2>());
       const double newrad = inside ? arc_radius - radius_ : arc_radius + radius_;
-      const double arc_cc = (prev.center - center).norm();
+      const double arc_cc = distance(prev.center, center);
       if (oldrad == 0.0 || arc_cc == 0.0) {
         refuse("arc to arc motion is invalid because the arcs have the same center");
       }

@@ -13,7 +13,15 @@
 //  - concave (the tool inside): the held move's end is pulled back to where the tool touches
 //    both, and LinuxCNC's errors apply when it cannot get there without gouging.
 // A move that only changes the third axis waits with the move before it and ends where that one
-// ends. G40 and M2/M30 release the moves still held.
+// ends. G40, M0, M1, M2 and M30 release the moves still held.
+//
+// Where LinuxCNC's own code is accidental, cwe does the evident thing instead (docs/gcode.md):
+//  - after M0/M1 the queue is empty, and LinuxCNC's next corner reads its first element anyway
+//    (the storage of the move just released); cwe sees no held move there;
+//  - a unit change while moves are held scales LinuxCNC's queue start once per held move; cwe
+//    scales it once;
+//  - lathe tool orientations (LinuxCNC's tool table Q, G41.1 L1-L8) are not modelled: cwe's tool
+//    tables have none, and G41.1/G42.1 with such an L is refused.
 
 #include <functional>
 #include <stdexcept>
@@ -132,6 +140,11 @@ class CutterCompensation {
   Vec2 endpoint_ = Vec2::Zero();  // where the held moves start (LinuxCNC's endpoint)
   bool endpoint_valid_ = false;
 };
+
+// π and π/2 in long double, as LinuxCNC's M_PIl and M_PI_2l: it adds them to double angles, so
+// its sums are rounded once, from long double, and its comparisons with them are exact.
+inline constexpr long double kPiL = 3.141592653589793238462643383279502884L;
+inline constexpr long double kHalfPiL = kPiL / 2;
 
 // LinuxCNC's find_turn: the signed angle (rad) swept from (x1, y1) to (x2, y2) about `center`
 // making `turn` turns (+ counter-clockwise); 0 for turn 0.

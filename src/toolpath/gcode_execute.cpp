@@ -93,6 +93,7 @@ Interpreter::ModalState Interpreter::modal_state() const {
   m.retract_to_r = retract_to_r_;
   m.g92_applied = parameters_.numbered(5210) != 0.0;
   m.origin = origin_index_;
+  m.compensation = compensation_code_;
   m.spindle = spindle_;
   m.mist = mist_;
   m.flood = flood_;
@@ -107,12 +108,33 @@ void Interpreter::restore(const ModalState& saved) {
     feed_mm_per_min_ = std::stod(fmt::format("{:.1f}", saved.feed)) * scale();
   }
   if (saved.speed != spindle_speed_) spindle_speed_ = std::stod(fmt::format("{:.0f}", saved.speed));
-  plane_ = saved.plane;
+  // The G codes that differ run as one line, in LinuxCNC's order, with its refusals under cutter
+  // compensation.
+  if (saved.plane != plane_) {
+    refuse_with_compensation(true, 0, "cannot change planes with cutter radius compensation on");
+    plane_ = saved.plane;
+  }
+  if (saved.compensation != compensation_code_) {
+    if (saved.compensation == kG40) {
+      compensation_off(0);
+    } else {
+      compensation_on(Block(), saved.compensation);  // G41, G42 without D; G41.1 fails
+    }
+  }
+  if (saved.origin != origin_index_) {
+    refuse_with_compensation(true, 0,
+                             "cannot change coordinate systems with cutter radius compensation on");
+    select_origin(saved.origin);
+  }
   incremental_ = saved.incremental;
   arc_absolute_ = saved.arc_absolute;
-  retract_to_r_ = saved.retract_to_r;
-  select_origin(saved.origin);
+  if (saved.retract_to_r != retract_to_r_) {
+    refuse_with_compensation(true, 0,
+                             "cannot change retract mode with cutter radius compensation on");
+    retract_to_r_ = saved.retract_to_r;
+  }
   if (saved.g92_applied != (parameters_.numbered(5210) != 0.0)) {
+    refuse_with_compensation(true, 0, "cannot change axis offsets with cutter radius comp");
     Block block;
     axis_offsets(block, saved.g92_applied ? kG92_3 : kG92_2);
   }
@@ -134,7 +156,14 @@ void Interpreter::compensation_on(const Block& block, int code) {
   if (code == kG41_1 || code == kG42_1) {
     if (!block.has('d')) fail(column, fmt::format("G{}.1 with no D word", code / 10));
     if (block.has('l')) {
-      fail(block['l'].column, "lathe tool orientation (L with G41.1 or G42.1) is not supported");
+      // L: a lathe tool's orientation, which needs G18; 0 and 9 are a mill's (no offset).
+      const Word& l = block['l'];
+      if (plane_ != Plane::kXZ) {
+        fail(l.column, fmt::format("G{}.1 with L word, but plane is not G18", code / 10));
+      }
+      if (l.value != 0.0 && l.value != 9.0) {
+        fail(l.column, "lathe tool orientations (L1 to L8 with G41.1, G42.1) are not supported");
+      }
     }
     radius = block['d'].value / 2.0;
   } else {
@@ -152,6 +181,7 @@ void Interpreter::compensation_on(const Block& block, int code) {
   }
   compensation_.turn_on(left ? gcode::CompensationSide::kLeft : gcode::CompensationSide::kRight,
                         radius, inches_);
+  compensation_code_ = code;
 }
 
 // The radius of `tool` in program units; 0 for no tool (T0), as LinuxCNC's empty spindle.
@@ -181,6 +211,7 @@ void Interpreter::compensation_off(int column) {
   const bool released =
       compensating(column, [&] { return compensation_.turn_off(to_plane(position_)); });
   if (released) position_ = from_plane(compensation_.programmed());
+  compensation_code_ = kG40;
 }
 
 void Interpreter::note_unmodelled_codes(const Block& block) {
@@ -225,6 +256,7 @@ void Interpreter::set_units(bool inches) {
 void Interpreter::publish_state() {
   parameters_.set_numbered(5400, static_cast<double>(loaded_tool_));
   for (int axis = 0; axis < 3; ++axis) parameters_.set_numbered(5420 + axis, position_[axis]);
+  parameters_.set_position_readable(!compensation_.on());
 }
 
 // The motion the block will make (LinuxCNC's motion_to_be), -1 for none; `column` is the column
@@ -521,6 +553,7 @@ bool Interpreter::execute(const Block& block) {
     compensating(block.m_column[kMGroupStop], [&] { compensation_.release(to_plane(position_)); });
   } else if (stop != -1) {
     compensating(block.m_column[kMGroupStop], [&] { compensation_.stop(to_plane(position_)); });
+    compensation_code_ = kG40;
   }
   if (stop == 99) {
     // M99 in the main program: LinuxCNC starts the program over, forever.

@@ -244,6 +244,9 @@ double ValueReader::parameter(std::size_t& i, bool check_exists) const {
     fail(hash, fmt::format("parameter number out of range: #{} (parameters are #1 to #{})", index,
                            Parameters::kNumbered - 1));
   }
+  if (index >= 5420 && index <= 5428 && !parameters_.position_readable()) {
+    fail(hash, "cannot read current position with cutter radius compensation on");
+  }
   return parameters_.numbered(index);
 }
 

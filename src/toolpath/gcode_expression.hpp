@@ -63,6 +63,11 @@ class Parameters {
     return (index >= 5400 && index <= 5413) || (index >= 5420 && index <= 5428);
   }
 
+  // The position #5420–#5428 cannot be read under cutter radius compensation (LinuxCNC: the
+  // compensated point is not known until the next move).
+  bool position_readable() const { return position_readable_; }
+  void set_position_readable(bool readable) { position_readable_ = readable; }
+
   // Named parameters by their lower-case name (without < >); nullopt when not defined.
   std::optional<double> named(std::string_view name) const;
   // Throws nothing: the caller checks read_only_name first.
@@ -84,6 +89,7 @@ class Parameters {
   Names globals_;
   std::vector<Names> locals_;
   Lookup predefined_;
+  bool position_readable_ = true;
 };
 
 // A parameter setting read from a line (#3=6, #<depth>=[#1*2]): applied after the whole line

@@ -266,6 +266,7 @@ class Interpreter {
   gcode::CutterCompensation compensation_{
       [this](const gcode::CompensatedMove& m) { emit_compensated(m); }};
   bool warned_no_tool_radius_ = false;
+  int compensation_code_ = kG40;  // the code that turned compensation on (G40: off)
   void compensation_on(const Block& block, int code);
   void compensation_off(int column);
   double tool_radius(int tool, int column);  // program units
@@ -382,6 +383,7 @@ class Interpreter {
     Plane plane = Plane::kXY;
     bool incremental = false, arc_absolute = false, retract_to_r = true, g92_applied = false;
     int origin = 1;
+    int compensation = kG40;  // G40, G41, G41.1, G42, G42.1
     SpindleDirection spindle = SpindleDirection::kStopped;
     bool mist = false, flood = false;
   };

@@ -108,17 +108,15 @@ void Interpreter::check_travel(const Move& move) const {
   box.max += frame_offset_;
   for (int a = 0; a < 3; ++a) {
     const char axis = static_cast<char>('X' + a);
-    if (box.max[a] > travel.max[a] + tol::kLength) {
-      fail(0,
-           fmt::format("the move goes beyond the machine's travel: {} {:.3f} mm, its limit {:.3f} "
-                       "mm (machine coordinates)",
-                       axis, box.max[a], travel.max[a]));
-    }
-    if (box.min[a] < travel.min[a] - tol::kLength) {
-      fail(0,
-           fmt::format("the move goes beyond the machine's travel: {} {:.3f} mm, its limit {:.3f} "
-                       "mm (machine coordinates)",
-                       axis, box.min[a], travel.min[a]));
+    const bool above = box.max[a] > travel.max[a] + tol::kLength;
+    if (above || box.min[a] < travel.min[a] - tol::kLength) {
+      // At the move's own line (a compensated move is made when the next line is read).
+      throw InputError(
+          SourceLocation{result_.sources[static_cast<std::size_t>(move.source)], move.line, 0},
+          fmt::format("the move goes beyond the machine's travel: {} {:.3f} mm, its limit {:.3f} "
+                      "mm (machine coordinates)",
+                      axis, above ? box.max[a] : box.min[a],
+                      above ? travel.max[a] : travel.min[a]));
     }
   }
 }
@@ -178,8 +176,10 @@ void Interpreter::synchronised(const Block& block, int motion, int column) {
   if (spindle_ == SpindleDirection::kStopped) {
     fail(column, fmt::format("spindle not turning in {}", name));
   }
-  refuse_with_compensation(true, column,
-                           "cannot use G33 or G33.1 with cutter radius compensation on");
+  // LinuxCNC has no compensated G33 (with a radius, its "BUG: code not G0 or G1").
+  if (compensation_.offsetting()) {
+    fail(column, "cannot use G33 or G33.1 with cutter radius compensation on");
+  }
   motion_mode_ = motion;
   compensation_.straight_move_made();
   const Vec3 start = position_;
@@ -210,7 +210,6 @@ void Interpreter::spline(const Block& block, int motion, int column) {
   if (feed_mm_per_min_ == 0.0) fail(column, "cannot make arc with zero feed rate");
   if (plane_ != Plane::kXY) fail(column, "splines must be in the XY plane");
   if (block.has('z')) fail(block['z'].column, "splines may not have motion in Z, A, B, or C");
-  compensation_.straight_move_made();
   motion_mode_ = motion;
   const Vec2 start = position_.head<2>();
   std::vector<Vec2> points{start};
@@ -347,7 +346,9 @@ Vec2 Interpreter::arc_center(const Block& block, int motion, int column, const V
     }
     const double chord_angle = std::atan2(e2 - s2, e1 - s1);
     const bool right = (motion == kG2 && radius > 0.0) || (motion == kG3 && radius < 0.0);
-    const double theta = right ? chord_angle - kPi / 2.0 : chord_angle + kPi / 2.0;
+    // LinuxCNC adds its long double M_PI_2l: the sum is rounded once, to double.
+    const double theta =
+        static_cast<double>(right ? chord_angle - kHalfPiL : chord_angle + kHalfPiL);
     const double offset = abs_radius * std::cos(std::asin(half_length / abs_radius));
     return {mid1 + offset * std::cos(theta), mid2 + offset * std::sin(theta)};
   }

@@ -145,6 +145,13 @@ void expect_offset_by_radius(const std::string& side, bool tool_inside) {
   }
 }
 
+// Reading `text` throws an InputError at line:column whose message contains `fragment`.
+void expect_error(std::string_view text, int line, int column, const std::string& fragment,
+                  const GcodeOptions& options = {}) {
+  test::expect_input_error([&](std::string_view t) { return read(t, options); }, "test.ngc", text,
+                           line, column, fragment);
+}
+
 TEST(GcodeCompensation, ThePathIsOneRadiusFromTheContourOnTheSideAskedFor) {
   expect_offset_by_radius("G41.1", true);   // left of a counter-clockwise contour: inside
   expect_offset_by_radius("G42.1", false);  // right: outside
@@ -253,11 +260,25 @@ TEST(GcodeCompensation, AfterG40TheNextMoveStartsWhereTheToolIs) {
   EXPECT_LT((q.moves[2].end - Vec3(9, 10, 6)).norm(), kTight);  // resynchronised by M6
 }
 
-// Reading `text` throws an InputError at line:column whose message contains `fragment`.
-void expect_error(std::string_view text, int line, int column, const std::string& fragment,
-                  const GcodeOptions& options = {}) {
-  test::expect_input_error([&](std::string_view t) { return read(t, options); }, "test.ngc", text,
-                           line, column, fragment);
+TEST(GcodeCompensation, M72RestoresCompensationOffAsLinuxCncDoes) {
+  // M72 runs the G40 that the saved state had: the held move is released as it stands, and the
+  // next move is not compensated (checked with rs274: (10, 1), then (10, 10)).
+  const Toolpath p = read("G21 G17 G90\nG0 X0 Y-5 Z0 F100\nM70\nG41.1 D2\nG1 X0 Y0\nG1 X10\nM72\n"
+                          "G1 Y10\nM2\n");
+  ASSERT_EQ(p.moves.size(), 5u);
+  EXPECT_LT((p.moves[3].end - Vec3(10, 1, 0)).norm(), kTight);
+  EXPECT_LT((p.moves[4].end - Vec3(10, 10, 0)).norm(), kTight);
+}
+
+TEST(GcodeCompensation, LastBitsAsLinuxCnc) {
+  // LinuxCNC adds its long double π/2 to the entry's direction, and compares lengths from hypot:
+  // the entry ends at LinuxCNC's X 0.097139481176069631 (not …069853 of a double sum), and the
+  // two entries below fall on the same sides of "longer than the radius" as in rs274.
+  const Toolpath p = read("G21 F100\nG41.1 D2 G1 X1 Y2.1\nX5\nM2\n");
+  EXPECT_EQ(p.moves[0].end.x(), 0.097139481176069631);
+  expect_error("G21 F100\nG41.1 D0.58 G1 X0.2 Y0.21\nX1\nM2\n", 2, 13,
+                    "length of cutter compensation entry move is not greater than the tool radius");
+  EXPECT_NO_THROW(read("G21 F100\nG41.1 D0.7 G1 X0.21 Y0.28\nX1\nM2\n"));
 }
 
 TEST(GcodeCompensation, LinuxCncsErrors) {
@@ -290,6 +311,13 @@ TEST(GcodeCompensation, LinuxCncsErrors) {
   // A notch narrower than the tool: the pulled-back line would run backwards.
   expect_error(on + "Y10\nX9\nY0\nX0\nM2\n", 5, 1,
                "straight feed in concave corner cannot be reached by the tool without gouging");
+  expect_error(on + "#1 = #5420\n", 3, 6,
+               "cannot read current position with cutter radius compensation on");
+  expect_error("F100\nG41.1 D2 L9 G1 X10\n", 2, 10, "G41.1 with L word, but plane is not G18");
+  expect_error("F100 G18\nG41.1 D2 L3 G1 Z10\n", 2, 10, "lathe tool orientations");
+  expect_error(on + "G40\nG5.1 X25 Y5 I2 J0\nG2 X30 Y0 R5\n", 5, 1,
+               "the move just after exiting cutter compensation mode must be straight");
+  expect_error(on + "S100 M3\nG33 X20 K1\n", 4, 1, "cannot use G33 or G33.1 with cutter radius");
   // An inside arc smaller than the tool.
   expect_error(on + "G3 X10 Y2 R1\n", 3, 1, "tool radius not less than arc radius with comp");
 }
