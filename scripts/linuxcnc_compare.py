@@ -8,7 +8,8 @@ Usage (needs LinuxCNC's Python module `gcode`, e.g. Debian's linuxcnc-uspace, an
 
 For each program, LinuxCNC's interpreter (tests/toolpath/golden/linuxcnc_oracle.py, with the
 subroutine path given to it through an INI file) and `cwe path --dump` list the moves; the program
-matches when both list the same moves, kinds and end points within 1e-6 mm. LinuxCNC's Python
+matches when both list the same moves, kinds and end points within 1e-6 mm, and for arcs the same
+centres (within that plus cwe's bisector shift for rounded data), directions and turns. LinuxCNC's Python
 module crashes on programs that use tool data (T, H); those are run through `rs274 -g` instead,
 whose output has four decimals in program units, so they match within 0.6e-4 of a unit.
 Programs LinuxCNC itself refuses, and programs with rotary motion or digital/analog I/O, are
@@ -17,6 +18,7 @@ first difference or cwe's error.
 """
 import argparse
 import json
+import math
 import os
 import subprocess
 import sys
@@ -79,6 +81,7 @@ def rs274(program, ini):
         message = (run.stdout + run.stderr).strip().splitlines()
         return None, message[0] if message else "rs274 failed", set(), 0.0
     scale, plane, offset, moves, flags, precision = 1.0, "XY", [0.0] * 3, [], set(), 0.0
+    last = [0.0] * 3
     g5x, g92 = [0.0] * 3, [0.0] * 3
     for line in open(canon):
         text = line.split(None, 2)[2].strip() if len(line.split(None, 2)) == 3 else ""
@@ -97,10 +100,9 @@ def rs274(program, ini):
             flags.add("rotation")
         elif name == "RIGID_TAP":  # G33.1: to the point and back
             a = [float(v) for v in args]
-            back = moves[-1][-3:] if moves else ["0"] * 3
             end = [a[k] * scale + g5x[k] + g92[k] for k in range(3)]
             moves.append(["feed", "?"] + ["%.17g" % v for v in end])
-            moves.append(["feed", "?"] + list(back))
+            moves.append(["feed", "?"] + ["%.17g" % v for v in last])
         elif name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED", "ARC_FEED"):
             a = [float(v) for v in args]
             if name == "ARC_FEED":
@@ -113,7 +115,14 @@ def rs274(program, ini):
                 flags.add("rotary")
             end = [p[k] * scale + g5x[k] + g92[k] for k in range(3)]
             kind = {"STRAIGHT_TRAVERSE": "rapid", "STRAIGHT_FEED": "feed", "ARC_FEED": "arc"}[name]
-            moves.append([kind, "?"] + ([plane] if kind == "arc" else []) + ["%.17g" % v for v in end])
+            if kind == "arc":  # the centre in the plane's order, and the signed turns
+                i, j = {"XY": (0, 1), "XZ": (2, 0), "YZ": (1, 2)}[plane]
+                centre = [a[2] * scale + g5x[i] + g92[i], a[3] * scale + g5x[j] + g92[j]]
+                moves.append(["arc", "?", plane] + ["%.17g" % v for v in end + centre] +
+                             ["%d" % int(a[4])])
+            else:
+                moves.append([kind, "?"] + ["%.17g" % v for v in end])
+            last = end
         elif name.startswith(("SET_MOTION_OUTPUT", "SET_AUX_OUTPUT", "CLEAR_MOTION_OUTPUT",
                               "CLEAR_AUX_OUTPUT", "WAIT")):
             flags.add("io")
@@ -136,16 +145,35 @@ def cwe_moves(cwe, program, path, tools):
 
 
 def compare(reference, moves, tolerance=TOLERANCE):
+    """None when the moves agree: kinds and ends; for arcs also the centre (within the tolerance
+    plus the shift onto the chord's bisector that cwe makes when the radii to start and end
+    differ, |r1² - r2²| / (2 chord)), the direction and the turns."""
     if len(reference) != len(moves):
         return "%d moves, LinuxCNC %d" % (len(moves), len(reference))
+    start = [0.0] * 3
     for k, (r, m) in enumerate(zip(reference, moves)):
         kind = r[0]
         end = [float(v) for v in (r[3:6] if kind == "arc" else r[2:5])]
         mk = m["type"]
+        where = "move %d (line %s)" % (k + 1, r[1])
         if (kind, mk) not in (("rapid", "rapid"), ("feed", "feed"), ("arc", "arc")):
-            return "move %d (line %s): %s, LinuxCNC %s" % (k + 1, r[1], mk, kind)
+            return "%s: %s, LinuxCNC %s" % (where, mk, kind)
         if max(abs(a - b) for a, b in zip(end, m["end"])) > tolerance:
-            return "move %d (line %s): end %s, LinuxCNC %s" % (k + 1, r[1], m["end"], end)
+            return "%s: end %s, LinuxCNC %s" % (where, m["end"], end)
+        if kind == "arc":
+            a1, a2, a3 = {"XY": (0, 1, 2), "XZ": (2, 0, 1), "YZ": (1, 2, 0)}[r[2]]
+            c1, c2, turns = float(r[6]), float(r[7]), int(r[8])
+            r1 = math.hypot(start[a1] - c1, start[a2] - c2)
+            r2 = math.hypot(end[a1] - c1, end[a2] - c2)
+            chord = math.hypot(end[a1] - start[a1], end[a2] - start[a2])
+            shift = abs(r1 * r1 - r2 * r2) / (2 * chord) if chord > 1e-9 else 0.0
+            centre = m["center"]
+            if max(abs(centre[a1] - c1), abs(centre[a2] - c2)) > tolerance + shift:
+                return "%s: centre %s, LinuxCNC %s %s" % (where, centre, c1, c2)
+            if m["normal"][a3] * turns <= 0 or m["turns"] + 1 != abs(turns):
+                return "%s: normal %s and %d extra turns, LinuxCNC turns %d" % (
+                    where, m["normal"], m["turns"], turns)
+        start = end
     return None
 
 
