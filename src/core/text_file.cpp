@@ -15,16 +15,47 @@
 
 namespace cwe {
 
-std::string read_text_file(const std::string& path, const std::string& what) {
+namespace {
+
+std::string read_whole(const std::string& path, const std::string& what, bool text_only) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
     throw InputError(SourceLocation{path}, "the " + what + " is a directory");
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(SourceLocation{path}, "cannot open the " + what);
-  std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  // In blocks, so that a device or pipe that never ends (/dev/zero) or is not text stops early.
+  std::string text;
+  std::string block(std::size_t{1} << 16, '\0');
+  while (in) {
+    in.read(block.data(), static_cast<std::streamsize>(block.size()));
+    const auto got = static_cast<std::size_t>(in.gcount());
+    if (text_only && block.find('\0') < got) {
+      text.append(block.data(), got);
+      throw InputError(location_of(text, text.find('\0'), path),
+                       "the " + what + " holds a NUL byte: not a text file");
+    }
+    if (text.size() + got > kLargestTextFile) {
+      throw InputError(SourceLocation{path},
+                       "the " + what + " is larger than " +
+                           std::to_string(kLargestTextFile >> 30) +
+                           " GiB read whole (a pipe or device; a regular file of any size is "
+                           "mapped instead)");
+    }
+    text.append(block.data(), got);
+  }
   if (in.bad()) throw InputError(SourceLocation{path}, "cannot read the " + what);
   return text;
+}
+
+}  // namespace
+
+std::string read_text_file(const std::string& path, const std::string& what) {
+  return read_whole(path, what, true);
+}
+
+std::string read_binary_file(const std::string& path, const std::string& what) {
+  return read_whole(path, what, false);
 }
 
 MappedText::MappedText(const std::string& path, const std::string& what) {

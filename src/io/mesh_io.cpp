@@ -366,7 +366,7 @@ StlMesh parse_stl(std::string_view bytes, const std::string& source) {
 }
 
 StlMesh read_stl(const std::string& path) {
-  return parse_stl(read_text_file(path, "STL file"), path);
+  return parse_stl(read_binary_file(path, "STL file"), path);
 }
 
 std::string stl_binary(const TriangleMesh& mesh, std::string_view header) {

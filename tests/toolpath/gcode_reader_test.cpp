@@ -186,6 +186,18 @@ TEST(GcodeStreaming, WarningsAreCappedWithACount) {
   EXPECT_NE(p.warnings.back().message.find("and 500 more warnings"), std::string::npos);
 }
 
+TEST(GcodeStreaming, ADeviceThatNeverEndsIsNotText) {
+  // Read whole (it cannot be mapped) in blocks, it stops at its first block: a NUL byte.
+  try {
+    read_gcode_file("/dev/zero");
+    ADD_FAILURE() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.location().source, "/dev/zero");
+    EXPECT_EQ(e.location().line, 1);
+    EXPECT_NE(e.message().find("holds a NUL byte: not a text file"), std::string::npos) << e.what();
+  }
+}
+
 TEST(GcodeStreaming, ADirectoryIsAnErrorNamingIt) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "cwe_dir.ngc";
   std::filesystem::create_directories(dir);

@@ -17,9 +17,15 @@ inline constexpr double kMillimetresPerInch = 25.4;
 // every sum, square and product a reader forms finite.
 inline constexpr double kLargestInputValue = 1e9;
 
+// A file read whole (not a regular file, which MappedText maps) may be this large.
+inline constexpr std::size_t kLargestTextFile = std::size_t{1} << 30;
+
 // The bytes of the file at `path`. Throws InputError naming the path and `what` ("G-code file",
-// "tool file", …) when it cannot be opened or read.
+// "tool file", …) when it cannot be opened or read, is a directory, holds a NUL byte (it is not
+// text: /dev/zero, a binary file) or is over kLargestTextFile.
 std::string read_text_file(const std::string& path, const std::string& what);
+// The same for a file that may be binary (an STL): NUL bytes allowed.
+std::string read_binary_file(const std::string& path, const std::string& what);
 
 // The bytes of a file, in memory without a copy on the heap: a regular file is mapped (its pages
 // come from the file as they are read and can be let go again), anything else (a pipe) is read
