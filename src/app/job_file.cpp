@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cwe/core/error.hpp"
+#include "cwe/core/json_input.hpp"
 #include "cwe/core/text_file.hpp"
 #include "cwe/toolpath/cl_sampling.hpp"
 
@@ -225,12 +226,7 @@ class JobFileReader {
 void read_job(SimulateCommandOptions& options) {
   if (options.job_file.empty()) return;
   const std::string text = read_text_file(options.job_file, "job file");
-  nlohmann::json job;
-  try {
-    job = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::exception& e) {  // parse errors, numbers beyond double range
-    throw InputError(SourceLocation{options.job_file}, fmt::format("not valid JSON: {}", e.what()));
-  }
+  nlohmann::json job = parse_json_input(text, options.job_file);
   if (!job.is_object()) throw InputError(SourceLocation{options.job_file}, "expected a JSON object");
   for (const auto& [key, value] : job.items()) {
     const auto known = std::find_if(std::begin(kJobKeys), std::end(kJobKeys),

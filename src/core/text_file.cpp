@@ -37,8 +37,7 @@ std::string read_whole(const std::string& path, const std::string& what, bool te
     }
     if (text.size() + got > kLargestTextFile) {
       throw InputError(SourceLocation{path},
-                       "the " + what + " is larger than " +
-                           std::to_string(kLargestTextFile >> 30) +
+                       "the " + what + " is larger than " + std::to_string(kLargestTextFile >> 30) +
                            " GiB read whole (a pipe or device; a regular file of any size is "
                            "mapped instead)");
     }

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cwe/core/error.hpp"
+#include "cwe/core/json_input.hpp"
 #include "cwe/core/text_file.hpp"
 
 namespace cwe {
@@ -112,13 +113,7 @@ MachineDefinition machine_from_json(const nlohmann::json& value, const std::stri
 }
 
 MachineDefinition read_machine_file(const std::string& path) {
-  nlohmann::json value;
-  try {
-    value = nlohmann::json::parse(read_text_file(path, "machine file"));
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(SourceLocation{path}, fmt::format("not valid JSON: {}", e.what()));
-  }
-  return machine_from_json(value, path);
+  return machine_from_json(parse_json_input(read_text_file(path, "machine file"), path), path);
 }
 
 }  // namespace cwe

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "cwe/core/json_input.hpp"
 #include "cwe/core/text_file.hpp"
 #include "cwe/process/cutting_coefficients.hpp"
 #include "cwe/tool/tool_spec.hpp"
@@ -132,12 +133,7 @@ ToolTable tool_table_from_json(const nlohmann::json& value, const std::string& s
 namespace {
 
 nlohmann::json read_json(const std::string& path, const char* what) {
-  const std::string text = read_text_file(path, what);
-  try {
-    return nlohmann::json::parse(text);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(SourceLocation{path}, fmt::format("not valid JSON: {}", e.what()));
-  }
+  return parse_json_input(read_text_file(path, what), path);
 }
 
 // A FreeCAD quantity, "6.0000 mm", "0.2500 in", "119.0000 °" or a bare number, in mm or degrees.

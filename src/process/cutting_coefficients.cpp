@@ -12,6 +12,7 @@
 
 #include "bundled_materials.hpp"
 #include "cwe/core/error.hpp"
+#include "cwe/core/json_input.hpp"
 #include "cwe/core/text_file.hpp"
 
 namespace cwe {
@@ -41,20 +42,6 @@ std::string lower_case(std::string_view text) {
   std::transform(out.begin(), out.end(), out.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return out;
-}
-
-// nlohmann's message without its "[json.exception.…] " tag and "parse error at line L, column C: "
-// prefix, which the InputError location already says.
-std::string json_error_detail(const nlohmann::json::exception& e) {
-  std::string detail = e.what();
-  if (const std::size_t tag = detail.find("] "); detail.starts_with("[") && tag != detail.npos) {
-    detail.erase(0, tag + 2);
-  }
-  if (detail.starts_with("parse error")) {
-    if (const std::size_t colon = detail.find(": "); colon != detail.npos)
-      detail.erase(0, colon + 2);
-  }
-  return detail;
 }
 
 // A key that differs from `wanted` only in case, to point out a misspelt key; empty if none.
@@ -91,17 +78,7 @@ CuttingCoefficients from_bundled(const detail::BundledMaterial& m) {
 CuttingCoefficients parse_cutting_coefficients(std::string_view json_text,
                                                const std::string& source) {
   const SourceLocation where{source};
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(json_text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(location_of(json_text, e.byte > 0 ? e.byte - 1 : 0, source),
-                     "not valid JSON: " + json_error_detail(e));
-  } catch (const nlohmann::json::exception& e) {
-    // nlohmann refuses numbers that overflow a double (1e999) with an out_of_range error that
-    // carries no position.
-    throw InputError(where, "not valid JSON: " + json_error_detail(e));
-  }
+  const nlohmann::json j = parse_json_input(json_text, source);
   if (!j.is_object()) {
     throw InputError(where, fmt::format("expected a JSON object {{\"Ktc\": …, \"Krc\": …, …}}; {}",
                                         kExpectedKeys));

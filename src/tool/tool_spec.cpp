@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cwe/core/error.hpp"
+#include "cwe/core/json_input.hpp"
 #include "cwe/core/text_file.hpp"
 
 namespace cwe {
@@ -220,15 +221,7 @@ Cutter cutter_from_file(const std::string& path) {
 }
 
 Cutter cutter_from_json(std::string_view text, const std::string& source) {
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(location_of(text, e.byte > 0 ? e.byte - 1 : 0, source),
-                     "not valid JSON: " + std::string(e.what()));
-  } catch (const nlohmann::json::exception& e) {  // a number beyond double range
-    throw InputError(SourceLocation{source}, "not valid JSON: " + std::string(e.what()));
-  }
+  const nlohmann::json j = parse_json_input(text, source);
   if (!j.is_object())
     throw InputError(SourceLocation{source}, "a tool file must hold a JSON object");
   for (const auto& [key, unused] : j.items()) {

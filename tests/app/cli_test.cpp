@@ -977,7 +977,9 @@ TEST(CliSimulate, FuzzFoundJobsAreInputErrors) {
     const Result r = run_cwe({"simulate", entry.path().string(), "--out",
                               scratch_dir("fuzz").string(), "--quiet"});
     EXPECT_EQ(r.status, 2) << entry.path() << ": " << r.err;
-    EXPECT_NE(r.err.find(entry.path().string() + ": error: "), std::string::npos) << r.err;
+    // Located: the number that overflows a double, at its line and column.
+    EXPECT_NE(r.err.find(entry.path().string() + ":1:"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("error: not valid JSON: number overflow"), std::string::npos) << r.err;
     EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
     ++files;
   }
@@ -1331,14 +1333,22 @@ TEST(CliSimulate, JobFileValuesAreChecked) {
   for (const char* bad : {R"("threads": 4294967297)", R"("threads": 0)", R"("flutes": 2.5)",
                           R"("ply": "yes")", R"("resolution": "fine")", R"("stock": 5)",
                           R"("helix": "steep")", R"("maps": 10)"}) {
+    const std::string key = std::string(bad).substr(1, std::string(bad).find('"', 1) - 1);
     std::ofstream(dir / "job.json")
-        << "{\"stock\": \"box:0,0,0,10,10,10\", \"tool\": \"flat:4\", \"path\": \"p.ngc\", "
-           "\"out\": \"out\", " << bad << "}";
+        << "{" << (key == "stock" ? "" : "\"stock\": \"box:0,0,0,10,10,10\", ")
+        << "\"tool\": \"flat:4\", \"path\": \"p.ngc\", \"out\": \"out\", " << bad << "}";
     const Result r = run_cwe({"simulate", (dir / "job.json").string()});
     EXPECT_EQ(r.status, 2) << bad;
-    const std::string key = std::string(bad).substr(1, std::string(bad).find('"', 1) - 1);
     EXPECT_NE(r.err.find("job.json: \"" + key + "\""), std::string::npos) << bad << ": " << r.err;
   }
+  // A key written twice: an error at the second, not the last one silently winning.
+  std::ofstream(dir / "job.json") << "{\"stock\": \"box:0,0,0,10,10,10\",\n \"tool\": \"flat:4\","
+                                     " \"tool\": \"ball:4\"}";
+  const Result twice = run_cwe({"simulate", (dir / "job.json").string()});
+  EXPECT_EQ(twice.status, 2);
+  EXPECT_NE(twice.err.find("job.json:2:20: error: key \"tool\" written twice in one object"),
+            std::string::npos)
+      << twice.err;
 }
 
 }  // namespace

@@ -92,7 +92,7 @@ TEST(CuttingCoefficients, ValuesMustBeFiniteNumbers) {
   EXPECT_INPUT_ERROR(
       parse_cutting_coefficients(
           R"({"Ktc": 1e999, "Krc": 170, "Kac": 220, "Kte": 27, "Kre": 30, "Kae": 1})", "s.json"),
-      "s.json: error: not valid JSON: number overflow parsing '1e999'");
+      "s.json:1:9: error: not valid JSON: number overflow parsing '1e999'");
   // Finite but beyond any machining quantity (kLargestInputValue).
   EXPECT_INPUT_ERROR(
       parse_cutting_coefficients(
