@@ -10,6 +10,7 @@
 #include "cwe/core/assert.hpp"
 #include "cwe/core/error.hpp"
 #include "cwe/process/cutting_coefficients.hpp"
+#include "cli_checks.hpp"
 #include "envelope_command.hpp"
 #include "path_command.hpp"
 #include "schedule_command.hpp"
@@ -42,8 +43,9 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
     app.parse(reversed);
   } catch (const CLI::ParseError& e) {
     // Help and version requests are "errors" to CLI11 with exit code 0.
-    const int code = app.exit(e, out, err);
-    return code == 0 ? 0 : 2;
+    if (e.get_exit_code() == 0) return app.exit(e, out, err);
+    err << cli_error_message(e) << '\n';
+    return 2;
   }
   try {
     if (app.got_subcommand("tool")) return run_tool_command(tool_options, out);

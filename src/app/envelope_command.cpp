@@ -1,5 +1,7 @@
 #include "envelope_command.hpp"
 
+#include "cli_checks.hpp"
+
 #include <charconv>
 #include <filesystem>
 #include <map>
@@ -89,6 +91,7 @@ void add_envelope_command(CLI::App& app, EnvelopeCommandOptions& options) {
   cmd->add_option("--machine", options.machine,
                   "Machine definition (JSON: work offsets, G28/G30 positions, travel)");
   cmd->add_option("--tolerance", options.tolerance, "Swept-volume tolerance, mm")
+      ->check(positive("a positive length in mm"))
       ->capture_default_str();
   cmd->add_option("--fcs-at", options.fcs_at,
                   "Cutter locations, as move fractions u in [0, 1], at which the feasible contact "

@@ -1,4 +1,5 @@
 #include "job_file.hpp"
+#include "cli_checks.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -120,6 +121,13 @@ class JobFileReader {
         if (key.kind == Kind::kNumber ? field != 0.0 : field >= 0.0) return;
         if (!value.is_number()) throw InputError(where(key.name), "expected a number");
         field = value.get<double>();
+        // 0 (or below) is never "the default" when written: it is refused.
+        if (key.kind == Kind::kNumber && !(field > 0.0)) {
+          throw InputError(where(key.name), fmt::format("{}: expected a positive number", field));
+        }
+        if (key.kind == Kind::kHelix && !(field >= 0.0)) {
+          throw InputError(where(key.name), fmt::format("{}: expected an angle of 0° or more", field));
+        }
         return;
       }
       case Kind::kCount: {
@@ -281,27 +289,35 @@ void add_job_options(CLI::App* cmd, SimulateCommandOptions& options) {
   cmd->add_flag("--tool-for-all", options.tool_for_all,
                 "Cut every move of a program that changes tools with the one --tool");
   cmd->add_option("--path", options.path, "Toolpath file (G-code or APT CLDATA)");
-  cmd->add_option("--resolution", options.resolution, "Ray spacing s, mm (default 0.1)");
+  const CLI::Validator length = positive("a positive length in mm");
+  cmd->add_option("--resolution", options.resolution, "Ray spacing s, mm (default 0.1)")
+      ->check(length);
   cmd->add_option("--tolerance", options.tolerance,
-                  "Subdivision tolerance of arcs, helices and 5-axis moves, mm (default s/10)");
+                  "Subdivision tolerance of arcs, helices and 5-axis moves, mm (default s/10)")
+      ->check(length);
   cmd->add_option("--threads", options.threads, "Worker threads (default: all cores)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive("a whole number of threads, at least 1"));
   cmd->add_option("--cl-step", options.cl_step,
                   "Cutter-location spacing along the tip path, mm (default: 0.5 or D/20, the "
-                  "smaller)");
+                  "smaller)")
+      ->check(length);
   cmd->add_option("--forces", options.forces,
                   "Cutting forces: a coefficient JSON file {Ktc,Krc,Kac,Kte,Kre,Kae} or a bundled "
                   "material (cwe materials lists them)");
   cmd->add_option("--spindle", options.spindle,
-                  "Spindle speed, rev/min (default: the program's S words or SPINDL records)");
+                  "Spindle speed, rev/min (default: the program's S words or SPINDL records)")
+      ->check(positive("a positive speed in rev/min"));
   cmd->add_option("--feed", options.feed,
                   "Feed rate of every feed move for the force model, mm/min (default: the "
-                  "program's F words or FEDRAT records)");
+                  "program's F words or FEDRAT records)")
+      ->check(positive("a positive feed rate in mm/min"));
   cmd->add_option("--flutes", options.flutes, "Number of flutes (default: the tool's)")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--helix", options.helix, "Helix angle, degrees (default: the tool's)");
+      ->check(positive("a whole number of flutes, at least 1"));
+  cmd->add_option("--helix", options.helix, "Helix angle, degrees (default: the tool's)")
+      ->check(non_negative("an angle in degrees, 0 or more"));
   cmd->add_option("--force-step", options.force_step,
-                  "Spindle angle step of the force integration, degrees (default 1)");
+                  "Spindle angle step of the force integration, degrees (default 1)")
+      ->check(positive("a positive angle in degrees"));
   cmd->add_option("--runout", options.runout,
                   "Radial runout offset_mm[,angle_deg] of the cutter (default none)");
   cmd->add_flag("--quiet", options.quiet, "No progress bar");

@@ -1,5 +1,7 @@
 #include "path_command.hpp"
 
+#include "cli_checks.hpp"
+
 #include <algorithm>
 #include <map>
 
@@ -190,8 +192,10 @@ void add_path_command(CLI::App& app, PathCommandOptions& options) {
                    "Machine definition (JSON: work offsets G54…, G28/G30 positions, travel; "
                    "docs/gcode.md): what G53, G28, G30 and the work systems mean");
   path->add_option("--cl-step", options.cl_step, "CL spacing along the tip path, mm")
+      ->check(positive("a positive length in mm"))
       ->capture_default_str();
   path->add_option("--cl-angle", options.cl_angle_deg, "CL spacing in tool-axis turn, degrees")
+      ->check(positive("a positive angle in degrees"))
       ->capture_default_str();
 }
 

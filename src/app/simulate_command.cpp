@@ -27,6 +27,7 @@
 #include "cwe/toolpath/toolpath_reader.hpp"
 #include "cwe/workpiece/dexel/dexel_mesh.hpp"
 #include "cwe/io/cl_writers.hpp"
+#include "cli_checks.hpp"
 #include "job_file.hpp"
 
 namespace cwe::app {
@@ -86,7 +87,7 @@ void add_simulate_command(CLI::App& app, SimulateCommandOptions& options) {
   cmd->add_option("--mesh-stride", options.mesh_stride,
                   "Contour stock.stl on every k-th ray position (lattice k·s); default: the "
                   "smallest k giving at most about 1,000,000 triangles")
-      ->check(CLI::PositiveNumber);
+      ->check(positive("a whole number, at least 1"));
   cmd->add_flag("--ply", options.ply,
                 "Also write the stock as stock.ply (ASCII, double precision)");
   cmd->add_option("--maps", options.maps,

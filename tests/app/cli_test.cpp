@@ -923,6 +923,52 @@ TEST(CliSimulate, MachineDefinitionAndCompensationInAJob) {
       << bad.err;
 }
 
+// Command-line values are checked like every other value, and CLI11's own errors come in cwe's
+// form: OPTION: error: 'VALUE': expected …, exit 2. Written 0 is never "the default".
+TEST(CliErrors, CommandLineValuesInCwesForm) {
+  const std::vector<std::string> base = {"simulate", "--stock", "box:0,0,0,1,1,1", "--tool",
+                                         "flat:1",   "--path",  "x.ngc",           "--out", "o"};
+  const std::pair<std::vector<std::string>, std::string> cases[] = {
+      {{"--threads", "0"}, "--threads: error: '0': expected a whole number of threads, at least 1"},
+      {{"--resolution", "abc"}, "--resolution: error: 'abc': expected a positive length in mm"},
+      {{"--resolution", "0"}, "--resolution: error: '0': expected a positive length in mm"},
+      {{"--tolerance", "-1"}, "--tolerance: error: '-1': expected a positive length in mm"},
+      {{"--cl-step", "1e-400"}, "--cl-step: error: '1e-400': expected a positive length in mm"},
+      {{"--spindle", "0"}, "--spindle: error: '0': expected a positive speed in rev/min"},
+      {{"--feed", "nan"}, "--feed: error: 'nan': expected a positive feed rate in mm/min"},
+      {{"--helix", "-3"}, "--helix: error: '-3': expected an angle in degrees, 0 or more"},
+      {{"--force-step", "0"}, "--force-step: error: '0': expected a positive angle in degrees"},
+      {{"--flutes", "two"}, "--flutes: error: 'two': expected a whole number of flutes"},
+      {{"--no-such-option"}, "cwe: error: unexpected argument --no-such-option"},
+  };
+  for (const auto& [extra, expected] : cases) {
+    std::vector<std::string> args = base;
+    args.insert(args.end(), extra.begin(), extra.end());
+    const Result r = run_cwe(args);
+    EXPECT_EQ(r.status, 2) << expected;
+    EXPECT_EQ(r.err.rfind(expected, 0), 0u) << r.err;
+  }
+  const Result required = run_cwe({"path"});
+  EXPECT_EQ(required.status, 2);
+  EXPECT_EQ(required.err.rfind("file: error: required", 0), 0u) << required.err;
+  // In a job file, a written 0 is refused too, at its key.
+  const auto dir = scratch_dir("job_zero");
+  std::filesystem::create_directories(dir);
+  for (const char* key : {"resolution", "tolerance", "cl_step", "spindle", "feed", "force_step"}) {
+    std::ofstream(dir / "job.json") << nlohmann::json{{"stock", "box:0,0,0,10,10,10"},
+                                                      {"tool", "flat:4"},
+                                                      {"path", "p.ngc"},
+                                                      {"out", "out"},
+                                                      {key, 0}}
+                                           .dump();
+    const Result r = run_cwe({"simulate", (dir / "job.json").string()});
+    EXPECT_EQ(r.status, 2) << key;
+    EXPECT_NE(r.err.find(fmt::format("job.json: \"{}\": error: 0: expected a positive number", key)),
+              std::string::npos)
+        << r.err;
+  }
+}
+
 // LinuxCNC tool tables (tests/app/data: sim_mm.tbl and sim.tbl of LinuxCNC's sample
 // configurations): flat end mills of diameter D, in the table's units, unless a "cwe:" comment
 // names the cutter.
