@@ -1,9 +1,12 @@
 #include "simulate_command.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <charconv>
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -15,10 +18,12 @@
 #include <tbb/info.h>
 #include <nlohmann/json.hpp>
 
+#include "cli_checks.hpp"
 #include "cwe/core/error.hpp"
 #include "cwe/core/text_file.hpp"
 #include "cwe/io/atomic_file.hpp"
 #include "cwe/io/cl_sink.hpp"
+#include "cwe/io/cl_writers.hpp"
 #include "cwe/io/mesh_io.hpp"
 #include "cwe/job/run.hpp"
 #include "cwe/job/summary.hpp"
@@ -26,13 +31,10 @@
 #include "cwe/toolpath/cl_sampling.hpp"
 #include "cwe/toolpath/toolpath_reader.hpp"
 #include "cwe/workpiece/dexel/dexel_mesh.hpp"
-#include "cwe/io/cl_writers.hpp"
-#include "cli_checks.hpp"
 #include "job_file.hpp"
 
 namespace cwe::app {
 namespace {
-
 
 MapChoice parse_maps(const std::string& text, std::size_t cl_count, const char* option = "--maps") {
   const SourceLocation where{option};
@@ -129,16 +131,14 @@ void print_outputs(std::ostream& out, const SimulateCommandOptions& options, boo
   fmt::print(out,
              "  {}{}/stock.stl (machined stock, {} triangles on a {:g} mm lattice){}, "
              "{}/summary.json\n",
-             options.stock_only ? "outputs     " : "            ", options.out,
-             triangles, lattice,
+             options.stock_only ? "outputs     " : "            ", options.out, triangles, lattice,
              options.ply ? fmt::format(", {}/stock.ply", options.out) : std::string(), options.out);
 }
 
 // The terminal report of a run: what ran, volumes, engagement and force extremes, accuracy,
 // time, warnings and where the outputs are (lengths in `unit`).
-void print_report(std::ostream& out, const SimulateCommandOptions& options,
-                  const PreparedJob& job, const JobResult& run, const nlohmann::json& summary,
-                  const ReportUnit& unit) {
+void print_report(std::ostream& out, const SimulateCommandOptions& options, const PreparedJob& job,
+                  const JobResult& run, const nlohmann::json& summary, const ReportUnit& unit) {
   const std::vector<PreparedOperation>& operations = job.operations;
   const SimulationOptions& simulation = job.simulation;
   const TriDexel& stock = run.stock;
@@ -165,16 +165,15 @@ void print_report(std::ostream& out, const SimulateCommandOptions& options,
   fmt::print(out,
              "  removed     {:.{}f} {}³ of {:.{}f} {}³ ({} moves cut material; family spread "
              "{:.{}f} {}³)\n",
-             (initial.mean() - final_volume.mean()) / cubed, 1 + 2 * unit.extra_decimals,
-             unit.name, initial.mean() / cubed, 1 + 2 * unit.extra_decimals, unit.name,
-             removal.cutting_moves, final_volume.spread() / cubed, 2 + 2 * unit.extra_decimals,
-             unit.name);
+             (initial.mean() - final_volume.mean()) / cubed, 1 + 2 * unit.extra_decimals, unit.name,
+             initial.mean() / cubed, 1 + 2 * unit.extra_decimals, unit.name, removal.cutting_moves,
+             final_volume.spread() / cubed, 2 + 2 * unit.extra_decimals, unit.name);
   if (!options.stock_only) {
     fmt::print(out,
                "  engagement  {} cutter locations, {} engaged; deepest {:.{}f} {}, largest "
                "contact {:.{}f} {}²\n",
-               cl_points, engaged_cls, unit.length(deepest), 2 + unit.extra_decimals,
-               unit.name, unit.area(largest_area), 1 + 2 * unit.extra_decimals, unit.name);
+               cl_points, engaged_cls, unit.length(deepest), 2 + unit.extra_decimals, unit.name,
+               unit.area(largest_area), 1 + 2 * unit.extra_decimals, unit.name);
   }
   if (job.forces) {
     fmt::print(out,
@@ -205,6 +204,47 @@ void print_report(std::ostream& out, const SimulateCommandOptions& options,
 
 }  // namespace
 
+// Before the long part: the outputs must not overwrite an input, and the folder must take files.
+void check_output_folder(const std::filesystem::path& folder, const SimulateCommandOptions& options,
+                         const PreparedJob& job) {
+  std::vector<std::pair<std::string, std::string>> inputs;  // (path, what)
+  if (options.stock.rfind("box:", 0) != 0) inputs.emplace_back(options.stock, "the stock");
+  for (const PreparedOperation& op : job.operations) inputs.emplace_back(op.path, "a program");
+  for (const auto& [path, what] :
+       {std::pair{options.tools, "the tool table"}, std::pair{options.machine, "the machine"},
+        std::pair{options.forces, "the cutting coefficients"},
+        std::pair{options.tool, "the tool file"}, std::pair{options.job_file, "the job file"}}) {
+    if (!path.empty()) inputs.emplace_back(path, what);
+  }
+  std::error_code ec;
+  const auto canonical = [&](const std::filesystem::path& p) {
+    return std::filesystem::weakly_canonical(p, ec);
+  };
+  for (const char* name : {"stock.stl", "stock.ply", "summary.json", "engagement.csv",
+                           "engagement.jsonl", "forces.csv", "maps", "force_curves"}) {
+    const std::filesystem::path output = canonical(folder / name);
+    for (const auto& [path, what] : inputs) {
+      const std::filesystem::path input = canonical(path);
+      const auto [end, _] = std::mismatch(output.begin(), output.end(), input.begin(), input.end());
+      if (end == output.end()) {  // the input is the output, or inside an output folder
+        throw InputError(SourceLocation{"--out"},
+                         fmt::format("{} is {}, which this run would overwrite: write the "
+                                     "outputs elsewhere",
+                                     path, what));
+      }
+    }
+  }
+  std::filesystem::create_directories(folder, ec);
+  const std::filesystem::path probe =
+      folder / fmt::format(".cwe-write-test-{}", static_cast<long>(::getpid()));
+  if (!std::ofstream(probe).good()) {
+    throw InputError(
+        SourceLocation{"--out"},
+        fmt::format("cannot write in {}: check the folder and its permissions", folder.string()));
+  }
+  std::filesystem::remove(probe, ec);
+}
+
 int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
                          std::ostream* progress) {
   const auto started = std::chrono::steady_clock::now();
@@ -231,6 +271,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   TriDexel initial_stock = make_stock(job.stock, simulation);  // before any output is opened
   const ReportUnit unit = ReportUnit::of(options.report_units);
   const std::filesystem::path folder(options.out);
+  check_output_folder(folder, options, job);
 
   ProgressBar bar(options.quiet ? nullptr : progress);
   std::optional<EngagementFiles> files;

@@ -969,6 +969,35 @@ TEST(CliErrors, CommandLineValuesInCwesForm) {
   }
 }
 
+// Before the long part: an output that is an input, or a folder that cannot take files, is an
+// error at --out, and nothing is written.
+TEST(CliSimulate, OutputsNeverOverwriteInputsAndTheFolderIsCheckedFirst) {
+  const auto dir = scratch_dir("outputs_checked");
+  std::filesystem::create_directories(dir / "out");
+  std::ofstream(dir / "p.ngc") << "G21 G0 X0 Y0 Z2\nG1 Z-1 F300\nX10\nM2\n";
+  // A stock kept as out/stock.stl, which the run writes.
+  run_cwe({"simulate", "--stock", "box:-5,-5,-3,15,5,0", "--tool", "flat:4", "--path",
+           (dir / "p.ngc").string(), "--out", (dir / "first").string(), "--stock-only",
+           "--quiet"});
+  std::filesystem::copy_file(dir / "first" / "stock.stl", dir / "out" / "stock.stl");
+  const auto before = std::filesystem::file_size(dir / "out" / "stock.stl");
+  const Result r = run_cwe({"simulate", "--stock", (dir / "out" / "stock.stl").string(), "--tool",
+                            "flat:4", "--path", (dir / "p.ngc").string(), "--out",
+                            (dir / "out").string(), "--quiet"});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.err.rfind("--out: error: ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("is the stock, which this run would overwrite"), std::string::npos);
+  EXPECT_EQ(std::filesystem::file_size(dir / "out" / "stock.stl"), before);
+  EXPECT_FALSE(std::filesystem::exists(dir / "out" / "summary.json"));
+  // An output folder below a file cannot be made.
+  std::ofstream(dir / "a_file") << "x";
+  const Result blocked = run_cwe({"simulate", "--stock", "box:-5,-5,-3,15,5,0", "--tool",
+                                  "flat:4", "--path", (dir / "p.ngc").string(), "--out",
+                                  (dir / "a_file" / "out").string(), "--quiet"});
+  EXPECT_EQ(blocked.status, 2);
+  EXPECT_EQ(blocked.err.rfind("--out: error: cannot write in", 0), 0u) << blocked.err;
+}
+
 // LinuxCNC tool tables (tests/app/data: sim_mm.tbl and sim.tbl of LinuxCNC's sample
 // configurations): flat end mills of diameter D, in the table's units, unless a "cwe:" comment
 // names the cutter.
