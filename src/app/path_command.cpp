@@ -68,10 +68,11 @@ struct PathTally {
   std::map<int, int> moves_per_tool;
   std::map<std::pair<int, int>, int> spindles;  // (rpm, direction) → feed moves
 
-  void add(const Move& m, const ClSampler& sampler);
+  void add(const Move& m, const ClSampler& sampler, const std::vector<std::string>& sources);
 };
 
-void PathTally::add(const Move& m, const ClSampler& sampler) {
+void PathTally::add(const Move& m, const ClSampler& sampler,
+                    const std::vector<std::string>& sources) {
   const double length = m.length();
   // The first move starts at an assumed position (the origin), not a programmed one.
   if (moves++ == 0 && !m.is_arc()) {
@@ -79,7 +80,7 @@ void PathTally::add(const Move& m, const ClSampler& sampler) {
   } else {
     bounds.extend(m.bounds());
   }
-  cl_points += static_cast<std::size_t>(sampler.steps(m));
+  cl_points += static_cast<std::size_t>(sampler.steps(m, &sources));
   ++moves_per_tool[m.tool];
   if (length <= tol::kLength && m.axis_angle() <= tol::kAngle) ++empty;
   if (m.axis_angle() > tol::kAngle) ++five_axis;
@@ -219,7 +220,9 @@ int run_path_command(const PathCommandOptions& options, std::ostream& out) {
   PathTally tally;
   const ReadToolpath read = read_toolpath_file(
       options.file, gcode,
-      [&](const Move& m, const std::vector<std::string>&) { tally.add(m, sampler); });
+      [&](const Move& m, const std::vector<std::string>& sources) {
+        tally.add(m, sampler, sources);
+      });
   if (options.dump) {
     read_toolpath_file(options.file, gcode,
                        [&](const Move& m, const std::vector<std::string>& sources) {

@@ -21,13 +21,26 @@ ClSampler::ClSampler(const SamplingOptions& options) : options_(options) {
   }
 }
 
-int ClSampler::steps(const Move& move) const {
+int ClSampler::steps(const Move& move, const std::vector<std::string>* sources) const {
   if (move.is_rapid() && !options_.include_rapids) return 0;
   const double length = move.length();
   const double turn = move.axis_angle();
   if (length <= tol::kLength && turn <= tol::kAngle) return 0;  // nothing moves
-  return static_cast<int>(std::max({1.0, std::ceil(length / options_.step - tol::kRelative),
-                                    std::ceil(turn / options_.angular_step - tol::kRelative)}));
+  const double n = std::max({1.0, std::ceil(length / options_.step - tol::kRelative),
+                             std::ceil(turn / options_.angular_step - tol::kRelative)});
+  if (!(n <= kMostPerMove)) {  // also NaN: never cast to int
+    const std::string file =
+        sources != nullptr && static_cast<std::size_t>(move.source) < sources->size()
+            ? (*sources)[static_cast<std::size_t>(move.source)]
+            : std::string();
+    throw InputError(
+        SourceLocation{file, move.line},
+        fmt::format("this move would get {:.3g} cutter locations ({:.6g} mm at {:g} "
+                    "mm, {:.4g} rad at {:.4g} rad), more than {:g} in one move: "
+                    "raise the CL step (--cl-step, --cl-angle) or check the move",
+                    n, length, options_.step, turn, options_.angular_step, kMostPerMove));
+  }
+  return static_cast<int>(n);
 }
 
 void ClSampler::next(const Move& move, int index, std::vector<ClPoint>& out) {
@@ -76,7 +89,9 @@ std::vector<ClPoint> sample_cl_points(const Toolpath& path, const SamplingOption
 std::size_t count_cl_points(const Toolpath& path, const SamplingOptions& options) {
   const ClSampler sampler(options);
   std::size_t count = 0;
-  for (const Move& move : path.moves) count += static_cast<std::size_t>(sampler.steps(move));
+  for (const Move& move : path.moves) {
+    count += static_cast<std::size_t>(sampler.steps(move, &path.sources));
+  }
   return count;
 }
 

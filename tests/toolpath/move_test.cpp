@@ -186,6 +186,31 @@ TEST(ClSampling, MoveByMoveCountedAndWholeAgree) {
   EXPECT_EQ(sampler.steps(path.moves[1]), 11);  // ⌈3.3 / 0.3⌉
 }
 
+// A move that would get more CL points than one move may hold (a typo: X999999999, a CL step of
+// 1e-9) is an error at its file and line before any is made, never an int overflow.
+TEST(ClSampling, TooManyPointsInOneMoveIsALocatedError) {
+  Toolpath path;
+  path.sources = {"p.ngc"};
+  Move m;
+  m.end = Vec3(1e9, 0, 0);
+  m.feed_rate = 100;
+  m.line = 7;
+  path.moves.push_back(m);
+  try {
+    count_cl_points(path, SamplingOptions{});
+    ADD_FAILURE() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.location().source, "p.ngc");
+    EXPECT_EQ(e.location().line, 7);
+    EXPECT_NE(e.message().find("2e+09 cutter locations"), std::string::npos) << e.what();
+  }
+  // At the limit it is counted: 1e6 steps of 1 mm.
+  path.moves[0].end = Vec3(1e6, 0, 0);
+  SamplingOptions one_mm;
+  one_mm.step = 1.0;
+  EXPECT_EQ(count_cl_points(path, one_mm), 1000000u);
+}
+
 TEST(ClSampling, VelocitiesFromTheFeedRate) {
   const Toolpath path = path_of({line({0, 0, 0}, {10, 0, 0}, 600)});  // 10 mm/s along +X
   const auto points = sample_cl_points(path);

@@ -42,9 +42,12 @@ class ClSampler {
   // Throws InputError when a step is not positive.
   explicit ClSampler(const SamplingOptions& options);
 
+  // At most this many samples in one move (their memory is held together, ~150 bytes each).
+  static constexpr double kMostPerMove = 1e6;
   // How many samples a move gets (0 for a rapid unless rapids are included, and for a move that
-  // neither moves nor turns).
-  int steps(const Move& move) const;
+  // neither moves nor turns). Throws InputError at the move's line (in `sources`, when given)
+  // when that is more than kMostPerMove.
+  int steps(const Move& move, const std::vector<std::string>* sources = nullptr) const;
   // Replaces `out` with the samples of `move`, index `index` in its toolpath; moves must come in
   // order (the path length runs on from the moves before).
   void next(const Move& move, int index, std::vector<ClPoint>& out);
@@ -56,7 +59,7 @@ class ClSampler {
 
 // Every CL point of the toolpath. Throws InputError when a step is not positive.
 std::vector<ClPoint> sample_cl_points(const Toolpath& path, const SamplingOptions& options = {});
-// How many that gives, without making them.
+// How many that gives, without making them; throws InputError for a move with too many.
 std::size_t count_cl_points(const Toolpath& path, const SamplingOptions& options = {});
 
 }  // namespace cwe
