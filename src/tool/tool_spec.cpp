@@ -66,6 +66,11 @@ std::vector<Number> parse_numbers(std::string_view text, int first_column,
     if (ec != std::errc() || end != item.data() + item.size() || !std::isfinite(number.value)) {
       throw InputError(at(where, column), fmt::format("expected a number, found '{}'", item));
     }
+    if (std::abs(number.value * number.scale) > kLargestInputValue) {
+      throw InputError(at(where, column),
+                       fmt::format("'{}' is beyond the largest value cwe takes ({:g})", item,
+                                   kLargestInputValue));
+    }
     out.push_back(number);
     if (comma == std::string_view::npos) break;
     pos = comma + 1;
@@ -102,29 +107,39 @@ AptCutter apt_from_spec(std::string_view type, const std::vector<Number>& v,
     }
     return i < v.size() ? v[i].value : 0.0;
   };
+  // The flute height h, last of each form: written, it must be positive (left out: the default).
+  const auto height = [&](std::size_t i) {
+    if (i < v.size() && !(value(i) > 0.0)) {
+      throw InputError(at(where, v[i].column),
+                       fmt::format("h = {:g}: the height must be positive (leave it out for the "
+                                   "default)",
+                                   value(i)));
+    }
+    return value(i);
+  };
   if (type == "flat") {
     arity(1, 2, "D[,h]");
-    return flat_end_mill(value(0), value(1), loc(0));
+    return flat_end_mill(value(0), height(1), loc(0));
   }
   if (type == "ball") {
     arity(1, 2, "D[,h]");
-    return ball_end_mill(value(0), value(1), loc(0));
+    return ball_end_mill(value(0), height(1), loc(0));
   }
   if (type == "bull") {
     arity(2, 3, "D,r[,h]");
-    return bull_nose_end_mill(value(0), value(1), value(2), loc(1));
+    return bull_nose_end_mill(value(0), value(1), height(2), loc(1));
   }
   if (type == "taper-flat") {
     arity(2, 3, "D,beta_deg[,h]");
-    return taper_flat_end_mill(value(0), angle(1), value(2), loc(1));
+    return taper_flat_end_mill(value(0), angle(1), height(2), loc(1));
   }
   if (type == "taper-ball") {
     arity(2, 3, "D,beta_deg[,h]");
-    return taper_ball_end_mill(value(0), angle(1), value(2), loc(1));
+    return taper_ball_end_mill(value(0), angle(1), height(2), loc(1));
   }
   if (type == "chamfer") {
     arity(2, 3, "D,tip_angle_deg[,h]");
-    return chamfer_mill(value(0), angle(1), value(2), loc(1));
+    return chamfer_mill(value(0), angle(1), height(2), loc(1));
   }
   if (type == "apt") {
     arity(1, 7, "d[,r[,e,f[,alpha_deg,beta_deg[,h]]]]");

@@ -41,6 +41,14 @@ TEST(ToolSpec, ErrorsNameTheColumn) {
   EXPECT_INPUT_ERROR(cutter_from_spec("bull:10"), "'bull' takes D,r[,h] (1 value given)");
   EXPECT_INPUT_ERROR(cutter_from_spec("flat:-10"), "tool spec:1:6: error: D = -10");
   EXPECT_INPUT_ERROR(cutter_from_spec("flat:1e999"), "expected a number, found '1e999'");
+  // Finite but beyond any tool, and a written height that is not positive (it once silently
+  // meant the default).
+  EXPECT_INPUT_ERROR(cutter_from_spec("flat:1e308"),
+                     "tool spec:1:6: error: '1e308' is beyond the largest value cwe takes");
+  EXPECT_INPUT_ERROR(cutter_from_spec("flat:10,-5"),
+                     "tool spec:1:9: error: h = -5: the height must be positive");
+  EXPECT_INPUT_ERROR(cutter_from_spec("ball:6,0"), "tool spec:1:8: error: h = 0");
+  EXPECT_INPUT_ERROR(cutter_from_spec("chamfer:10,90,-1"), "tool spec:1:15: error: h = -1");
   EXPECT_INPUT_ERROR(cutter_from_spec("ten mm"), "is not a tool specification");
   EXPECT_INPUT_ERROR(cutter_from_spec("apt:10,2,3,2.5,0,0,30"), "f = 2.5 does not fit");
 }
