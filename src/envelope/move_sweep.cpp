@@ -12,11 +12,24 @@
 namespace cwe {
 namespace {
 
-// Steps of a circle of radius r whose chords have sagitta r(1 - cos(θ/2)) ≤ deviation.
-int steps_for(double radius, double angle, double deviation) {
-  if (radius <= deviation || angle <= 0.0) return 1;
+// A sweep is cut into at most this many pieces along its path (their memory is held together).
+constexpr double kMostPathPieces = 1e6;
+
+// Steps of a circle of radius r whose chords have sagitta r(1 - cos(θ/2)) ≤ deviation, as a
+// double (checked against kMostPathPieces before any cast).
+double steps_for(double radius, double angle, double deviation) {
+  if (radius <= deviation || angle <= 0.0) return 1.0;
   const double step = 2.0 * std::acos(1.0 - deviation / radius);
-  return std::max(1, static_cast<int>(std::ceil(angle / step - tol::kRelative)));
+  return std::max(1.0, std::ceil(angle / step - tol::kRelative));
+}
+
+// `pieces` as an int, or an InputError that blames the tolerance (or the move).
+int checked_pieces(double pieces, double tolerance, const Move& move) {
+  if (pieces <= kMostPathPieces) return static_cast<int>(pieces);
+  throw InputError(SourceLocation{"--tolerance"},
+                   fmt::format("{:g} mm would cut the move at line {} into {:.3g} pieces, more "
+                               "than {:g}: raise the tolerance (or check the move)",
+                               tolerance, move.line, pieces, kMostPathPieces));
 }
 
 // A convex slab: a flat bottom out to the piece's lower radius (none on the axis), then the
@@ -58,7 +71,14 @@ ConvexParts::ConvexParts(const Cutter& cutter, double tolerance)
       pieces.push_back(s);
       continue;
     }
-    const int steps = steps_for(s.radius, std::abs(s.end_angle() - s.start_angle()), tolerance);
+    const double count = steps_for(s.radius, std::abs(s.end_angle() - s.start_angle()), tolerance);
+    if (!(count <= kMostPathPieces)) {
+      throw InputError(SourceLocation{"--tolerance"},
+                       fmt::format("{:g} mm would cut a concave arc of the cutter's profile into "
+                                   "{:.3g} pieces, more than {:g}: raise the tolerance",
+                                   tolerance, count, kMostPathPieces));
+    }
+    const int steps = static_cast<int>(count);
     const double sagitta =
         s.radius * (1.0 - std::cos(std::abs(s.end_angle() - s.start_angle()) / (2.0 * steps)));
     deviation_ = std::max(deviation_, sagitta);
@@ -80,13 +100,16 @@ MoveSweep::MoveSweep(const ConvexParts& parts, const Move& move) {
   const double tolerance = parts.tolerance();
   const BoundingCylinder b = parts.cutter().bounding_cylinder();
   const double reach = std::hypot(b.radius, b.z_max);
-  if (move.is_arc())
-    path_pieces_ = std::max(path_pieces_, steps_for(move.radius(), move.sweep, tolerance));
+  if (move.is_arc()) {
+    path_pieces_ =
+        std::max(path_pieces_,
+                 checked_pieces(steps_for(move.radius(), move.sweep, tolerance), tolerance, move));
+  }
   const double turn = move.axis_angle();
   if (turn > tol::kAngle) {
     // The mean axis is within turn/(2·pieces) of every axis of its piece.
-    path_pieces_ =
-        std::max(path_pieces_, static_cast<int>(std::ceil(turn * reach / (2.0 * tolerance))));
+    path_pieces_ = std::max(
+        path_pieces_, checked_pieces(std::ceil(turn * reach / (2.0 * tolerance)), tolerance, move));
   }
   const bool turning = turn > tol::kAngle;
   const bool exact = !move.is_arc() && !turning;

@@ -155,5 +155,24 @@ TEST(MoveSweep, ArcsHelicesAndFiveAxisBySubdivision) {
   }
 }
 
+// A tolerance far below any machining need would cut a move into millions of pieces (44 s to
+// bad_alloc once): an error at --tolerance that names the move, before anything is allocated.
+TEST(MoveSweep, TooManyPiecesIsAnErrorAtTheTolerance) {
+  const Cutter cutter = cutter_from_spec("flat:10,20");
+  Move full = arc({20, 0, 0}, {0, 0, 0}, 2 * kPi, 0.0);
+  full.line = 31;
+  const ConvexParts fine(cutter, 1e-12);
+  try {
+    MoveSweep sweep(fine, full);
+    ADD_FAILURE() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.location().source, "--tolerance");
+    EXPECT_NE(e.message().find("would cut the move at line 31 into"), std::string::npos)
+        << e.what();
+  }
+  // A full circle of radius 20 at 1e-9 mm: 2π / (2·acos(1 - 1e-9/20)) ≈ π·1e5 steps, within it.
+  EXPECT_NEAR(MoveSweep(ConvexParts(cutter, 1e-9), full).path_pieces(), kPi * 1e5, 2.0);
+}
+
 }  // namespace
 }  // namespace cwe
