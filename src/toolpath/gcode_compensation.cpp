@@ -98,7 +98,6 @@ void CutterCompensation::scale(double factor, bool inches) {
   emitted_ *= factor;
   endpoint_ *= factor;
   for (Held& q : queue_) {
-    q.move.start *= factor;
     q.move.end *= factor;
     q.move.center *= factor;
   }

@@ -51,8 +51,7 @@ void Interpreter::setup_offsets(const Block& block) {
     if (!(block['p'].value >= 1.0)) {
       fail(block['p'].column, fmt::format("G10 L{} needs a tool number P of 1 or more", l));
     }
-    if (!warned_tool_data_) {
-      warned_tool_data_ = true;
+    if (first_warning("tool data")) {
       warn(line_, column,
            fmt::format("G10 L{} (tool table data) changes nothing on the tip path "
                        "cwe reads; later G10 L1, L10 and L11 lines say nothing",
@@ -150,8 +149,7 @@ void Interpreter::set_up_machine(const MachineDefinition& machine) {
 }
 
 void Interpreter::warn_machine(const char* what) {
-  if (warned_machine_ || options_.machine) return;
-  warned_machine_ = true;
+  if (options_.machine || !first_warning("machine")) return;
   warn(line_, 0,
        fmt::format("{}: machine coordinates are taken equal to the program's with "
                    "zero work offsets and no tool length offset (the stored positions "

@@ -187,8 +187,7 @@ void Interpreter::compensation_on(const Block& block, int code) {
 // The radius of `tool` in program units; 0 for no tool (T0), as LinuxCNC's empty spindle.
 double Interpreter::tool_radius(int tool, int column) {
   if (tool == 0) {
-    if (!warned_no_tool_radius_) {
-      warned_no_tool_radius_ = true;
+    if (first_warning("no tool radius")) {
       warn(line_, column,
            "cutter radius compensation with no tool in the spindle (tool 0): the radius is 0 and "
            "the path is not offset, as in LinuxCNC");

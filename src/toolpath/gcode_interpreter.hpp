@@ -29,6 +29,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -265,7 +266,6 @@ class Interpreter {
   // Cutter radius compensation (gcode_compensation.hpp), in the plane's coordinates.
   gcode::CutterCompensation compensation_{
       [this](const gcode::CompensatedMove& m) { emit_compensated(m); }};
-  bool warned_no_tool_radius_ = false;
   int compensation_code_ = kG40;  // the code that turned compensation on (G40: off)
   void compensation_on(const Block& block, int code);
   void compensation_off(int column);
@@ -458,9 +458,9 @@ class Interpreter {
   int origin_index_ = 1;
   Vec3 origin_offset_ = Vec3::Zero();
   Vec3 axis_offset_ = Vec3::Zero();
-  bool warned_machine_ = false;
-  bool warned_tool_data_ = false;
-  bool warned_zero_normal_offset_ = false;
+  // Warnings given once per program, later occurrences saying nothing: true the first time.
+  std::set<std::string, std::less<>> warned_;
+  bool first_warning(std::string_view kind) { return warned_.emplace(kind).second; }
   // Machine coordinates (mm) of a point in program coordinates, and the frame moves are reported
   // in (the machine definition's work system; without one, machine coordinates).
   Vec3 machine_mm(const Vec3& p) const { return (p + origin_offset_ + axis_offset_) * scale(); }

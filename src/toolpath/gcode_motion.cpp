@@ -269,8 +269,7 @@ void Interpreter::arc(const Block& block, int motion, int column) {
       if (w.value != 0.0) fail(w.column, what);
       // grbl posts write K0 on every XY arc (grbl ignores it; LinuxCNC refuses it): a zero
       // offset along the plane's normal changes nothing, so it is read with one warning.
-      if (!warned_zero_normal_offset_) {
-        warned_zero_normal_offset_ = true;
+      if (first_warning("zero normal offset")) {
         warn(line_, w.column,
              fmt::format("{} of 0: ignored, as grbl does (LinuxCNC refuses it); later ones say "
                          "nothing",
