@@ -18,20 +18,24 @@ double number_of(const std::string& text) {
   return value;
 }
 
-CLI::Validator bounded(const std::string& what, bool zero_allowed) {
+CLI::Validator bounded(const std::string& what, bool zero_allowed, bool whole = false) {
   return CLI::Validator(
-      [what, zero_allowed](const std::string& text) -> std::string {
+      [what, zero_allowed, whole](const std::string& text) -> std::string {
         const double value = number_of(text);
-        if (value > 0.0 || (zero_allowed && value == 0.0)) return {};
+        const bool in_range = value > 0.0 || (zero_allowed && value == 0.0);
+        if (in_range && (!whole || (value == std::floor(value) && value <= 2147483647.0))) {
+          return {};
+        }
         return fmt::format("'{}': expected {}", text, what);
       },
-      zero_allowed ? "NUMBER >= 0" : "NUMBER > 0");
+      whole ? "INTEGER >= 1" : (zero_allowed ? "NUMBER >= 0" : "NUMBER > 0"));
 }
 
 }  // namespace
 
 CLI::Validator positive(const std::string& what) { return bounded(what, false); }
 CLI::Validator non_negative(const std::string& what) { return bounded(what, true); }
+CLI::Validator count(const std::string& what) { return bounded(what, false, true); }
 
 std::string cli_error_message(const CLI::ParseError& e) {
   const std::string message = e.what();

@@ -11,6 +11,8 @@ namespace cwe::app {
 
 // A number > 0 (finite); `what` says what it is ("a positive length in mm").
 CLI::Validator positive(const std::string& what);
+// A whole number ≥ 1 (a count: threads, flutes).
+CLI::Validator count(const std::string& what);
 // A number ≥ 0 (finite).
 CLI::Validator non_negative(const std::string& what);
 

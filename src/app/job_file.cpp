@@ -296,7 +296,7 @@ void add_job_options(CLI::App* cmd, SimulateCommandOptions& options) {
                   "Subdivision tolerance of arcs, helices and 5-axis moves, mm (default s/10)")
       ->check(length);
   cmd->add_option("--threads", options.threads, "Worker threads (default: all cores)")
-      ->check(positive("a whole number of threads, at least 1"));
+      ->check(count("a whole number of threads, at least 1"));
   cmd->add_option("--cl-step", options.cl_step,
                   "Cutter-location spacing along the tip path, mm (default: 0.5 or D/20, the "
                   "smaller)")
@@ -312,7 +312,7 @@ void add_job_options(CLI::App* cmd, SimulateCommandOptions& options) {
                   "program's F words or FEDRAT records)")
       ->check(positive("a positive feed rate in mm/min"));
   cmd->add_option("--flutes", options.flutes, "Number of flutes (default: the tool's)")
-      ->check(positive("a whole number of flutes, at least 1"));
+      ->check(count("a whole number of flutes, at least 1"));
   cmd->add_option("--helix", options.helix, "Helix angle, degrees (default: the tool's)")
       ->check(non_negative("an angle in degrees, 0 or more"));
   cmd->add_option("--force-step", options.force_step,

@@ -89,7 +89,7 @@ void add_simulate_command(CLI::App& app, SimulateCommandOptions& options) {
   cmd->add_option("--mesh-stride", options.mesh_stride,
                   "Contour stock.stl on every k-th ray position (lattice k·s); default: the "
                   "smallest k giving at most about 1,000,000 triangles")
-      ->check(positive("a whole number, at least 1"));
+      ->check(count("a whole number, at least 1"));
   cmd->add_flag("--ply", options.ply,
                 "Also write the stock as stock.ply (ASCII, double precision)");
   cmd->add_option("--maps", options.maps,

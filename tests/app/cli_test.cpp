@@ -939,6 +939,8 @@ TEST(CliErrors, CommandLineValuesInCwesForm) {
       {{"--helix", "-3"}, "--helix: error: '-3': expected an angle in degrees, 0 or more"},
       {{"--force-step", "0"}, "--force-step: error: '0': expected a positive angle in degrees"},
       {{"--flutes", "two"}, "--flutes: error: 'two': expected a whole number of flutes"},
+      {{"--threads", "2.5"}, "--threads: error: '2.5': expected a whole number of threads"},
+      {{"--threads", "1e10"}, "--threads: error: '1e10': expected a whole number of threads"},
       {{"--no-such-option"}, "cwe: error: unexpected argument --no-such-option"},
   };
   for (const auto& [extra, expected] : cases) {
