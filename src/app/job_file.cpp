@@ -33,9 +33,8 @@ enum class Kind {
   kStock,         // a path unless a box
   kToolSpec,      // a path when it names a JSON tool file
   kCoefficients,  // a path when it names a JSON file, else a bundled material
-  kNumber,        // a number (0 on the command line: not given)
-  kHelix,         // a number (< 0 on the command line: not given)
-  kCount,         // a whole number of at least 1
+  kNumber,        // a number (checked where it is used: prepare_job)
+  kCount,         // a whole number
   kFlag,          // true or false
   kTools,         // a tool table: a file, or the table itself
   kMachine,       // a machine definition: a file, or the definition itself
@@ -43,16 +42,14 @@ enum class Kind {
   kComment,       // anything
 };
 
-using Field = std::variant<std::monostate, std::string Options::*, double Options::*,
-                           int Options::*, bool Options::*>;
+using Field = std::variant<std::monostate, std::string Options::*, std::optional<double> Options::*,
+                           std::optional<int> Options::*, bool Options::*>;
 
-// One key of a JSON job file: its name, how it is read, the option it fills and, for counts,
-// what is expected.
+// One key of a JSON job file: its name, how it is read and the option it fills.
 struct JobKey {
   const char* name;
   Kind kind;
   Field field;
-  const char* expected = "";
 };
 
 // The job file's keys, in the order they are read (units first: the stock and an inline tool
@@ -74,8 +71,8 @@ const JobKey kJobKeys[] = {
     {"operations", Kind::kOperations, {}},
     {"resolution", Kind::kNumber, &Options::resolution},
     {"tolerance", Kind::kNumber, &Options::tolerance},
-    {"threads", Kind::kCount, &Options::threads, "expected a whole number of threads, at least 1"},
-    {"mesh_stride", Kind::kCount, &Options::mesh_stride, "expected a whole number, at least 1"},
+    {"threads", Kind::kCount, &Options::threads},
+    {"mesh_stride", Kind::kCount, &Options::mesh_stride},
     {"ply", Kind::kFlag, &Options::ply},
     {"stock_only", Kind::kFlag, &Options::stock_only},
     {"cl_step", Kind::kNumber, &Options::cl_step},
@@ -84,19 +81,21 @@ const JobKey kJobKeys[] = {
     {"spindle", Kind::kNumber, &Options::spindle},
     {"feed", Kind::kNumber, &Options::feed},
     {"force_step", Kind::kNumber, &Options::force_step},
-    {"flutes", Kind::kCount, &Options::flutes, "expected a whole number of flutes, at least 1"},
-    {"helix", Kind::kHelix, &Options::helix},
+    {"flutes", Kind::kCount, &Options::flutes},
+    {"helix", Kind::kNumber, &Options::helix},
     {"runout", Kind::kText, &Options::runout},
     {"force_curves", Kind::kText, &Options::force_curves},
+    {"memory_limit", Kind::kText, &Options::memory_limit},
     {"comment", Kind::kComment, {}},
 };
 
 // A job file being read into options.
 class JobFileReader {
  public:
-  JobFileReader(Options& options, nlohmann::json job)
+  JobFileReader(Options& options, nlohmann::json job, JsonPlaces places)
       : options_(options),
         job_(std::move(job)),
+        places_(std::move(places)),
         folder_(std::filesystem::path(options.job_file).parent_path()) {}
 
   void read(const JobKey& key) {
@@ -111,40 +110,40 @@ class JobFileReader {
       case Kind::kCoefficients: {
         std::string& field = options_.*std::get<std::string Options::*>(key.field);
         if (!field.empty()) return;
-        if (!value.is_string()) throw InputError(where(key.name), "expected a string");
+        if (!value.is_string()) fail(key.name, "expected a string");
         field = text(key.kind, value.get<std::string>());
+        given(key.name);
         return;
       }
-      case Kind::kNumber:
-      case Kind::kHelix: {
-        double& field = options_.*std::get<double Options::*>(key.field);
-        if (key.kind == Kind::kNumber ? field != 0.0 : field >= 0.0) return;
-        if (!value.is_number()) throw InputError(where(key.name), "expected a number");
+      case Kind::kNumber: {
+        std::optional<double>& field =
+            options_.*std::get<std::optional<double> Options::*>(key.field);
+        if (field) return;
+        if (!value.is_number()) fail(key.name, "expected a number");
         field = value.get<double>();
-        // 0 (or below) is never "the default" when written: it is refused.
-        if (key.kind == Kind::kNumber && !(field > 0.0)) {
-          throw InputError(where(key.name), fmt::format("{}: expected a positive number", field));
-        }
-        if (key.kind == Kind::kHelix && !(field >= 0.0)) {
-          throw InputError(where(key.name), fmt::format("{}: expected an angle of 0° or more", field));
-        }
+        given(key.name);
         return;
       }
       case Kind::kCount: {
-        int& field = options_.*std::get<int Options::*>(key.field);
-        if (field != 0) return;
-        if (!value.is_number_integer() || value.get<long long>() < 1 ||
-            value.get<long long>() > std::numeric_limits<int>::max()) {
-          throw InputError(where(key.name), key.expected);
+        std::optional<int>& field = options_.*std::get<std::optional<int> Options::*>(key.field);
+        if (field) return;
+        // A whole number; its range is checked with the command line's (prepare_job).
+        const bool whole =
+            value.is_number_integer() ||
+            (value.is_number_float() && std::trunc(value.get<double>()) == value.get<double>());
+        if (!whole || std::abs(value.get<double>()) > std::numeric_limits<int>::max()) {
+          fail(key.name, fmt::format("{}: expected a whole number", value.dump()));
         }
-        field = value.get<int>();
+        field = static_cast<int>(value.get<double>());
+        given(key.name);
         return;
       }
       case Kind::kFlag: {
         bool& field = options_.*std::get<bool Options::*>(key.field);
         if (field) return;
-        if (!value.is_boolean()) throw InputError(where(key.name), "expected true or false");
+        if (!value.is_boolean()) fail(key.name, "expected true or false");
         field = value.get<bool>();
+        given(key.name);
         return;
       }
       case Kind::kTools:
@@ -152,8 +151,8 @@ class JobFileReader {
         if (value.is_string()) {
           options_.tools = text(Kind::kPath, value.get<std::string>());
         } else {
-          options_.tool_table = tool_table_from_json(value, where(key.name).source, folder_,
-                                                     unit_length(options_.units));
+          options_.tool_table =
+              tool_table_from_json(value, label(key.name), folder_, unit_length(options_.units));
         }
         return;
       case Kind::kMachine:
@@ -161,7 +160,7 @@ class JobFileReader {
         if (value.is_string()) {
           options_.machine = text(Kind::kPath, value.get<std::string>());
         } else {
-          options_.machine_definition = machine_from_json(value, where(key.name).source);
+          options_.machine_definition = machine_from_json(value, label(key.name));
         }
         return;
       case Kind::kOperations:
@@ -173,9 +172,28 @@ class JobFileReader {
   }
 
  private:
-  SourceLocation where(const std::string& key) const {
-    return SourceLocation{fmt::format("{}: \"{}\"", options_.job_file, key)};
+  // The place of the value of `key` (a JSON pointer below the top object: "operations/0").
+  SourceLocation where(const std::string& key) const { return places_.at("/" + key); }
+
+  // The job file and key, naming a value whose own reader reports no line (tools, machine).
+  std::string label(const std::string& key) const {
+    return fmt::format("{}: \"{}\"", options_.job_file, key);
   }
+
+  // An error at the value of `key` (a pointer below the top: "operations/2"), naming it.
+  [[noreturn]] void fail(const std::string& key, const std::string& message) const {
+    std::string name = "\"" + key + "\"";
+    if (const std::size_t slash = key.find('/'); slash != key.npos) {
+      const std::size_t next = key.find('/', slash + 1);
+      name = fmt::format("\"{}\"[{}]", key.substr(0, slash),
+                         key.substr(slash + 1, next == key.npos ? key.npos : next - slash - 1));
+      if (next != key.npos) name += fmt::format(".\"{}\"", key.substr(next + 1));
+    }
+    throw InputError(where(key), fmt::format("{}: {}", name, message));
+  }
+
+  // Notes where the job file gave `key`, for the errors of checks made later.
+  void given(const std::string& key) { options_.given_at[key] = where(key); }
 
   std::string relative(const std::string& value) const {
     if (value.empty() || !std::filesystem::path(value).is_relative()) return value;
@@ -200,24 +218,22 @@ class JobFileReader {
   // Toolpaths run one after the other on the same stock, each with its tool.
   void operations(const nlohmann::json& list) {
     if (!list.is_array() || list.empty()) {
-      throw InputError(where("operations"), "expected a non-empty array of {\"tool\", \"path\"}");
+      fail("operations", "expected a non-empty array of {\"tool\", \"path\"}");
     }
     for (std::size_t k = 0; k < list.size(); ++k) {
       const nlohmann::json& op = list[k];
-      const SourceLocation at{fmt::format("{}: \"operations\"[{}]", options_.job_file, k)};
-      if (!op.is_object()) throw InputError(at, "expected an object {\"tool\", \"path\"}");
+      const std::string at = fmt::format("operations/{}", k);
+      if (!op.is_object()) fail(at, "expected an object {\"tool\", \"path\"}");
       for (const auto& [key, value] : op.items()) {
         if (key != "tool" && key != "path" && key != "comment") {
-          throw InputError(at,
-                           fmt::format("unknown key \"{}\"; expected tool, path or comment", key));
+          fail(at + "/" + json_pointer_token(key),
+               fmt::format("unknown key \"{}\"; expected tool, path or comment", key));
         }
       }
       if (!op.contains("path") || !op["path"].is_string()) {
-        throw InputError(at, "expected \"path\": a toolpath file");
+        fail(at, "expected \"path\": a toolpath file");
       }
-      if (op.contains("tool") && !op["tool"].is_string()) {
-        throw InputError(at, "expected \"tool\" to be a string");
-      }
+      if (op.contains("tool") && !op["tool"].is_string()) fail(at + "/tool", "expected a string");
       options_.operations.push_back({text(Kind::kToolSpec, op.value("tool", std::string())),
                                      relative(op["path"].get<std::string>())});
     }
@@ -225,6 +241,7 @@ class JobFileReader {
 
   Options& options_;
   nlohmann::json job_;
+  JsonPlaces places_;
   std::filesystem::path folder_;
 };
 
@@ -235,18 +252,21 @@ void read_job(SimulateCommandOptions& options) {
   if (options.job_file.empty()) return;
   const std::string text = read_text_file(options.job_file, "job file");
   nlohmann::json job = parse_json_input(text, options.job_file);
-  if (!job.is_object()) throw InputError(SourceLocation{options.job_file}, "expected a JSON object");
+  JsonPlaces places(text, options.job_file);
+  if (!job.is_object())
+    throw InputError(SourceLocation{options.job_file}, "expected a JSON object");
   for (const auto& [key, value] : job.items()) {
     const auto known = std::find_if(std::begin(kJobKeys), std::end(kJobKeys),
                                     [&](const JobKey& k) { return key == k.name; });
     if (known == std::end(kJobKeys)) {
       std::vector<std::string> names;
       for (const JobKey& k : kJobKeys) names.emplace_back(k.name);
-      throw InputError(SourceLocation{fmt::format("{}: \"{}\"", options.job_file, key)},
-                       fmt::format("unknown key; expected one of {}", fmt::join(names, ", ")));
+      throw InputError(
+          places.at("/" + json_pointer_token(key)),
+          fmt::format("unknown key \"{}\"; expected one of {}", key, fmt::join(names, ", ")));
     }
   }
-  JobFileReader reader(options, std::move(job));
+  JobFileReader reader(options, std::move(job), std::move(places));
   for (const JobKey& key : kJobKeys) {
     reader.read(key);
     if (std::string_view(key.name) == "units") check_units(options.units, "--units");
@@ -320,6 +340,9 @@ void add_job_options(CLI::App* cmd, SimulateCommandOptions& options) {
       ->check(positive("a positive angle in degrees"));
   cmd->add_option("--runout", options.runout,
                   "Radial runout offset_mm[,angle_deg] of the cutter (default none)");
+  cmd->add_option("--memory-limit", options.memory_limit,
+                  "Most memory the run may take: 16G, 4096M or 50% (default 80% of physical "
+                  "memory); a resolution or program that would need more is refused at the start");
   cmd->add_flag("--quiet", options.quiet, "No progress bar");
 }
 

@@ -173,6 +173,7 @@ void print_schedule_report(std::ostream& out, const FeedLimit& limit, const Prep
                  s.exceeded, p.first_exceeded_line);
     }
   }
+  for (const Diagnostic& d : job.warnings) fmt::print(out, "  warning: {}\n", d.message);
   for (const ScheduledFile& file : files) {
     fmt::print(out, "  scheduled program: {}\n", file.target.string());
   }

@@ -25,6 +25,7 @@
 #include "cwe/io/cl_sink.hpp"
 #include "cwe/io/cl_writers.hpp"
 #include "cwe/io/mesh_io.hpp"
+#include "cwe/io/output_set.hpp"
 #include "cwe/job/run.hpp"
 #include "cwe/job/summary.hpp"
 #include "cwe/simulation/simulation.hpp"
@@ -199,12 +200,22 @@ void print_report(std::ostream& out, const SimulateCommandOptions& options, cons
     fmt::print(out, "  warning     the toolpath readers reported {} warnings; see summary.json\n",
                warning_count);
   }
+  for (const Diagnostic& d : job.warnings) fmt::print(out, "  warning     {}\n", d.message);
   print_outputs(out, options, job.forces.has_value(), summary);
 }
 
 }  // namespace
 
-// Before the long part: the outputs must not overwrite an input, and the folder must take files.
+// Before the long part: the outputs must not overwrite an input (the folder is replaced whole).
+namespace {
+
+// The names `cwe simulate` writes in its folder.
+const std::vector<std::string> kSimulateOutputs = {
+    "stock.stl",        "stock.ply",  "summary.json", "engagement.csv",
+    "engagement.jsonl", "forces.csv", "maps",         "force_curves"};
+
+}  // namespace
+
 void check_output_folder(const std::filesystem::path& folder, const SimulateCommandOptions& options,
                          const PreparedJob& job) {
   std::vector<std::pair<std::string, std::string>> inputs;  // (path, what)
@@ -220,29 +231,18 @@ void check_output_folder(const std::filesystem::path& folder, const SimulateComm
   const auto canonical = [&](const std::filesystem::path& p) {
     return std::filesystem::weakly_canonical(p, ec);
   };
-  for (const char* name : {"stock.stl", "stock.ply", "summary.json", "engagement.csv",
-                           "engagement.jsonl", "forces.csv", "maps", "force_curves"}) {
-    const std::filesystem::path output = canonical(folder / name);
-    for (const auto& [path, what] : inputs) {
-      const std::filesystem::path input = canonical(path);
-      const auto [end, _] = std::mismatch(output.begin(), output.end(), input.begin(), input.end());
-      if (end == output.end()) {  // the input is the output, or inside an output folder
-        throw InputError(SourceLocation{"--out"},
-                         fmt::format("{} is {}, which this run would overwrite: write the "
-                                     "outputs elsewhere",
-                                     path, what));
-      }
+  const std::filesystem::path output = canonical(folder);
+  for (const auto& [path, what] : inputs) {
+    if (!std::filesystem::exists(path, ec)) continue;  // a bundled material, a tool spec
+    const std::filesystem::path input = canonical(path);
+    const auto [end, _] = std::mismatch(output.begin(), output.end(), input.begin(), input.end());
+    if (end == output.end()) {  // the input is inside the folder, or is it
+      throw InputError(SourceLocation{"--out"},
+                       fmt::format("{} is {}, inside the output folder, which this run replaces: "
+                                   "write the outputs elsewhere",
+                                   path, what));
     }
   }
-  std::filesystem::create_directories(folder, ec);
-  const std::filesystem::path probe =
-      folder / fmt::format(".cwe-write-test-{}", static_cast<long>(::getpid()));
-  if (!std::ofstream(probe).good()) {
-    throw InputError(
-        SourceLocation{"--out"},
-        fmt::format("cannot write in {}: check the folder and its permissions", folder.string()));
-  }
-  std::filesystem::remove(probe, ec);
 }
 
 int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
@@ -252,6 +252,12 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   require(options.out, "output folder", "--out");
   check_units(options.report_units, "--report-units");
   PreparedJob job = prepare_job(options);
+  if (options.mesh_stride && (*options.mesh_stride < 1 || *options.mesh_stride > 1'000'000)) {
+    const SourceLocation where = options.origin("mesh_stride");
+    throw InputError(where,
+                     fmt::format("{}{}: expected a whole number, 1 to 1000000",
+                                 where.line > 0 ? "\"mesh_stride\": " : "", *options.mesh_stride));
+  }
   const SimulationOptions& simulation = job.simulation;
   const int threads = job.threads;
   const tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
@@ -270,8 +276,9 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
       parse_maps(job.forces ? options.force_curves : "none", cl_count, "--force-curves");
   TriDexel initial_stock = make_stock(job.stock, simulation);  // before any output is opened
   const ReportUnit unit = ReportUnit::of(options.report_units);
-  const std::filesystem::path folder(options.out);
-  check_output_folder(folder, options, job);
+  check_output_folder(options.out, options, job);
+  OutputSet outputs(options.out, kSimulateOutputs);
+  const std::filesystem::path& folder = outputs.staging();
 
   ProgressBar bar(options.quiet ? nullptr : progress);
   std::optional<EngagementFiles> files;
@@ -298,7 +305,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   const std::size_t maps_written = figures ? figures->maps_written() : 0;
   const std::size_t curves_written = figures ? figures->curves_written() : 0;
   const int stride =
-      options.mesh_stride > 0 ? options.mesh_stride : dexel_mesh_stride(stock, kStockMeshTriangles);
+      options.mesh_stride ? *options.mesh_stride : dexel_mesh_stride(stock, kStockMeshTriangles);
   const TriangleMesh mesh = dexel_mesh(stock, stride);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
@@ -324,6 +331,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   write_file_atomically(folder / "stock.stl", stl_binary(mesh, title));
   if (options.ply) write_file_atomically(folder / "stock.ply", ply_ascii(mesh, title));
   write_file_atomically(folder / "summary.json", summary_text);
+  outputs.publish();
 
   print_report(out, options, job, run, summary, unit);
   return 0;

@@ -28,7 +28,7 @@ struct SimulateCommandOptions : Job {
   // terminal report (summary.json stays in mm).
   std::string report_units;
   std::string out;
-  int mesh_stride = 0;      // 0: from the job, else chosen for ≤ kStockMeshTriangles
+  std::optional<int> mesh_stride;  // absent: chosen for ≤ kStockMeshTriangles
   bool ply = false;         // also write stock.ply
   std::string maps;         // every:N, cl:i,j,…, or none; empty: from the job, else ~10 maps
   bool stock_only = false;  // material removal only: no engagement outputs

@@ -1,6 +1,8 @@
 #include "cwe/core/json_input.hpp"
 
+#include <algorithm>
 #include <map>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -98,6 +100,142 @@ nlohmann::json parse_json_input(std::string_view text, const std::string& source
     }
     throw InputError(where, "not valid JSON: " + message);
   }
+}
+
+std::string json_pointer_token(std::string_view key) {
+  std::string token;
+  for (const char c : key) {
+    if (c == '~') {
+      token += "~0";
+    } else if (c == '/') {
+      token += "~1";
+    } else {
+      token += c;
+    }
+  }
+  return token;
+}
+
+namespace {
+
+// A walk over valid JSON text noting where each value starts.
+class PlaceScanner {
+ public:
+  PlaceScanner(std::string_view text, std::map<std::string, std::pair<int, int>, std::less<>>& out)
+      : text_(text), out_(out) {}
+
+  void run() {
+    blanks();
+    if (i_ < text_.size()) value("", 0);
+  }
+
+ private:
+  void blanks() {
+    while (i_ < text_.size() &&
+           (text_[i_] == ' ' || text_[i_] == '\t' || text_[i_] == '\n' || text_[i_] == '\r')) {
+      ++i_;
+    }
+  }
+
+  // The line and column of offset i_ (offsets only grow, so the count goes on from the last).
+  std::pair<int, int> here() {
+    for (; counted_ < i_ && counted_ < text_.size(); ++counted_) {
+      if (text_[counted_] == '\n') {
+        ++line_;
+        column_ = 1;
+      } else {
+        ++column_;
+      }
+    }
+    return {line_, column_};
+  }
+
+  // A string starting at i_ ('"'), its raw text between the quotes (escapes kept: keys with
+  // escapes are rare in these files, and such a key is then simply not found).
+  std::string_view string() {
+    const std::size_t start = ++i_;
+    while (i_ < text_.size() && text_[i_] != '"') i_ += text_[i_] == '\\' ? 2 : 1;
+    const std::string_view body = text_.substr(start, std::min(i_, text_.size()) - start);
+    ++i_;
+    return body;
+  }
+
+  // Skips a value nested too deep to index, without recursion.
+  void skip() {
+    int depth = 0;
+    do {
+      if (i_ >= text_.size()) return;
+      const char c = text_[i_];
+      if (c == '"') {
+        string();
+        continue;
+      }
+      if (c == '{' || c == '[') ++depth;
+      if (c == '}' || c == ']') --depth;
+      ++i_;
+    } while (depth > 0);
+  }
+
+  void value(const std::string& pointer, int depth) {
+    out_.emplace(pointer, here());
+    if (i_ >= text_.size()) return;
+    const char c = text_[i_];
+    if ((c == '{' || c == '[') && depth >= JsonPlaces::kDepth) {
+      skip();
+      return;
+    }
+    if (c == '{') {
+      ++i_;
+      blanks();
+      while (i_ < text_.size() && text_[i_] != '}') {
+        const std::string key = json_pointer_token(string());
+        blanks();
+        ++i_;  // ':'
+        blanks();
+        value(pointer + "/" + key, depth + 1);
+        blanks();
+        if (i_ < text_.size() && text_[i_] == ',') ++i_;
+        blanks();
+      }
+      ++i_;
+    } else if (c == '[') {
+      ++i_;
+      blanks();
+      for (std::size_t k = 0; i_ < text_.size() && text_[i_] != ']'; ++k) {
+        value(pointer + "/" + std::to_string(k), depth + 1);
+        blanks();
+        if (i_ < text_.size() && text_[i_] == ',') ++i_;
+        blanks();
+      }
+      ++i_;
+    } else if (c == '"') {
+      string();
+    } else {
+      while (i_ < text_.size() && text_[i_] != ',' && text_[i_] != '}' && text_[i_] != ']' &&
+             text_[i_] != ' ' && text_[i_] != '\t' && text_[i_] != '\n' && text_[i_] != '\r') {
+        ++i_;
+      }
+    }
+  }
+
+  std::string_view text_;
+  std::map<std::string, std::pair<int, int>, std::less<>>& out_;
+  std::size_t i_ = 0;
+  std::size_t counted_ = 0;
+  int line_ = 1;
+  int column_ = 1;
+};
+
+}  // namespace
+
+JsonPlaces::JsonPlaces(std::string_view text, std::string source) : source_(std::move(source)) {
+  PlaceScanner(text, places_).run();
+}
+
+SourceLocation JsonPlaces::at(const std::string& pointer) const {
+  const auto found = places_.find(pointer);
+  if (found == places_.end()) return SourceLocation{source_};
+  return SourceLocation{source_, found->second.first, found->second.second};
 }
 
 }  // namespace cwe

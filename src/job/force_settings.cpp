@@ -9,37 +9,17 @@
 
 namespace cwe {
 
-ForceSettings force_settings(const std::string& forces, double spindle, double feed, int flutes,
-                             double helix_deg, double step_deg, const std::string& runout) {
+ForceSettings force_settings(const std::string& forces, const ForceOverrides& overrides) {
   ForceSettings s;
   if (!forces.empty()) s.coefficients = load_cutting_coefficients(forces);
-  if (spindle < 0.0 || !std::isfinite(spindle)) {
-    throw InputError(SourceLocation{"--spindle"},
-                     fmt::format("{} rev/min: expected a positive spindle speed", spindle));
-  }
-  if (spindle > 0.0) s.spindle = spindle;
-  if (feed < 0.0 || !std::isfinite(feed)) {
-    throw InputError(SourceLocation{"--feed"},
-                     fmt::format("{} mm/min: expected a positive feed rate", feed));
-  }
-  if (feed > 0.0) s.feed = feed;
-  if (flutes < 0) {
-    throw InputError(SourceLocation{"--flutes"}, fmt::format("{}: expected at least 1", flutes));
-  }
-  s.model.flutes = flutes;
-  if (helix_deg >= 90.0 || !std::isfinite(helix_deg)) {
-    throw InputError(SourceLocation{"--helix"},
-                     fmt::format("{}°: expected a helix angle in [0°, 90°)", helix_deg));
-  }
-  s.model.helix_angle = helix_deg >= 0.0 ? helix_deg * kPi / 180.0 : -1.0;
-  if (step_deg < 0.0 || (step_deg > 0.0 && step_deg < 0.01) || step_deg > 90.0 ||
-      !std::isfinite(step_deg)) {
-    throw InputError(SourceLocation{"--force-step"},
-                     fmt::format("{}°: expected a spindle angle step in [0.01°, 90°]", step_deg));
-  }
-  if (step_deg > 0.0) s.model.angle_step = step_deg * kPi / 180.0;
+  s.spindle = overrides.spindle;
+  s.feed = overrides.feed;
+  s.model.flutes = overrides.flutes.value_or(0);
+  s.model.helix_angle = overrides.helix_deg ? *overrides.helix_deg * kPi / 180.0 : -1.0;
+  if (overrides.step_deg) s.model.angle_step = *overrides.step_deg * kPi / 180.0;
+  const std::string& runout = overrides.runout;
   if (!runout.empty()) {
-    const SourceLocation where{"--runout"};
+    const SourceLocation& where = overrides.runout_at;
     const std::size_t comma = runout.find(',');
     double values[2] = {0.0, 0.0};
     const std::string parts[2] = {runout.substr(0, comma),

@@ -9,6 +9,7 @@
 #include <tbb/info.h>
 
 #include "cwe/core/error.hpp"
+#include "cwe/core/memory_limit.hpp"
 #include "cwe/core/text_file.hpp"
 #include "program_runs.hpp"
 
@@ -27,9 +28,7 @@ void check_units(const std::string& units, const char* option) {
   }
 }
 
-double unit_length(const std::string& units) {
-  return units == "in" ? kMillimetresPerInch : 1.0;
-}
+double unit_length(const std::string& units) { return units == "in" ? kMillimetresPerInch : 1.0; }
 
 std::string coefficient_names(const PreparedJob& job, bool sources) {
   std::vector<std::string> names;
@@ -42,6 +41,55 @@ std::string coefficient_names(const PreparedJob& job, bool sources) {
   return fmt::format("{}", fmt::join(names, "; "));
 }
 
+SourceLocation Job::origin(std::string_view key) const {
+  if (const auto found = given_at.find(key); found != given_at.end()) return found->second;
+  std::string option = "--" + std::string(key);
+  std::replace(option.begin(), option.end(), '_', '-');
+  return SourceLocation{option};
+}
+
+namespace {
+
+// Checks a number given for `key` against [lo, hi] (bounds excluded when `open`); `expected` says
+// what is wanted, e.g. "a positive length in mm".
+template <class T>
+void check_number(const Job& job, std::string_view key, const std::optional<T>& value, double lo,
+                  bool lo_open, double hi, std::string_view expected) {
+  if (!value) return;
+  const auto v = static_cast<double>(*value);
+  if (std::isfinite(v) && (lo_open ? v > lo : v >= lo) && v <= hi) return;
+  const SourceLocation where = job.origin(key);
+  // A job file's place names the key too; an option names itself.
+  const std::string named = where.line > 0 ? fmt::format("\"{}\": ", key) : std::string();
+  throw InputError(where, fmt::format("{}{}: expected {}", named, *value, expected));
+}
+
+// Every number of the job, at its origin. The upper bounds are far beyond any machine; they keep
+// later arithmetic finite.
+void check_numbers(const Job& job) {
+  constexpr bool kOpen = true;
+  check_number(job, "resolution", job.resolution, 0.0, kOpen, 1e4,
+               "a positive length in mm, at most 10000");
+  check_number(job, "tolerance", job.tolerance, 0.0, kOpen, 1e4,
+               "a positive length in mm, at most 10000");
+  check_number(job, "threads", job.threads, 1.0, !kOpen, 4096.0,
+               "a whole number of threads, 1 to 4096");
+  check_number(job, "cl_step", job.cl_step, 0.0, kOpen, 1e6,
+               "a positive length in mm, at most 1e6");
+  check_number(job, "spindle", job.spindle, 0.0, kOpen, 1e6,
+               "a positive speed in rev/min, at most 1e6");
+  check_number(job, "feed", job.feed, 0.0, kOpen, 1e7,
+               "a positive feed rate in mm/min, at most 1e7");
+  check_number(job, "flutes", job.flutes, 1.0, !kOpen, 1000.0,
+               "a whole number of flutes, 1 to 1000");
+  check_number(job, "helix", job.helix, 0.0, !kOpen, std::nextafter(90.0, 0.0),
+               "a helix angle in [0°, 90°)");
+  check_number(job, "force_step", job.force_step, 0.01, !kOpen, 90.0,
+               "a spindle angle step in [0.01°, 90°]");
+}
+
+}  // namespace
+
 PreparedJob prepare_job(Job& options) {
   require(options.stock, "stock", "--stock");
   if (!options.path.empty()) {
@@ -53,18 +101,14 @@ PreparedJob prepare_job(Job& options) {
   }
   if (options.operations.empty()) require(options.path, "toolpath", "--path");
   PreparedJob job;
+  check_numbers(options);
+  if (!options.memory_limit.empty()) {
+    set_memory_limit(parse_memory_limit(options.memory_limit, options.origin("memory_limit")));
+  }
   SimulationOptions& simulation = job.simulation;
-  simulation.resolution = options.resolution != 0.0 ? options.resolution : 0.1;
-  simulation.tolerance = options.tolerance;
-  if (options.tolerance < 0.0 || !std::isfinite(options.tolerance)) {
-    throw InputError(SourceLocation{"--tolerance"},
-                     fmt::format("{} mm: expected a positive length", options.tolerance));
-  }
-  if (options.cl_step < 0.0 || !std::isfinite(options.cl_step)) {
-    throw InputError(SourceLocation{"--cl-step"},
-                     fmt::format("{} mm: expected a positive length", options.cl_step));
-  }
-  job.threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
+  simulation.resolution = options.resolution.value_or(0.1);
+  simulation.tolerance = options.tolerance.value_or(0.0);  // 0: resolution / 10
+  job.threads = options.threads.value_or(tbb::info::default_concurrency());
   check_units(options.units, "--units");
   check_units(options.tool_units, "--tool-units");
   if (options.tool_units.empty()) options.tool_units = options.units;
@@ -79,7 +123,24 @@ PreparedJob prepare_job(Job& options) {
   }
 
   // Everything the job needs is read and checked before the long part starts.
-  job.stock = read_stock_spec(options.stock, SourceLocation{"--stock"});
+  job.stock = read_stock_spec(options.stock, options.origin("stock"));
+  {
+    // The rays are the run's big allocation: checked here, where the resolution's origin is known.
+    const Aabb box = stock_box(job.stock);
+    const double s = simulation.resolution;
+    const double rays = TriDexel::rays_for(box, s);
+    const Vec3 size = box.size();
+    if (rays > 3.0 * static_cast<double>(TriDexel::kMaxRaysPerFamily)) {
+      throw InputError(options.origin("resolution"),
+                       fmt::format("{:g} mm is too fine for a {:g} × {:g} × {:g} mm stock: it "
+                                   "would need {:.3g} rays",
+                                   s, size.x(), size.y(), size.z(), rays));
+    }
+    check_memory(rays * static_cast<double>(sizeof(DexelRay)),
+                 fmt::format("{:g} mm: the {:.3g} dexel rays of a {:g} × {:g} × {:g} mm stock", s,
+                             rays, size.x(), size.y(), size.z()),
+                 options.origin("resolution"), "use a coarser resolution");
+  }
   const EntryRules entries = entry_rules(options, stock_top(job.stock));
   std::vector<std::pair<std::size_t, ToolRun>> runs;  // with their operation
   for (std::size_t o = 0; o < options.operations.size(); ++o) {
@@ -88,22 +149,22 @@ PreparedJob prepare_job(Job& options) {
     }
   }
   // Forces: with --forces, or when the tool table gives a tool its coefficients.
-  const bool own_coefficients = std::any_of(
-      runs.begin(), runs.end(), [](const auto& run) { return run.second.coefficients.has_value(); });
-  if (options.forces.empty() && !own_coefficients &&
-      (options.feed != 0.0 || options.spindle != 0.0)) {
-    throw InputError(SourceLocation{options.feed != 0.0 ? "--feed" : "--spindle"},
+  const bool own_coefficients = std::any_of(runs.begin(), runs.end(), [](const auto& run) {
+    return run.second.coefficients.has_value();
+  });
+  if (options.forces.empty() && !own_coefficients && (options.feed || options.spindle)) {
+    throw InputError(options.origin(options.feed ? "feed" : "spindle"),
                      "spindle speed and feed overrides are for the force model: give --forces");
   }
   if (!options.forces.empty() || own_coefficients) {
-    job.forces = force_settings(options.forces, options.spindle, options.feed, options.flutes,
-                                options.helix, options.force_step, options.runout);
+    job.forces = force_settings(options.forces,
+                                {options.spindle, options.feed, options.flutes, options.helix,
+                                 options.force_step, options.runout, options.origin("runout")});
   }
   for (auto& [o, run] : runs) {
     const std::string& program = options.operations[o].path;
     SamplingOptions sampling;
-    sampling.step =
-        options.cl_step > 0.0 ? options.cl_step : default_cl_step(run.cutter.diameter());
+    sampling.step = options.cl_step.value_or(default_cl_step(run.cutter.diameter()));
     const std::size_t cls = count_cl_points(run.read.toolpath, sampling);
     job.cl_count += cls;
     std::optional<ForceModel> forces;
@@ -117,6 +178,18 @@ PreparedJob prepare_job(Job& options) {
       check_spindle(run.read.toolpath, program, *job.forces);
       forces.emplace(run.cutter, run.coefficients.value_or(*job.forces->coefficients),
                      job.forces->model);
+    }
+    // A cutter across fewer than kFewestRaysAcross ray spacings cuts and engages only the rays it
+    // happens to meet: the figures are coarse (a cutter below one spacing may remove nothing).
+    const double across = run.cutter.diameter() / simulation.resolution;
+    if (across < kFewestRaysAcross) {
+      job.warnings.push_back(
+          {options.origin("resolution"),
+           fmt::format("the cutter {} is {:g} mm across, {:.2g} ray spacings at {:g} mm: "
+                       "its removal and engagement are coarse; use a resolution of {:.3g} mm "
+                       "or finer",
+                       run.cutter.name(), run.cutter.diameter(), across, simulation.resolution,
+                       run.cutter.diameter() / (2.0 * kFewestRaysAcross))});
     }
     job.operations.push_back({program, std::move(run.read), std::move(run.cutter), sampling, cls,
                               std::move(forces), run.tool, o, std::move(run.gcode)});

@@ -46,8 +46,7 @@ nlohmann::json engagement_json(const PreparedJob& job, const JobResult& run,
           {"files", {"engagement.csv", "engagement.jsonl", "maps/"}}};
 }
 
-nlohmann::json forces_json(const PreparedJob& job, const JobResult& run,
-                           const JobSummary& extras) {
+nlohmann::json forces_json(const PreparedJob& job, const JobResult& run, const JobSummary& extras) {
   const auto extreme = [](const ForceExtremes::Extreme& e) {
     return nlohmann::json{{"value", e.value}, {"cl", e.cl}, {"file", e.file}, {"line", e.line}};
   };
@@ -89,6 +88,12 @@ void add_rapid_cuts_and_warnings(const PreparedJob& job, const RemovalSummary& r
     }
   }
   summary["toolpath_warnings"] = warnings;
+  nlohmann::json job_warnings = nlohmann::json::array();
+  for (const Diagnostic& d : job.warnings) {
+    job_warnings.push_back(
+        {{"setting", d.location.source}, {"line", d.location.line}, {"message", d.message}});
+  }
+  summary["warnings"] = job_warnings;
 }
 
 }  // namespace

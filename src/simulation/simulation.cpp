@@ -60,10 +60,12 @@ StockSpec read_stock_spec(const std::string& text, const SourceLocation& source)
   return spec;
 }
 
-double stock_top(const StockSpec& spec) {
-  if (spec.is_box) return spec.box.max.z();
-  CWE_ASSERT(spec.mesh != nullptr, "the STL stock is read before its top is asked for");
-  return spec.mesh->bounds().max.z();
+double stock_top(const StockSpec& spec) { return stock_box(spec).max.z(); }
+
+Aabb stock_box(const StockSpec& spec) {
+  if (spec.is_box) return spec.box;
+  CWE_ASSERT(spec.mesh != nullptr, "the STL stock is read before its box is asked for");
+  return spec.mesh->bounds();
 }
 
 TriDexel make_stock(const StockSpec& spec, const SimulationOptions& options) {

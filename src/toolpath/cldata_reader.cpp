@@ -877,7 +877,7 @@ class Reader {
     Move move = new_move(mode, record.where);
     move.end = end;
     move.end_axis = end_axis;
-    path_.moves.push_back(move);
+    hold_move(path_.moves, move, at(record.where));
     position_ = end;
     axis_ = end_axis;
   }
@@ -930,7 +930,7 @@ class Reader {
       if (move.sweep <= 0.0) move.sweep += kTwoPi;  // counter-clockwise: (0, 2π)
     }
     move.sweep += kTwoPi * c.extra_turns;
-    path_.moves.push_back(move);
+    hold_move(path_.moves, move, at(record.where));
     position_ = end;
     axis_ = end_axis;
   }

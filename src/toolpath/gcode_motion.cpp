@@ -93,7 +93,7 @@ void Interpreter::push(const Move& move) {
   if (sink_ != nullptr) {
     (*sink_)(move, result_.sources);
   } else {
-    result_.moves.push_back(move);
+    hold_move(result_.moves, move, SourceLocation{source_, line_});
   }
   tip_ = move.end;
   idle_iterations_ = 0;

@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
 #include <Eigen/Geometry>
 
+#include "cwe/core/memory_limit.hpp"
 #include "cwe/geometry/tolerance.hpp"
+#include "cwe/toolpath/toolpath.hpp"
 
 namespace cwe {
 namespace {
@@ -114,6 +117,17 @@ Move Move::part(double u0, double u1) const {
     m.axial = (u1 - u0) * axial;
   }
   return m;
+}
+
+void hold_move(std::vector<Move>& moves, const Move& move, const SourceLocation& where) {
+  if (moves.size() == moves.capacity()) {
+    // std::vector doubles; the old block is held while the new one is filled.
+    const double grown = 3.0 * static_cast<double>(std::max<std::size_t>(moves.size(), 1));
+    check_memory(grown * static_cast<double>(sizeof(Move)),
+                 fmt::format("holding {} moves of the program", 2 * moves.size()), where,
+                 "split the program into several, or raise the limit");
+  }
+  moves.push_back(move);
 }
 
 }  // namespace cwe

@@ -965,7 +965,15 @@ TEST(CliErrors, CommandLineValuesInCwesForm) {
                                            .dump();
     const Result r = run_cwe({"simulate", (dir / "job.json").string()});
     EXPECT_EQ(r.status, 2) << key;
-    EXPECT_NE(r.err.find(fmt::format("job.json: \"{}\": error: 0: expected a positive number", key)),
+    // At the value's line and column, naming the key.
+    const std::string text = nlohmann::json{{"stock", "box:0,0,0,10,10,10"},
+                                            {"tool", "flat:4"},
+                                            {"path", "p.ngc"},
+                                            {"out", "out"},
+                                            {key, 0}}
+                                 .dump();
+    const std::size_t column = text.find(fmt::format("\"{}\":", key)) + std::strlen(key) + 4;
+    EXPECT_NE(r.err.find(fmt::format("job.json:1:{}: error: \"{}\": 0: expected a ", column, key)),
               std::string::npos)
         << r.err;
   }
@@ -988,7 +996,8 @@ TEST(CliSimulate, OutputsNeverOverwriteInputsAndTheFolderIsCheckedFirst) {
                             (dir / "out").string(), "--quiet"});
   EXPECT_EQ(r.status, 2);
   EXPECT_EQ(r.err.rfind("--out: error: ", 0), 0u) << r.err;
-  EXPECT_NE(r.err.find("is the stock, which this run would overwrite"), std::string::npos);
+  EXPECT_NE(r.err.find("is the stock, inside the output folder, which this run replaces"),
+            std::string::npos);
   EXPECT_EQ(std::filesystem::file_size(dir / "out" / "stock.stl"), before);
   EXPECT_FALSE(std::filesystem::exists(dir / "out" / "summary.json"));
   // An output folder below a file cannot be made.
@@ -997,7 +1006,7 @@ TEST(CliSimulate, OutputsNeverOverwriteInputsAndTheFolderIsCheckedFirst) {
                                   "flat:4", "--path", (dir / "p.ngc").string(), "--out",
                                   (dir / "a_file" / "out").string(), "--quiet"});
   EXPECT_EQ(blocked.status, 2);
-  EXPECT_EQ(blocked.err.rfind("--out: error: cannot write in", 0), 0u) << blocked.err;
+  EXPECT_EQ(blocked.err.rfind("--out: error: cannot create", 0), 0u) << blocked.err;
 }
 
 // LinuxCNC tool tables (tests/app/data: sim_mm.tbl and sim.tbl of LinuxCNC's sample
@@ -1411,12 +1420,17 @@ TEST(CliSimulate, JobFileValuesAreChecked) {
                           R"("ply": "yes")", R"("resolution": "fine")", R"("stock": 5)",
                           R"("helix": "steep")", R"("maps": 10)"}) {
     const std::string key = std::string(bad).substr(1, std::string(bad).find('"', 1) - 1);
-    std::ofstream(dir / "job.json")
-        << "{" << (key == "stock" ? "" : "\"stock\": \"box:0,0,0,10,10,10\", ")
-        << "\"tool\": \"flat:4\", \"path\": \"p.ngc\", \"out\": \"out\", " << bad << "}";
+    const std::string text =
+        "{" + std::string(key == "stock" ? "" : "\"stock\": \"box:0,0,0,10,10,10\", ") +
+        "\"tool\": \"flat:4\", \"path\": \"p.ngc\", \"out\": \"out\", " + bad + "}";
+    std::ofstream(dir / "job.json") << text;
     const Result r = run_cwe({"simulate", (dir / "job.json").string()});
     EXPECT_EQ(r.status, 2) << bad;
-    EXPECT_NE(r.err.find("job.json: \"" + key + "\""), std::string::npos) << bad << ": " << r.err;
+    // At the value's line and column, naming the key.
+    const std::size_t column = text.find(bad) + key.size() + 5;
+    EXPECT_NE(r.err.find(fmt::format("job.json:1:{}: error: \"{}\": ", column, key)),
+              std::string::npos)
+        << bad << ": " << r.err;
   }
   // A key written twice: an error at the second, not the last one silently winning.
   std::ofstream(dir / "job.json") << "{\"stock\": \"box:0,0,0,10,10,10\",\n \"tool\": \"flat:4\","

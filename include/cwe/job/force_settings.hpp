@@ -19,11 +19,21 @@ struct ForceSettings {
   std::optional<double> feed;     // mm/min, overriding the program's (feed moves)
 };
 
-// `forces`: a coefficient JSON file or bundled material (empty: only the tool table's); the others
-// as on the command line (spindle 0, flutes 0, helix < 0, step 0 and an empty runout mean "not
-// given"). Throws InputError naming the option.
-ForceSettings force_settings(const std::string& forces, double spindle, double feed, int flutes,
-                             double helix_deg, double step_deg, const std::string& runout);
+// What a job may set of the force model, each absent when not given; numbers already checked
+// (prepare_job).
+struct ForceOverrides {
+  std::optional<double> spindle;  // rev/min
+  std::optional<double> feed;     // mm/min
+  std::optional<int> flutes;
+  std::optional<double> helix_deg;
+  std::optional<double> step_deg;  // spindle angle step
+  std::string runout;              // offset_mm[,angle_deg]; empty: none
+  SourceLocation runout_at{"--runout"};
+};
+
+// `forces`: a coefficient JSON file or bundled material (empty: only the tool table's). Throws
+// InputError for coefficients that cannot be read or a runout that is not offset[,angle].
+ForceSettings force_settings(const std::string& forces, const ForceOverrides& overrides);
 
 // Checks that every feed move of `path` turns the spindle (or that an override is given):
 // InputError naming the file and line of the first that does not.

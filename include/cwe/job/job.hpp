@@ -5,8 +5,11 @@
 // models built — with every input checked before the long part starts.
 
 #include <cstddef>
+#include <functional>
+#include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cwe/job/force_settings.hpp"
@@ -28,7 +31,8 @@ struct Operation {
   std::string path;
 };
 
-// A job as given. Empty strings and zeros mean "not given" (the defaults in the comments).
+// A job as given. Empty strings and absent numbers mean "not given" (the defaults in the
+// comments); every number given is checked by prepare_job, located where it was given.
 struct Job {
   std::string stock;  // box:xmin,ymin,zmin,xmax,ymax,zmax or an STL file
   std::string tool;   // for operations without their own
@@ -54,19 +58,29 @@ struct Job {
   // "mm" (default) or "in": the unit of the lengths given without one (stock box, tool
   // specifications and tables, start and tool-change points).
   std::string units;
-  double resolution = 0.0;  // 0: 0.1 mm
-  double tolerance = 0.0;   // 0: resolution / 10
-  int threads = 0;          // 0: all cores
-  double cl_step = 0.0;     // 0: min(0.5, D/20) mm
+  // Numbers: absent means the default in the comment.
+  std::optional<double> resolution;  // ray spacing, mm; 0.1
+  std::optional<double> tolerance;   // mm; resolution / 10
+  std::optional<int> threads;        // all cores
+  std::optional<double> cl_step;     // mm; min(0.5, D/20)
   // Cutting forces (docs/forces.md): a coefficient JSON file or bundled material; empty: none
   // (unless the tool table gives coefficients).
   std::string forces;
-  double spindle = 0.0;     // rev/min overriding the program's; 0: the program's S / SPINDL
-  double feed = 0.0;        // mm/min overriding the program's F / FEDRAT; 0: the program's
-  int flutes = 0;           // 0: the cutter's
-  double helix = -1.0;      // degrees; < 0: the cutter's
-  double force_step = 0.0;  // spindle angle step, degrees; 0: 1°
-  std::string runout;       // offset_mm[,angle_deg]; empty: none
+  std::optional<double> spindle;     // rev/min overriding the program's S / SPINDL
+  std::optional<double> feed;        // mm/min overriding the program's F / FEDRAT
+  std::optional<int> flutes;         // the cutter's
+  std::optional<double> helix;       // degrees; the cutter's
+  std::optional<double> force_step;  // spindle angle step, degrees; 1°
+  std::string runout;                // offset_mm[,angle_deg]; empty: none
+  // The most memory the run may take (cwe/core/memory_limit.hpp: 16G, 4096M, 50%); empty: 80 %
+  // of physical memory.
+  std::string memory_limit;
+
+  // Where the values a job file gave were written, by key ("resolution" → job.json:7:17). A
+  // value not here was given by its command-line option (or by the library's caller).
+  std::map<std::string, SourceLocation, std::less<>> given_at;
+  // Where `key`'s value came from: its place in the job file, else its option ("--cl-step").
+  SourceLocation origin(std::string_view key) const;
 };
 
 // An operation ready to run: its program read, its cutter chosen, its force model (with
@@ -80,11 +94,17 @@ struct PreparedOperation {
   std::optional<ForceModel> forces;
   int tool = 0;  // the tool number whose moves these are (0: the program loads no tool)
   std::size_t operation = 0;  // the job's operation (program) this comes from, from 0
-  GcodeOptions gcode;  // what the program was read with (G-code), to read it again
+  GcodeOptions gcode;         // what the program was read with (G-code), to read it again
 };
+
+// A cutter narrower than this many ray spacings gets a warning (prepare_job).
+inline constexpr double kFewestRaysAcross = 4.0;
 
 struct PreparedJob {
   StockSpec stock;  // an STL stock read
+  // What the job's settings make doubtful (a cutter too small for the resolution), in the
+  // summary and the terminal report.
+  std::vector<Diagnostic> warnings;
   SimulationOptions simulation;
   int threads = 1;
   std::vector<PreparedOperation> operations;

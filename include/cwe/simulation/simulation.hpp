@@ -40,6 +40,8 @@ StockSpec parse_stock_spec(const std::string& text, const SourceLocation& source
 StockSpec read_stock_spec(const std::string& text, const SourceLocation& source);
 // The stock's highest point, mm (an STL stock must have been read).
 double stock_top(const StockSpec& spec);
+// The stock's bounding box, the domain of its rays (an STL stock must have been read).
+Aabb stock_box(const StockSpec& spec);
 
 struct SimulationOptions {
   double resolution = 0.1;  // ray spacing s, mm

@@ -39,4 +39,9 @@ struct Toolpath {
   ProgramUnits units = ProgramUnits::kMillimetres;  // the units the program was written in
 };
 
+// Appends `move` to moves held in memory. When the vector must grow, its new size is first
+// checked against the memory limit (cwe/core/memory_limit.hpp): a program too long to hold is an
+// InputError at `where` (the move's file and line), before the allocation.
+void hold_move(std::vector<Move>& moves, const Move& move, const SourceLocation& where);
+
 }  // namespace cwe

@@ -11,6 +11,7 @@
 
 #include "cwe/core/assert.hpp"
 #include "cwe/core/error.hpp"
+#include "cwe/core/memory_limit.hpp"
 #include "cwe/geometry/tolerance.hpp"
 
 namespace cwe {
@@ -38,6 +39,21 @@ void TriDexel::index_tile(RemovalRecord::Tile& tile, int first_j, bool sort) {
   }
 }
 
+std::array<double, 3> TriDexel::cells_for(const Aabb& box, double spacing) {
+  std::array<double, 3> cells{};
+  for (int a = 0; a < 3; ++a) {
+    // The fewest whole cells no wider than the spacing (one at least: a spacing above the box's
+    // size gives one ray per family through its middle).
+    cells[static_cast<std::size_t>(a)] =
+        std::max(1.0, std::ceil(box.size()[a] / spacing - tol::kRelative));
+  }
+  return cells;
+}
+
+double TriDexel::rays_for(const Aabb& box, double spacing) {
+  const std::array<double, 3> n = cells_for(box, spacing);
+  return n[0] * n[1] + n[1] * n[2] + n[2] * n[0];
+}
 
 TriDexel TriDexel::empty_grid(const Aabb& box, double spacing) {
   if (box.is_empty() || !(box.size().minCoeff() > 0.0) || !box.size().allFinite()) {
@@ -46,26 +62,32 @@ TriDexel TriDexel::empty_grid(const Aabb& box, double spacing) {
   if (!(spacing > 0.0) || !std::isfinite(spacing)) {
     throw InputError(fmt::format("dexel spacing {} mm: expected a positive length", spacing));
   }
+  // Every bound is checked before anything is allocated.
+  const std::array<double, 3> n = cells_for(box, spacing);
+  for (int a = 0; a < 3; ++a) {
+    const double rays =
+        n[static_cast<std::size_t>(cross_b(a))] * n[static_cast<std::size_t>(cross_c(a))];
+    if (n[static_cast<std::size_t>(a)] > 1e7 || rays > static_cast<double>(kMaxRaysPerFamily)) {
+      throw InputError(fmt::format(
+          "dexel spacing {} mm is too fine for a {:g} × {:g} × {:g} mm "
+          "stock: it would need {:.3g} rays",
+          spacing, box.size().x(), box.size().y(), box.size().z(), rays_for(box, spacing)));
+    }
+  }
+  check_memory(rays_for(box, spacing) * static_cast<double>(sizeof(DexelRay)),
+               fmt::format("the dexel rays of a {:g} × {:g} × {:g} mm stock at {:g} mm",
+                           box.size().x(), box.size().y(), box.size().z(), spacing),
+               SourceLocation{}, "use a coarser ray spacing");
   TriDexel d;
-  // Whole cells that tile the box: along each axis the fewest cells no wider than the spacing.
   std::array<int, 3> cells{};
   for (int a = 0; a < 3; ++a) {
-    const double n = std::ceil(box.size()[a] / spacing - tol::kRelative);
-    if (n > 1e7) {
-      throw InputError(
-          fmt::format("dexel spacing {} mm is too fine for a {} mm stock", spacing, box.size()[a]));
-    }
-    cells[static_cast<std::size_t>(a)] = static_cast<int>(n);
-    d.spacing_[a] = box.size()[a] / n;
+    cells[static_cast<std::size_t>(a)] = static_cast<int>(n[static_cast<std::size_t>(a)]);
+    d.spacing_[a] = box.size()[a] / n[static_cast<std::size_t>(a)];
   }
   d.domain_ = box;
   for (int a = 0; a < 3; ++a) {
     const int nb = cells[static_cast<std::size_t>(cross_b(a))];
     const int nc = cells[static_cast<std::size_t>(cross_c(a))];
-    if (static_cast<double>(nb) * nc > static_cast<double>(kMaxRaysPerFamily)) {
-      throw InputError(fmt::format("dexel spacing {} mm would need {} rays in one family", spacing,
-                                   static_cast<double>(nb) * nc));
-    }
     d.grid_[static_cast<std::size_t>(a)] = {nb, nc};
     d.rays_[static_cast<std::size_t>(a)].resize(static_cast<std::size_t>(nb) * nc);
   }
@@ -276,8 +298,8 @@ TriDexel::Volume TriDexel::volume() const {
   for (std::size_t a = 0; a < 3; ++a) {
     double length = 0.0;
     for (const DexelRay& r : rays_[a]) length += r.length();
-    v.by_family[a] = length * spacing_[cross_b(static_cast<int>(a))] *
-                     spacing_[cross_c(static_cast<int>(a))];
+    v.by_family[a] =
+        length * spacing_[cross_b(static_cast<int>(a))] * spacing_[cross_c(static_cast<int>(a))];
   }
   return v;
 }

@@ -34,7 +34,8 @@ namespace cwe {
 class TriDexel {
  public:
   // A block of stock filling `box`, rays every `spacing` mm. Throws InputError for an empty box
-  // or a spacing that is not positive or would need more than kMaxRaysPerFamily rays.
+  // or a spacing that is not positive, would need more than kMaxRaysPerFamily rays, or rays
+  // beyond the memory limit (cwe/core/memory_limit.hpp), all before allocating.
   static TriDexel from_box(const Aabb& box, double spacing);
 
   // Stock filling a closed triangle mesh (its bounding box is the stock box), rays every
@@ -54,6 +55,11 @@ class TriDexel {
   static TriDexel from_mesh(const TriangleMesh& mesh, double spacing, const std::string& source);
 
   static constexpr std::size_t kMaxRaysPerFamily = std::size_t{1} << 31;
+  // The cells along x, y, z and the rays of all three families a stock box at `spacing` gets
+  // (doubles: they are checked against the limits before any cast). The rays take
+  // sizeof(DexelRay) bytes each, plus 8 per interval beyond a ray's second.
+  static std::array<double, 3> cells_for(const Aabb& box, double spacing);
+  static double rays_for(const Aabb& box, double spacing);
 
   // The ray spacing: the largest cell side (at most the spacing asked for).
   double spacing() const { return spacing_.maxCoeff(); }

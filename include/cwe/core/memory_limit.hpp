@@ -1,0 +1,41 @@
+#pragma once
+// The memory a run may take (`--memory-limit`, default 80 % of physical memory), checked before
+// the big allocations whose size the input decides — the dexel rays of the stock (set by the
+// resolution and the stock's size) and the moves of the programs — so a resolution or program
+// far too big ends in an error naming the option and the estimate, not in the system killing the
+// process (or swapping for hours) half-way through a run.
+//
+// The limit is one per process, like the thread count: the command line sets it once, before the
+// job starts; the library reads it where it allocates.
+
+#include <cstddef>
+#include <optional>
+#include <string_view>
+
+#include "cwe/core/error.hpp"
+
+namespace cwe {
+
+// Bytes of physical memory of this machine (0 when the system does not say).
+std::size_t physical_memory();
+
+// The limit in bytes: the one set, else 80 % of physical memory (unlimited when that is unknown).
+std::size_t memory_limit();
+// Sets the limit (nullopt: back to the default).
+void set_memory_limit(std::optional<std::size_t> bytes);
+
+// Bytes as people read them: "512 B", "3.2 MB", "43.1 GB" (powers of 1000).
+std::string format_bytes(double bytes);
+
+// Throws InputError at `where` when `bytes` (an estimate of what `what` needs, e.g. "the dexel
+// rays of a 120 × 80 × 40 mm stock at 0.002 mm") is above the limit. The message gives both
+// figures and what to change.
+void check_memory(double bytes, std::string_view what, const SourceLocation& where,
+                  std::string_view remedy);
+
+// Parses a --memory-limit value: a number of bytes with an optional unit K, M, G, T (powers of
+// 1024, "B" and "iB" optional, e.g. 16G, 512MiB), or a percentage of physical memory ("50%").
+// Throws InputError at `where` for anything else, or for a limit below 64 MiB.
+std::size_t parse_memory_limit(std::string_view text, const SourceLocation& where);
+
+}  // namespace cwe
