@@ -1,0 +1,3 @@
+UNITS/MM
+1,2,3
+FINI
