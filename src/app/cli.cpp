@@ -4,13 +4,14 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <exception>
 #include <iostream>
 
+#include "cli_checks.hpp"
 #include "cwe/core/assert.hpp"
 #include "cwe/core/error.hpp"
 #include "cwe/process/cutting_coefficients.hpp"
-#include "cli_checks.hpp"
 #include "envelope_command.hpp"
 #include "path_command.hpp"
 #include "schedule_command.hpp"
@@ -37,6 +38,18 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
                      "List the bundled cutting-coefficient sets (for --forces) with their "
                      "sources");
 
+  // A first word that is no command is named (CLI11 would only say that one is required).
+  if (args.size() > 1 && !args[1].empty() && args[1][0] != '-') {
+    const auto commands = app.get_subcommands([](const CLI::App*) { return true; });
+    const bool known = std::any_of(commands.begin(), commands.end(),
+                                   [&](const CLI::App* c) { return c->get_name() == args[1]; });
+    if (!known) {
+      err << "cwe: error: '" << args[1]
+          << "' is not a command; expected tool, path, envelope, simulate, schedule or materials "
+             "(cwe --help)\n";
+      return 2;
+    }
+  }
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   if (!reversed.empty()) reversed.pop_back();  // the program name
   try {

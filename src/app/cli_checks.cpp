@@ -63,7 +63,18 @@ std::string cli_error_message(const CLI::ParseError& e) {
         "COMMAND --help their options)",
         colon == std::string::npos ? "" : " " + message.substr(colon + 2));
   }
+  if (dynamic_cast<const CLI::ArgumentMismatch*>(&e) != nullptr) {
+    // "--cl-step: 1 required FLOAT:NUMBER > 0 missing": the option was given without its value.
+    if (const std::size_t colon = message.find(": ");
+        colon != std::string::npos && message.ends_with(" missing")) {
+      return message.substr(0, colon) + ": error: expected a value after it";
+    }
+  }
   if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr) {
+    if (message.starts_with("A subcommand")) {
+      return "cwe: error: expected a command: tool, path, envelope, simulate, schedule or "
+             "materials (cwe --help)";
+    }
     if (const std::size_t is = message.find(" is required"); is != std::string::npos) {
       return message.substr(0, is) + ": error: required (see --help)";
     }

@@ -17,8 +17,8 @@
 #include "cwe/io/atomic_file.hpp"
 #include "cwe/io/fcs_svg.hpp"
 #include "cwe/io/mesh_io.hpp"
-#include "cwe/job/tool_choice.hpp"
 #include "cwe/job/machine.hpp"
+#include "cwe/job/tool_choice.hpp"
 #include "cwe/job/tool_table.hpp"
 #include "cwe/tool/tool_spec.hpp"
 #include "cwe/toolpath/toolpath_reader.hpp"
@@ -145,7 +145,8 @@ nlohmann::json envelope_of_move(const EnvelopeCommandOptions& options, const Cut
   for (const double u : {0.0, 0.5, 1.0}) {
     const ToolState state = tool_state(move, u, previous_x);
     if (u == 0.0) previous_x = state.tcs.x();
-    for (auto& p : grazing_polylines(grazing_points(cutter, state))) polylines.push_back(std::move(p));
+    for (auto& p : grazing_polylines(grazing_points(cutter, state)))
+      polylines.push_back(std::move(p));
     states.push_back({{"u", u},
                       {"motion", to_string(state.motion)},
                       {"feed_angle_deg", radians_to_degrees(state.feed_angle)}});
@@ -154,9 +155,9 @@ nlohmann::json envelope_of_move(const EnvelopeCommandOptions& options, const Cut
     const ToolState state = tool_state(move, u, previous_x);
     files[fmt::format("{}-fcs-u{:g}.svg", stem, u)] = fcs_svg(
         cutter, feasible_contact_surface(cutter, state),
-        fmt::format("Feasible contact surface, move {} (line {}) at u = {:g}: {}, feed angle {:.1f}°",
-                    i + 1, move.line, u, to_string(state.motion),
-                    radians_to_degrees(state.feed_angle)));
+        fmt::format(
+            "Feasible contact surface, move {} (line {}) at u = {:g}: {}, feed angle {:.1f}°",
+            i + 1, move.line, u, to_string(state.motion), radians_to_degrees(state.feed_angle)));
   }
   files[stem + "-grazing.obj"] = obj_polylines(
       polylines, fmt::format("cwe grazing curves of move {} at u = 0, 0.5, 1", i + 1));
@@ -181,7 +182,7 @@ int run_envelope_command(const EnvelopeCommandOptions& options, std::ostream& ou
   if (!options.machine.empty()) gcode.machine = read_machine_file(options.machine);
   const ReadToolpath read = read_toolpath_file(options.path, gcode);
   const Toolpath& path = read.toolpath;
-  const Cutter cutter = choose_cutter(options.tool, path, options.path);
+  const Cutter cutter = choose_cutter(options.tool, SourceLocation{"--tool"}, path, options.path);
   const std::vector<int> selected = selected_moves(options, path);
 
   // Compute everything first, then write: outputs are whole or absent.

@@ -234,8 +234,10 @@ class JobFileReader {
         fail(at, "expected \"path\": a toolpath file");
       }
       if (op.contains("tool") && !op["tool"].is_string()) fail(at + "/tool", "expected a string");
+      SourceLocation tool_at = where(at + "/tool");
+      if (tool_at.line > 0) ++tool_at.column;  // the text's first character, after the quote
       options_.operations.push_back({text(Kind::kToolSpec, op.value("tool", std::string())),
-                                     relative(op["path"].get<std::string>())});
+                                     relative(op["path"].get<std::string>()), tool_at});
     }
   }
 
@@ -269,7 +271,7 @@ void read_job(SimulateCommandOptions& options) {
   JobFileReader reader(options, std::move(job), std::move(places));
   for (const JobKey& key : kJobKeys) {
     reader.read(key);
-    if (std::string_view(key.name) == "units") check_units(options.units, "--units");
+    if (std::string_view(key.name) == "units") check_units(options, "units", options.units);
   }
 }
 

@@ -201,7 +201,9 @@ void add_path_command(CLI::App& app, PathCommandOptions& options) {
 }
 
 int run_path_command(const PathCommandOptions& options, std::ostream& out) {
-  if (options.dump && options.cl_dump) throw InputError("--dump and --cl-dump: choose one");
+  if (options.dump && options.cl_dump) {
+    throw InputError(SourceLocation{"--dump"}, "cannot go with --cl-dump: choose one");
+  }
   GcodeOptions gcode;
   gcode.subroutine_path = parse_search_path(options.subroutine_path);
   const bool inches = options.tool_units == "in";
@@ -219,8 +221,7 @@ int run_path_command(const PathCommandOptions& options, std::ostream& out) {
   ClSampler sampler(sampling);
   PathTally tally;
   const ReadToolpath read = read_toolpath_file(
-      options.file, gcode,
-      [&](const Move& m, const std::vector<std::string>& sources) {
+      options.file, gcode, [&](const Move& m, const std::vector<std::string>& sources) {
         tally.add(m, sampler, sources);
       });
   if (options.dump) {

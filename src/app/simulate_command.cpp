@@ -37,10 +37,11 @@
 namespace cwe::app {
 namespace {
 
-MapChoice parse_maps(const std::string& text, std::size_t cl_count, const char* option = "--maps") {
-  const SourceLocation where{option};
+// `key`: maps or force_curves, whose errors are at its origin in `job`.
+MapChoice parse_maps(const std::string& text, std::size_t cl_count, const Job& job,
+                     std::string_view key) {
   MapChoice choice;
-  if (text.empty() && std::string_view(option) == "--maps") {
+  if (text.empty() && key == "maps") {
     choice.every = std::max<std::size_t>(1, (cl_count + 9) / 10);
     choice.engaged_only = true;
     return choice;
@@ -50,16 +51,16 @@ MapChoice parse_maps(const std::string& text, std::size_t cl_count, const char* 
     std::size_t value = 0;
     const auto [end, ec] = std::from_chars(word.data(), word.data() + word.size(), value);
     if (word.empty() || ec != std::errc() || end != word.data() + word.size()) {
-      throw InputError(where, fmt::format("'{}' in '{}' is not a whole number; expected every:N, "
-                                          "cl:i,j,… or none",
-                                          word, text));
+      throw job.error(key, fmt::format("'{}' in '{}' is not a whole number; expected every:N, "
+                                       "cl:i,j,… or none",
+                                       word, text));
     }
     return value;
   };
   const std::string_view view(text);
   if (view.starts_with("every:")) {
     choice.every = number(view.substr(6));
-    if (choice.every == 0) throw InputError(where, "every:0: expected a period of at least 1");
+    if (choice.every == 0) throw job.error(key, "every:0: expected a period of at least 1");
     return choice;
   }
   if (view.starts_with("cl:")) {
@@ -73,7 +74,7 @@ MapChoice parse_maps(const std::string& text, std::size_t cl_count, const char* 
     std::sort(choice.cl.begin(), choice.cl.end());
     return choice;
   }
-  throw InputError(where, fmt::format("'{}': expected every:N, cl:i,j,… or none", text));
+  throw job.error(key, fmt::format("'{}': expected every:N, cl:i,j,… or none", text));
 }
 
 }  // namespace
@@ -237,7 +238,7 @@ void check_output_folder(const std::filesystem::path& folder, const SimulateComm
     const std::filesystem::path input = canonical(path);
     const auto [end, _] = std::mismatch(output.begin(), output.end(), input.begin(), input.end());
     if (end == output.end()) {  // the input is inside the folder, or is it
-      throw InputError(SourceLocation{"--out"},
+      throw InputError(options.origin("out"),
                        fmt::format("{} is {}, inside the output folder, which this run replaces: "
                                    "write the outputs elsewhere",
                                    path, what));
@@ -250,13 +251,11 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   const auto started = std::chrono::steady_clock::now();
   read_job(options);
   require(options.out, "output folder", "--out");
-  check_units(options.report_units, "--report-units");
+  check_units(options, "report_units", options.report_units);
   PreparedJob job = prepare_job(options);
   if (options.mesh_stride && (*options.mesh_stride < 1 || *options.mesh_stride > 1'000'000)) {
-    const SourceLocation where = options.origin("mesh_stride");
-    throw InputError(where,
-                     fmt::format("{}{}: expected a whole number, 1 to 1000000",
-                                 where.line > 0 ? "\"mesh_stride\": " : "", *options.mesh_stride));
+    throw options.error("mesh_stride", fmt::format("{}: expected a whole number, 1 to 1000000",
+                                                   *options.mesh_stride));
   }
   const SimulationOptions& simulation = job.simulation;
   const int threads = job.threads;
@@ -265,19 +264,20 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   std::vector<PreparedOperation>& operations = job.operations;
   const std::size_t cl_count = job.cl_count;
   if (options.stock_only && job.forces) {
-    throw InputError(SourceLocation{"--forces"},
-                     "forces need the engagement, which --stock-only skips; drop one of them");
+    throw options.error("forces",
+                        "forces need the engagement, which --stock-only skips; drop one of them");
   }
-  MapChoice maps = parse_maps(options.stock_only ? "none" : options.maps, cl_count);
+  MapChoice maps =
+      parse_maps(options.stock_only ? "none" : options.maps, cl_count, options, "maps");
   if (!job.forces && !options.force_curves.empty() && options.force_curves != "none") {
-    throw InputError(SourceLocation{"--force-curves"}, "force curves need --forces");
+    throw options.error("force_curves", "force curves need --forces");
   }
   MapChoice curves =
-      parse_maps(job.forces ? options.force_curves : "none", cl_count, "--force-curves");
+      parse_maps(job.forces ? options.force_curves : "none", cl_count, options, "force_curves");
   TriDexel initial_stock = make_stock(job.stock, simulation);  // before any output is opened
   const ReportUnit unit = ReportUnit::of(options.report_units);
   check_output_folder(options.out, options, job);
-  OutputSet outputs(options.out, kSimulateOutputs);
+  OutputSet outputs(options.out, kSimulateOutputs, options.origin("out"));
   const std::filesystem::path& folder = outputs.staging();
 
   ProgressBar bar(options.quiet ? nullptr : progress);

@@ -111,7 +111,7 @@ void add_tool_command(CLI::App& app, ToolCommandOptions& options) {
 
 int run_tool_command(const ToolCommandOptions& options, std::ostream& out) {
   if (!options.svg_file.empty() && options.specs.size() != 1) {
-    throw InputError("--svg draws one tool; use --svg-dir for several");
+    throw InputError(SourceLocation{"--svg"}, "draws one tool; use --svg-dir for several");
   }
   // Parse everything first: a bad specification writes nothing.
   std::vector<Cutter> cutters;

@@ -39,6 +39,7 @@ std::size_t memory_limit() {
 void set_memory_limit(std::optional<std::size_t> bytes) { g_limit.store(bytes.value_or(0)); }
 
 std::string format_bytes(double bytes) {
+  if (std::isnan(bytes)) return "an unknown amount";
   if (bytes < 1e3) return fmt::format("{:.0f} B", bytes);
   if (bytes < 1e6) return fmt::format("{:.1f} kB", bytes / 1e3);
   if (bytes < 1e9) return fmt::format("{:.1f} MB", bytes / 1e6);
@@ -49,7 +50,7 @@ std::string format_bytes(double bytes) {
 void check_memory(double bytes, std::string_view what, const SourceLocation& where,
                   std::string_view remedy) {
   const auto limit = static_cast<double>(memory_limit());
-  if (bytes <= limit) return;  // NaN is refused too
+  if (!std::isnan(bytes) && bytes <= limit) return;  // NaN (an overflowed estimate) is refused
   throw InputError(where, fmt::format("{} would need about {} of memory, above the limit of {} "
                                       "(--memory-limit): {}",
                                       what, format_bytes(bytes), format_bytes(limit), remedy));

@@ -41,14 +41,12 @@ bool running(long pid) {
 }  // namespace
 
 OutputSet::OutputSet(const std::filesystem::path& folder, std::vector<std::string> names,
-                     std::string option)
+                     SourceLocation option)
     : option_(std::move(option)) {
   std::error_code ec;
   folder_ = std::filesystem::absolute(folder, ec).lexically_normal();
   if (folder_.has_filename() == false) folder_ = folder_.parent_path();  // "out/" → "out"
-  const auto fail = [&](const std::string& message) {
-    throw InputError(SourceLocation{option_}, message);
-  };
+  const auto fail = [&](const std::string& message) { throw InputError(option_, message); };
   const std::filesystem::path parent = folder_.parent_path();
   const std::string base = folder_.filename().string();
   if (base.empty() || folder_ == parent) {

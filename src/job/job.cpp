@@ -22,9 +22,9 @@ void require(const std::string& value, const char* what, const char* option) {
   }
 }
 
-void check_units(const std::string& units, const char* option) {
+void check_units(const Job& job, std::string_view key, const std::string& units) {
   if (!units.empty() && units != "mm" && units != "in") {
-    throw InputError(SourceLocation{option}, fmt::format("'{}': expected mm or in", units));
+    throw job.error(key, fmt::format("'{}': expected mm or in", units));
   }
 }
 
@@ -48,6 +48,18 @@ SourceLocation Job::origin(std::string_view key) const {
   return SourceLocation{option};
 }
 
+SourceLocation Job::text_origin(std::string_view key) const {
+  SourceLocation where = origin(key);
+  if (where.line > 0) ++where.column;
+  return where;
+}
+
+InputError Job::error(std::string_view key, const std::string& message) const {
+  const SourceLocation where = origin(key);
+  if (where.line == 0) return InputError(where, message);
+  return InputError(where, fmt::format("\"{}\": {}", key, message));
+}
+
 namespace {
 
 // Checks a number given for `key` against [lo, hi] (bounds excluded when `open`); `expected` says
@@ -58,10 +70,7 @@ void check_number(const Job& job, std::string_view key, const std::optional<T>& 
   if (!value) return;
   const auto v = static_cast<double>(*value);
   if (std::isfinite(v) && (lo_open ? v > lo : v >= lo) && v <= hi) return;
-  const SourceLocation where = job.origin(key);
-  // A job file's place names the key too; an option names itself.
-  const std::string named = where.line > 0 ? fmt::format("\"{}\": ", key) : std::string();
-  throw InputError(where, fmt::format("{}{}: expected {}", named, *value, expected));
+  throw job.error(key, fmt::format("{}: expected {}", *value, expected));
 }
 
 // Every number of the job, at its origin. The upper bounds are far beyond any machine; they keep
@@ -70,8 +79,9 @@ void check_numbers(const Job& job) {
   constexpr bool kOpen = true;
   check_number(job, "resolution", job.resolution, 0.0, kOpen, 1e4,
                "a positive length in mm, at most 10000");
-  check_number(job, "tolerance", job.tolerance, 0.0, kOpen, 1e4,
-               "a positive length in mm, at most 10000");
+  // Below 1e-6 mm a tolerance only multiplies the pieces of arcs, helices and 5-axis moves.
+  check_number(job, "tolerance", job.tolerance, 1e-6, !kOpen, 1e4,
+               "a length in mm from 1e-6 to 10000");
   check_number(job, "threads", job.threads, 1.0, !kOpen, 4096.0,
                "a whole number of threads, 1 to 4096");
   check_number(job, "cl_step", job.cl_step, 0.0, kOpen, 1e6,
@@ -93,10 +103,13 @@ void check_numbers(const Job& job) {
 PreparedJob prepare_job(Job& options) {
   require(options.stock, "stock", "--stock");
   if (!options.path.empty()) {
-    options.operations = {{options.tool, options.path}};
+    options.operations = {{options.tool, options.path, options.text_origin("tool")}};
   } else if (!options.tool.empty() && !options.operations.empty()) {
     for (Operation& op : options.operations) {
-      if (op.tool.empty()) op.tool = options.tool;
+      if (op.tool.empty()) {
+        op.tool = options.tool;
+        op.tool_at = options.text_origin("tool");
+      }
     }
   }
   if (options.operations.empty()) require(options.path, "toolpath", "--path");
@@ -109,8 +122,8 @@ PreparedJob prepare_job(Job& options) {
   simulation.resolution = options.resolution.value_or(0.1);
   simulation.tolerance = options.tolerance.value_or(0.0);  // 0: resolution / 10
   job.threads = options.threads.value_or(tbb::info::default_concurrency());
-  check_units(options.units, "--units");
-  check_units(options.tool_units, "--tool-units");
+  check_units(options, "units", options.units);
+  check_units(options, "tool_units", options.tool_units);
   if (options.tool_units.empty()) options.tool_units = options.units;
   if (!options.tools.empty()) {
     options.tool_table = read_tool_table(options.tools, options.tool_units == "in");
@@ -153,13 +166,19 @@ PreparedJob prepare_job(Job& options) {
     return run.second.coefficients.has_value();
   });
   if (options.forces.empty() && !own_coefficients && (options.feed || options.spindle)) {
-    throw InputError(options.origin(options.feed ? "feed" : "spindle"),
-                     "spindle speed and feed overrides are for the force model: give --forces");
+    throw options.error(options.feed ? "feed" : "spindle",
+                        "spindle speed and feed overrides are for the force model: give --forces");
   }
   if (!options.forces.empty() || own_coefficients) {
-    job.forces = force_settings(options.forces,
-                                {options.spindle, options.feed, options.flutes, options.helix,
-                                 options.force_step, options.runout, options.origin("runout")});
+    try {
+      job.forces = force_settings(options.forces,
+                                  {options.spindle, options.feed, options.flutes, options.helix,
+                                   options.force_step, options.runout, options.origin("runout")});
+    } catch (const InputError& e) {
+      // A material name that is not bundled is an error in the option (or key) that gave it.
+      if (e.location().source != kCoefficientNameSource) throw;
+      throw options.error("forces", e.message());
+    }
   }
   for (auto& [o, run] : runs) {
     const std::string& program = options.operations[o].path;

@@ -117,14 +117,13 @@ EntryRules entry_rules(const Job& options, double stock_top) {
     }
     const std::optional<Vec3> point = point_of(text);
     if (!point) {
-      throw InputError(SourceLocation{option},
-                       fmt::format("'{}': expected auto, {} or x,y,z", text, word));
+      throw options.error(option, fmt::format("'{}': expected auto, {} or x,y,z", text, word));
     }
     kind = EntryRules::Kind::kGiven;
     at = *point * unit_length(options.units);
   };
-  parse(options.start, "--start", "origin", EntryRules::Kind::kOrigin, rules.start, rules.start_at);
-  parse(options.tool_change, "--tool-change", "stay", EntryRules::Kind::kStay, rules.change,
+  parse(options.start, "start", "origin", EntryRules::Kind::kOrigin, rules.start, rules.start_at);
+  parse(options.tool_change, "tool_change", "stay", EntryRules::Kind::kStay, rules.change,
         rules.change_at);
   // "auto" on a machine with a tool-change position: there, in the frame's coordinates.
   const std::optional<MachineDefinition>& machine = options.machine_definition;
@@ -143,7 +142,7 @@ std::vector<ToolRun> program_runs(const Operation& op, const Job& options,
   GcodeOptions gcode;
   gcode.subroutine_path = parse_search_path(options.subroutine_path);
   gcode.tool_diameter =
-      compensation_diameters(options.tool_table, op.tool, unit_length(options.units));
+      compensation_diameters(options.tool_table, op.tool, unit_length(options.units), op.tool_at);
   gcode.machine = options.machine_definition;
   const ReadToolpath read = read_program(op.path, rules, gcode);
   const Toolpath& path = read.toolpath;
@@ -167,13 +166,13 @@ std::vector<ToolRun> program_runs(const Operation& op, const Job& options,
   // entry for it, else the program's own cutter.
   if (used.size() <= 1 && (!table || !op.tool.empty() || used.empty() || used.front() == 0)) {
     const int tool = used.empty() ? 0 : used.front();
-    return {{read, choose_cutter(op.tool, path, op.path, unit_length(options.units)), tool,
-             std::nullopt, loading(path, tool, op.path), gcode}};
+    return {{read, choose_cutter(op.tool, op.tool_at, path, op.path, unit_length(options.units)),
+             tool, std::nullopt, loading(path, tool, op.path), gcode}};
   }
   if (!table) {
     if (!op.tool.empty() && options.tool_for_all) {
-      return {{read, choose_cutter(op.tool, path, op.path, unit_length(options.units)), 0,
-               std::nullopt, SourceLocation{op.path}, gcode}};
+      return {{read, choose_cutter(op.tool, op.tool_at, path, op.path, unit_length(options.units)),
+               0, std::nullopt, SourceLocation{op.path}, gcode}};
     }
     const bool defined = std::all_of(used.begin(), used.end(),
                                      [&](int t) { return path.tool_definitions.count(t) > 0; });

@@ -5,9 +5,9 @@
 
 namespace cwe {
 
-Cutter choose_cutter(const std::string& tool_spec, const Toolpath& path,
-                     const std::string& path_name, double unit) {
-  if (!tool_spec.empty()) return cutter_from_spec(tool_spec, SourceLocation{"--tool"}, unit);
+Cutter choose_cutter(const std::string& tool_spec, const SourceLocation& tool_at,
+                     const Toolpath& path, const std::string& path_name, double unit) {
+  if (!tool_spec.empty()) return cutter_from_spec(tool_spec, tool_at, unit);
   if (path.tool_definitions.size() == 1) {
     const AptCutter& apt = path.tool_definitions.begin()->second;
     CutterOptions named;

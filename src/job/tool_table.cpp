@@ -3,8 +3,8 @@
 #include <cctype>
 #include <cmath>
 #include <memory>
-#include <string_view>
 #include <optional>
+#include <string_view>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -98,8 +98,9 @@ ToolTable tool_table_from_json(const nlohmann::json& value, const std::string& s
       if (entry.contains("forces")) {
         const nlohmann::json& f = entry["forces"];
         if (!f.is_string() || f.get<std::string>().empty()) {
-          throw InputError(where, "\"forces\": expected a coefficient JSON file or a bundled "
-                                  "material (cwe materials lists them)");
+          throw InputError(where,
+                           "\"forces\": expected a coefficient JSON file or a bundled "
+                           "material (cwe materials lists them)");
         }
         std::string name = f.get<std::string>();
         if ((name.ends_with(".json") || name.find('/') != std::string::npos) &&
@@ -114,8 +115,9 @@ ToolTable tool_table_from_json(const nlohmann::json& value, const std::string& s
       }
     }
     if (!spec->is_string() || spec->get<std::string>().empty()) {
-      throw InputError(where, "expected a tool specification such as \"flat:10,30\" or a JSON "
-                              "tool file");
+      throw InputError(where,
+                       "expected a tool specification such as \"flat:10,30\" or a JSON "
+                       "tool file");
     }
     tool.spec = spec->get<std::string>();
     if (tool.spec.size() > 5 && tool.spec.ends_with(".json") &&
@@ -125,7 +127,10 @@ ToolTable tool_table_from_json(const nlohmann::json& value, const std::string& s
     const int number = tool_number(key, where);
     // Each entry is checked now, before any long run.
     (void)cutter_of(tool);
-    table.tools.emplace(number, std::move(tool));
+    if (!table.tools.emplace(number, std::move(tool)).second) {
+      throw InputError(where,
+                       fmt::format("tool {} is listed twice (as \"{}\" and before)", number, key));
+    }
   }
   return table;
 }
@@ -288,7 +293,8 @@ ToolTable freecad_library(const std::string& path) {
     const nlohmann::json& tool = library["tools"][k];
     const SourceLocation where{fmt::format("{}: \"tools\"[{}]", path, k)};
     if (!tool.is_object() || !tool.contains("nr") || !tool["nr"].is_number_integer() ||
-        tool["nr"].get<long long>() < 0 || !tool.contains("path") || !tool["path"].is_string()) {
+        tool["nr"].get<long long>() < 0 || tool["nr"].get<long long>() > 1000000000 ||
+        !tool.contains("path") || !tool["path"].is_string()) {
       throw InputError(where, "expected {\"nr\": a tool number, \"path\": a .fctb file}");
     }
     const std::filesystem::path bit(tool["path"].get<std::string>());
@@ -310,7 +316,10 @@ ToolTable freecad_library(const std::string& path) {
       entry.where = SourceLocation{found.lexically_normal().string()};
       entry.refused = e.message();
     }
-    table.tools.emplace(tool["nr"].get<int>(), std::move(entry));
+    if (!table.tools.emplace(tool["nr"].get<int>(), std::move(entry)).second) {
+      throw InputError(SourceLocation{path},
+                       fmt::format("tool {} is listed twice", tool["nr"].get<int>()));
+    }
   }
   if (table.tools.empty()) throw InputError(SourceLocation{path}, "the library holds no tools");
   return table;
@@ -359,7 +368,12 @@ ToolTable linuxcnc_table(const std::string& path, bool inches) {
         }
         number = static_cast<int>(value);
       }
-      if (letter == 'D') diameter = value * (inches ? 25.4 : 1.0);
+      if (letter == 'D') {
+        if (!(value > 0.0) || value > 1e6) {
+          throw InputError(at, fmt::format("D{:g}: expected a positive diameter", value));
+        }
+        diameter = value * (inches ? 25.4 : 1.0);
+      }
       k += 1 + used;
     }
     if (!number) {
@@ -377,8 +391,8 @@ ToolTable linuxcnc_table(const std::string& path, bool inches) {
     } else if (diameter > 0.0) {
       entry.spec = fmt::format("flat:{:.6g}", diameter);
     } else {
-      entry.refused = fmt::format("tool {} has no diameter (D) and no cwe: key in its comment",
-                                  *number);
+      entry.refused =
+          fmt::format("tool {} has no diameter (D) and no cwe: key in its comment", *number);
     }
     if (entry.refused.empty()) (void)cutter_of(entry);
     if (!table.tools.emplace(*number, std::move(entry)).second) {
@@ -408,8 +422,7 @@ Cutter cutter_of(const ToolEntry& entry) {
   CutterOptions options;
   options.name = base.name();
   options.flutes = entry.flutes.value_or(base.flutes());
-  options.helix_angle_deg =
-      entry.helix_deg.value_or(base.helix_angle() * 180.0 / kPi);
+  options.helix_angle_deg = entry.helix_deg.value_or(base.helix_angle() * 180.0 / kPi);
   options.shank = base.shank();
   options.apt = base.apt();
   return Cutter(base.profile(), options);
@@ -420,9 +433,10 @@ double compensation_diameter(const Cutter& cutter) {
 }
 
 std::function<std::optional<double>(int tool)> compensation_diameters(
-    const std::optional<ToolTable>& table, const std::string& tool_spec, double unit) {
+    const std::optional<ToolTable>& table, const std::string& tool_spec, double unit,
+    const SourceLocation& tool_at) {
   if (!tool_spec.empty()) {
-    const double d = compensation_diameter(cutter_from_spec(tool_spec, SourceLocation{"--tool"}, unit));
+    const double d = compensation_diameter(cutter_from_spec(tool_spec, tool_at, unit));
     return [d](int) { return std::optional<double>(d); };
   }
   if (!table) return {};

@@ -19,7 +19,7 @@ namespace cwe {
 namespace {
 
 // Label of errors about a material name given on its own (not in a file).
-constexpr const char* kNameSource = "cutting coefficients";
+constexpr const char* kNameSource = kCoefficientNameSource;
 
 constexpr const char* kExpectedKeys =
     "a set has the six keys Ktc, Krc, Kac (shear terms, N/mm²) and Kte, Kre, Kae "

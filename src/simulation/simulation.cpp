@@ -2,12 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <memory>
 
 #include <fmt/format.h>
 
-#include "cwe/core/numbers.hpp"
 #include "cwe/core/assert.hpp"
+#include "cwe/core/numbers.hpp"
 #include "cwe/engagement/dexel_workpiece.hpp"
 #include "cwe/io/mesh_io.hpp"
 
@@ -56,7 +57,15 @@ StockSpec parse_stock_spec(const std::string& text, const SourceLocation& source
 
 StockSpec read_stock_spec(const std::string& text, const SourceLocation& source) {
   StockSpec spec = parse_stock_spec(text, source);
-  if (!spec.is_box) spec.mesh = std::make_shared<const TriangleMesh>(read_stl(spec.path).mesh);
+  if (!spec.is_box) {
+    std::error_code ec;
+    if (!std::filesystem::exists(spec.path, ec)) {
+      throw InputError(source, fmt::format("'{}': no such file; expected "
+                                           "box:xmin,ymin,zmin,xmax,ymax,zmax or a closed STL file",
+                                           spec.path));
+    }
+    spec.mesh = std::make_shared<const TriangleMesh>(read_stl(spec.path).mesh);
+  }
   return spec;
 }
 
@@ -141,8 +150,8 @@ RemovalSummary remove_toolpath(TriDexel& stock, const Cutter& cutter, const Tool
 }
 
 RemovalSummary simulate_engagement(Workpiece& stock, const Cutter& cutter, const Toolpath& path,
-                                   const EngagementRunOptions& options,
-                                   const EngagementSink& sink, const Progress& progress) {
+                                   const EngagementRunOptions& options, const EngagementSink& sink,
+                                   const Progress& progress) {
   RemovalSummary summary;
   const double tolerance = options.simulation.effective_tolerance();
   const ConvexParts parts(cutter, tolerance);
@@ -191,8 +200,8 @@ RemovalSummary simulate_engagement(Workpiece& stock, const Cutter& cutter, const
 }
 
 RemovalSummary simulate_engagement(TriDexel& stock, const Cutter& cutter, const Toolpath& path,
-                                   const EngagementRunOptions& options,
-                                   const EngagementSink& sink, const Progress& progress) {
+                                   const EngagementRunOptions& options, const EngagementSink& sink,
+                                   const Progress& progress) {
   DexelWorkpiece workpiece(stock);
   return simulate_engagement(workpiece, cutter, path, options, sink, progress);
 }

@@ -71,6 +71,9 @@ Profile apt_profile(const AptCutter& apt, const SourceLocation& where) {
   const double tol = tol::kInputLength;
 
   if (!(apt.d > 0.0)) bad(fmt::format("d = {}: the diameter must be positive", apt.d));
+  // Below a micrometre the profile's tolerances (tol::kInputLength) are no longer small.
+  if (apt.d < 1e-3)
+    bad(fmt::format("d = {}: below the smallest diameter cwe models, 0.001 mm", apt.d));
   if (!(apt.r >= 0.0)) bad(fmt::format("r = {}: the corner radius cannot be negative", apt.r));
   if (!(apt.e >= -tol))
     bad(fmt::format("e = {}: the corner centre cannot lie left of the axis", apt.e));

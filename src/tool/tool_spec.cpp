@@ -21,9 +21,9 @@ constexpr const char* kKnownTypes =
 
 struct Number {
   double value = 0.0;
-  int column = 0;       // 1-based column within the spec
-  bool unit = false;    // written with a length unit, "mm" or "in"
-  double scale = 1.0;   // mm per unit of the number as written (25.4 for "in")
+  int column = 0;      // 1-based column within the spec
+  bool unit = false;   // written with a length unit, "mm" or "in"
+  double scale = 1.0;  // mm per unit of the number as written (25.4 for "in")
 };
 
 // The location of column `column` (from 1) of a specification that starts at `where` (a string
@@ -156,7 +156,13 @@ double json_number(const nlohmann::json& j, const std::string& what, const std::
     throw InputError(SourceLocation{source},
                      fmt::format("{}: expected a number, found {}", what, j.dump()));
   }
-  return j.get<double>();
+  const double value = j.get<double>();
+  if (std::abs(value) > kLargestInputValue) {
+    throw InputError(SourceLocation{source},
+                     fmt::format("{}: {} is beyond the largest value cwe takes ({:g})", what,
+                                 j.dump(), kLargestInputValue));
+  }
+  return value;
 }
 
 Vec2 json_point(const nlohmann::json& j, const std::string& what, const std::string& source) {
@@ -235,7 +241,25 @@ Cutter cutter_from_file(const std::string& path) {
   return cutter_from_json(read_text_file(path, "tool file"), path);
 }
 
+namespace {
+
+Cutter cutter_from_json_object(std::string_view text, const std::string& source);
+
+}  // namespace
+
 Cutter cutter_from_json(std::string_view text, const std::string& source) {
+  try {
+    return cutter_from_json_object(text, source);
+  } catch (const InputError& e) {
+    // The cutter's own checks name the tool ("tool" when unnamed): here the file is known.
+    if (e.location().line > 0 || e.location().source.starts_with(source)) throw;
+    throw InputError(SourceLocation{source}, e.message());
+  }
+}
+
+namespace {
+
+Cutter cutter_from_json_object(std::string_view text, const std::string& source) {
   const nlohmann::json j = parse_json_input(text, source);
   if (!j.is_object())
     throw InputError(SourceLocation{source}, "a tool file must hold a JSON object");
@@ -310,5 +334,7 @@ Cutter cutter_from_json(std::string_view text, const std::string& source) {
   }
   return cutter_from_apt(apt, std::move(options), where);
 }
+
+}  // namespace
 
 }  // namespace cwe

@@ -326,6 +326,7 @@ class Reader {
   // Interprets one record; false once FINI has ended the program.
   bool read(const Record& record) {
     if (record.problem) fail(record.problem->first, record.problem->second);
+    ++records_;
     // Points on lines of their own continue the GOTO just before them (Creo writes arcs so).
     const bool after_goto = goto_continues_;
     std::optional<Circle> goto_circle = std::move(goto_circle_);
@@ -402,6 +403,7 @@ class Reader {
     } else if (word == "FINI") {
       return false;
     } else if (!is_ignored_word(word)) {
+      if (unknown_++ == 0) first_unknown_ = {record.where, word};
       warn(record.where, fmt::format("unknown record {} ignored", word));
     }
     return true;
@@ -413,6 +415,14 @@ class Reader {
 
   Toolpath finish() {
     if (circle_) fail(circle_->where, "CIRCLE is not followed by the GOTO that ends the arc");
+    if (records_ > 0 && unknown_ == records_) {
+      // Not one record known: not CLDATA (a G-code program saved as .cl, say).
+      fail(first_unknown_.first,
+           fmt::format("no record of this file is CLDATA (the first is '{}'): expected records "
+                       "such as GOTO/x,y,z; a G-code program needs a G-code extension (.ngc, "
+                       ".nc, .tap)",
+                       printable(first_unknown_.second)));
+    }
     settle_pending_cutter();
     return std::move(path_);
   }
@@ -938,6 +948,8 @@ class Reader {
   std::string source_;
   bool nx_clsf_ = false;
   Toolpath path_;
+  std::size_t records_ = 0, unknown_ = 0;           // records read, and of them unknown
+  std::pair<Position, std::string> first_unknown_;  // the first unknown record and its word
 
   double scale_ = 1.0;  // mm per program unit
   Vec3 position_ = Vec3::Zero();

@@ -45,5 +45,43 @@ TEST(JsonInput, ErrorsAreLocated) {
   expect_error("{\"a\": 1", 1, 8, "not valid JSON");
 }
 
+// JsonPlaces: every value's line and column, by JSON pointer, counted in bytes as the parse errors
+// are.
+TEST(JsonPlaces, LocatesValuesByPointer) {
+  const std::string text =
+      "{\"a\": 1,\n"
+      "  \"b\": {\"c\": [10, \"x\", {\"d\": true}]},\n"
+      "\t\"e/f\": null, \"g~\": \"s\"}";
+  ASSERT_NO_THROW(parse_json_input(text, "in.json"));
+  const JsonPlaces places(text, "in.json");
+  const auto expect_at = [&](const std::string& pointer, int line, int column) {
+    const SourceLocation at = places.at(pointer);
+    EXPECT_EQ(at.source, "in.json") << pointer;
+    EXPECT_EQ(at.line, line) << pointer;
+    EXPECT_EQ(at.column, column) << pointer;
+  };
+  expect_at("", 1, 1);
+  expect_at("/a", 1, 7);
+  expect_at("/b", 2, 8);
+  expect_at("/b/c", 2, 14);
+  expect_at("/b/c/0", 2, 15);
+  expect_at("/b/c/1", 2, 19);
+  expect_at("/b/c/2/d", 2, 30);
+  expect_at("/" + json_pointer_token("e/f"), 3, 9);
+  expect_at("/" + json_pointer_token("g~"), 3, 21);
+  // Not a value of the text: the source alone.
+  EXPECT_EQ(places.at("/nope").line, 0);
+}
+
+// Values nested deeper than kDepth are skipped without recursion, whatever the depth.
+TEST(JsonPlaces, DeepNestingIsSkipped) {
+  const std::string text = "{\"k\": " + std::string(100000, '[') + std::string(100000, ']') +
+                           ", \"after\": 2}";
+  const JsonPlaces places(text, "deep.json");
+  EXPECT_EQ(places.at("/k").column, 7);
+  EXPECT_EQ(places.at("/after").column, static_cast<int>(text.find("2}")) + 1);
+  EXPECT_EQ(places.at("/k/0/0/0/0/0").line, 0);
+}
+
 }  // namespace
 }  // namespace cwe

@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "cwe/core/error.hpp"
+
 namespace cwe {
 
 class OutputSet {
@@ -25,7 +27,7 @@ class OutputSet {
   // nothing but `names` (the command's outputs; "*.tmp-*" temporaries too) and that its parent
   // takes a new folder, and creates the staging folder. Throws InputError located at `option`.
   OutputSet(const std::filesystem::path& folder, std::vector<std::string> names,
-            std::string option = "--out");
+            SourceLocation option = SourceLocation{"--out"});
   OutputSet(const OutputSet&) = delete;
   OutputSet& operator=(const OutputSet&) = delete;
   // Removes the staging folder unless published.
@@ -42,7 +44,7 @@ class OutputSet {
  private:
   std::filesystem::path folder_;  // absolute, lexically normal
   std::filesystem::path staging_;
-  std::string option_;
+  SourceLocation option_;
   bool published_ = false;
 };
 

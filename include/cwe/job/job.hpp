@@ -29,6 +29,8 @@ inline constexpr double kStartClearance = 5.0;
 struct Operation {
   std::string tool;
   std::string path;
+  // Where `tool` was written: its first character in a job file, else the option.
+  SourceLocation tool_at{"--tool"};
 };
 
 // A job as given. Empty strings and absent numbers mean "not given" (the defaults in the
@@ -81,6 +83,11 @@ struct Job {
   std::map<std::string, SourceLocation, std::less<>> given_at;
   // Where `key`'s value came from: its place in the job file, else its option ("--cl-step").
   SourceLocation origin(std::string_view key) const;
+  // The same for a text value: in a job file, its first character (after the quote), so that a
+  // column within the text adds to it.
+  SourceLocation text_origin(std::string_view key) const;
+  // An error in `key`'s value, at its origin; from a job file the message names the key.
+  InputError error(std::string_view key, const std::string& message) const;
 };
 
 // An operation ready to run: its program read, its cutter chosen, its force model (with
@@ -121,8 +128,9 @@ PreparedJob prepare_job(Job& job);
 // names, or (sources) where their numbers come from. Empty without forces.
 std::string coefficient_names(const PreparedJob& job, bool sources = false);
 
-// InputError unless `units` is empty, "mm" or "in"; `option` names it.
-void check_units(const std::string& units, const char* option);
+// InputError at the origin of `key` (units, tool_units, report_units) unless `units` is empty,
+// "mm" or "in".
+void check_units(const Job& job, std::string_view key, const std::string& units);
 // mm per length unit: 25.4 for "in", else 1.
 double unit_length(const std::string& units);
 

@@ -10,7 +10,8 @@
 namespace cwe {
 
 // `unit`: mm per length of the specification written without a unit (25.4 for --units in).
-Cutter choose_cutter(const std::string& tool_spec, const Toolpath& path,
-                     const std::string& path_name, double unit = 1.0);
+// `tool_at`: where the specification was written (the option, or its place in a job file).
+Cutter choose_cutter(const std::string& tool_spec, const SourceLocation& tool_at,
+                     const Toolpath& path, const std::string& path_name, double unit = 1.0);
 
 }  // namespace cwe

@@ -6,11 +6,11 @@
 //                                        "forces": "ti6al4v-carbide"},
 //              "3": "tools/bull.json"}}
 //
-// (the outer {"tools": …}, which may carry a "comment", may be left out in a file). A value is a tool specification (or a JSON
-// tool file, relative to the table's folder), or an object with "spec" and optional "flutes"
-// and "helix" (degrees) that override the specification's, and "forces": the tool's cutting
-// coefficients (a bundled material or a coefficient file, as --forces takes), which replace the
-// job's for that tool's moves.
+// (the outer {"tools": …}, which may carry a "comment", may be left out in a file). A value is a
+// tool specification (or a JSON tool file, relative to the table's folder), or an object with
+// "spec" and optional "flutes" and "helix" (degrees) that override the specification's, and
+// "forces": the tool's cutting coefficients (a bundled material or a coefficient file, as --forces
+// takes), which replace the job's for that tool's moves.
 
 #include <filesystem>
 #include <functional>
@@ -32,7 +32,7 @@ struct ToolEntry {
   std::optional<int> flutes;
   std::optional<double> helix_deg;
   std::optional<CuttingCoefficients> coefficients;  // the tool's own ("forces")
-  double unit = 1.0;  // mm per length of `spec` written without a unit
+  double unit = 1.0;     // mm per length of `spec` written without a unit
   SourceLocation where;  // the entry, for errors
   // Non-empty: why cwe cannot cut with this entry (a FreeCAD probe or slitting saw in a library);
   // an error only for a program that loads it.
@@ -51,9 +51,9 @@ ToolTable tool_table_from_json(const nlohmann::json& value, const std::string& s
                                const std::filesystem::path& folder, double unit = 1.0);
 // A table read from a file: a FreeCAD tool library (.fctl, its .fctb bits mapped to cwe's
 // cutters: endmill → flat, ballend → ball, bullnose/torus → bull, drill → chamfer at its tip
-// angle, chamfer and v-bit → a cone from the tip diameter; other shapes are errors), a LinuxCNC tool table (.tbl: flat end mills of diameter D,
-// or the cutter a "cwe:spec" comment names; D in inches when `inches`), else a cwe JSON table
-// (its bare lengths in inches when `inches`).
+// angle, chamfer and v-bit → a cone from the tip diameter; other shapes are errors), a LinuxCNC
+// tool table (.tbl: flat end mills of diameter D, or the cutter a "cwe:spec" comment names; D in
+// inches when `inches`), else a cwe JSON table (its bare lengths in inches when `inches`).
 ToolTable read_tool_table(const std::string& path, bool inches = false);
 
 // The cutter of one entry (the specification with the entry's flutes and helix). Throws
@@ -66,8 +66,10 @@ double compensation_diameter(const Cutter& cutter);
 
 // Tool diameters for G-code cutter radius compensation (GcodeOptions::tool_diameter): with
 // `tool_spec` (--tool), that one cutter's for every tool number, as it cuts every move; else the
-// cutter of the tool's entry in `table`; else unknown. `unit`: mm per bare length of `tool_spec`.
+// cutter of the tool's entry in `table`; else unknown. `unit`: mm per bare length of `tool_spec`,
+// written at `tool_at`.
 std::function<std::optional<double>(int tool)> compensation_diameters(
-    const std::optional<ToolTable>& table, const std::string& tool_spec, double unit = 1.0);
+    const std::optional<ToolTable>& table, const std::string& tool_spec, double unit = 1.0,
+    const SourceLocation& tool_at = SourceLocation{"--tool"});
 
 }  // namespace cwe

@@ -38,5 +38,8 @@ CuttingCoefficients bundled_coefficients(const std::string& name);
 // (case-insensitive) if there is one, else an existing file. Throws cwe::InputError naming the
 // file, or listing the bundled materials when it is neither.
 CuttingCoefficients load_cutting_coefficients(const std::string& name_or_path);
+// The source of load_cutting_coefficients' error for a name that is neither bundled nor a file
+// (the caller knows which option gave it).
+inline constexpr const char* kCoefficientNameSource = "cutting coefficients";
 
 }  // namespace cwe

@@ -1,0 +1,74 @@
+// The memory limit: its parsing, and the check made before the big allocations.
+
+#include "cwe/core/memory_limit.hpp"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+#include <optional>
+#include <string>
+
+#include "cwe/core/error.hpp"
+
+namespace cwe {
+namespace {
+
+const SourceLocation kOption{"--memory-limit"};
+
+TEST(MemoryLimit, ParsesSizesAndShares) {
+  constexpr std::size_t kMiB = std::size_t{1} << 20;
+  EXPECT_EQ(parse_memory_limit("16G", kOption), 16 * 1024 * kMiB);
+  EXPECT_EQ(parse_memory_limit("16g", kOption), 16 * 1024 * kMiB);
+  EXPECT_EQ(parse_memory_limit("512MiB", kOption), 512 * kMiB);
+  EXPECT_EQ(parse_memory_limit("64M", kOption), 64 * kMiB);
+  EXPECT_EQ(parse_memory_limit("1.5GB", kOption), 1536 * kMiB);
+  EXPECT_EQ(parse_memory_limit("1T", kOption), 1024 * 1024 * kMiB);
+  EXPECT_EQ(parse_memory_limit("70000000000", kOption), std::size_t{70000000000});
+  if (physical_memory() > 0) {
+    const double half = 0.5 * static_cast<double>(physical_memory());
+    EXPECT_NEAR(static_cast<double>(parse_memory_limit("50%", kOption)), half, 1.0);
+  }
+  for (const char* bad :
+       {"", "G", "12x", "0", "-5G", "1K", "63M", "101%", "1e400", "16 G", "16GG", "nan", "1..5G"}) {
+    SCOPED_TRACE(bad);
+    try {
+      parse_memory_limit(bad, kOption);
+      ADD_FAILURE() << "expected an InputError";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.location().source, "--memory-limit");
+      EXPECT_NE(e.message().find("expected a size"), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(MemoryLimit, CheckNamesTheEstimateAndTheLimit) {
+  set_memory_limit(std::size_t{1} << 30);
+  EXPECT_EQ(memory_limit(), std::size_t{1} << 30);
+  EXPECT_NO_THROW(check_memory(1e9, "the rays", kOption, "use fewer"));
+  try {
+    check_memory(43.2e9, "the rays", SourceLocation{"--resolution"}, "use a coarser resolution");
+    ADD_FAILURE() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "--resolution: error: the rays would need about 43.2 GB of memory, above the limit "
+              "of 1.1 GB (--memory-limit): use a coarser resolution");
+  }
+  // A NaN estimate (an overflowed product) is refused too.
+  EXPECT_THROW(check_memory(std::numeric_limits<double>::quiet_NaN(), "x", kOption, "y"),
+               InputError);
+  set_memory_limit(std::nullopt);
+  if (physical_memory() > 0) {
+    EXPECT_NEAR(static_cast<double>(memory_limit()), 0.8 * static_cast<double>(physical_memory()),
+                1.0);
+  }
+}
+
+TEST(MemoryLimit, BytesAsPeopleReadThem) {
+  EXPECT_EQ(format_bytes(512), "512 B");
+  EXPECT_EQ(format_bytes(3.2e6), "3.2 MB");
+  EXPECT_EQ(format_bytes(43.15e9), "43.1 GB");
+  EXPECT_EQ(format_bytes(2.5e12), "2.5 TB");
+}
+
+}  // namespace
+}  // namespace cwe

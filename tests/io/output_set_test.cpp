@@ -1,0 +1,122 @@
+// Output folders replaced whole: staged, swapped in atomically, the leftovers of stopped runs
+// removed, and a folder holding anything else refused.
+
+#include "cwe/io/output_set.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <set>
+#include <string>
+
+#include "cwe/core/error.hpp"
+
+namespace cwe {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("cwe-output-set-" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+void write(const fs::path& path, const std::string& text) {
+  fs::create_directories(path.parent_path());
+  std::ofstream(path) << text;
+}
+
+std::string read(const fs::path& path) {
+  std::ifstream in(path);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+std::set<std::string> names(const fs::path& folder) {
+  std::set<std::string> out;
+  for (const auto& entry : fs::directory_iterator(folder)) out.insert(entry.path().filename());
+  return out;
+}
+
+const std::vector<std::string> kNames = {"a.csv", "b.json", "maps"};
+
+TEST(OutputSet, ReplacesTheWholeFolderOnPublish) {
+  const fs::path dir = scratch("replace");
+  const fs::path out = dir / "out";
+  write(out / "a.csv", "old a");
+  write(out / "maps" / "m1.png", "old map");
+  {
+    OutputSet set(out, kNames);
+    EXPECT_EQ(set.staging().parent_path(), dir);
+    write(set.staging() / "b.json", "new b");
+    // Until published, the old set is untouched.
+    EXPECT_EQ(read(out / "a.csv"), "old a");
+    set.publish();
+  }
+  EXPECT_EQ(names(out), (std::set<std::string>{"b.json"}));
+  EXPECT_EQ(read(out / "b.json"), "new b");
+  EXPECT_EQ(names(dir), (std::set<std::string>{"out"}));  // no staging, no old set
+}
+
+TEST(OutputSet, ANewFolderIsRenamedIntoPlace) {
+  const fs::path dir = scratch("new");
+  {
+    OutputSet set(dir / "deeper" / "out", kNames);
+    write(set.staging() / "a.csv", "a");
+    set.publish();
+  }
+  EXPECT_EQ(read(dir / "deeper" / "out" / "a.csv"), "a");
+}
+
+TEST(OutputSet, AnUnpublishedSetLeavesTheOldOneAndNoStaging) {
+  const fs::path dir = scratch("unpublished");
+  write(dir / "out" / "a.csv", "old a");
+  {
+    OutputSet set(dir / "out", kNames);
+    write(set.staging() / "a.csv", "half");
+  }  // an error on the way: never published
+  EXPECT_EQ(read(dir / "out" / "a.csv"), "old a");
+  EXPECT_EQ(names(dir), (std::set<std::string>{"out"}));
+}
+
+TEST(OutputSet, LeftoversOfStoppedRunsAreRemoved) {
+  const fs::path dir = scratch("leftovers");
+  // A pid that cannot be running (above the kernel's pid_max of 4,194,304).
+  write(dir / ".out.cwe-staging-999999999" / "a.csv", "killed run");
+  write(dir / ".out.cwe-staging-" / "a.csv", "no pid: not ours to remove");
+  const std::string running = ".out.cwe-staging-" + std::to_string(::getppid());
+  write(dir / running / "a.csv", "a run still going");
+  // A run stopped between the two renames of the fallback: its old set goes back.
+  write(dir / ".out.cwe-old-999999998" / "a.csv", "previous set");
+  { OutputSet set(dir / "out", kNames); }
+  EXPECT_EQ(names(dir), (std::set<std::string>{"out", ".out.cwe-staging-", running}));
+  EXPECT_EQ(read(dir / "out" / "a.csv"), "previous set");
+}
+
+TEST(OutputSet, AFolderHoldingOtherFilesIsRefused) {
+  const fs::path dir = scratch("foreign");
+  write(dir / "out" / "a.csv", "old a");
+  write(dir / "out" / "notes.txt", "the user's");
+  try {
+    OutputSet set(dir / "out", kNames, SourceLocation{"job.json", 3, 10});
+    ADD_FAILURE() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.location().line, 3);
+    EXPECT_NE(e.message().find("holds notes.txt, which is not an output"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(names(dir / "out"), (std::set<std::string>{"a.csv", "notes.txt"}));
+  EXPECT_EQ(names(dir), (std::set<std::string>{"out"}));
+  // A file where the folder should be, and the working folder itself.
+  write(dir / "file", "x");
+  EXPECT_THROW(OutputSet(dir / "file", kNames), InputError);
+  EXPECT_THROW(OutputSet(fs::current_path(), kNames), InputError);
+  EXPECT_THROW(OutputSet(".", kNames), InputError);
+}
+
+}  // namespace
+}  // namespace cwe
