@@ -102,6 +102,15 @@ void change_tools(std::vector<Move>& before, std::vector<Move>& after, const Ent
   }
 }
 
+// The whole program as one run, its moves moved (not copied: a long program is held once).
+std::vector<ToolRun> whole(ReadToolpath read, Cutter cutter, int tool, SourceLocation loaded,
+                           const GcodeOptions& gcode) {
+  std::vector<ToolRun> runs;
+  runs.push_back(
+      ToolRun{std::move(read), std::move(cutter), tool, std::nullopt, std::move(loaded), gcode});
+  return runs;
+}
+
 }  // namespace
 
 EntryRules entry_rules(const Job& options, double stock_top) {
@@ -144,7 +153,7 @@ std::vector<ToolRun> program_runs(const Operation& op, const Job& options,
   gcode.tool_diameter =
       compensation_diameters(options.tool_table, op.tool, unit_length(options.units), op.tool_at);
   gcode.machine = options.machine_definition;
-  const ReadToolpath read = read_program(op.path, rules, gcode);
+  ReadToolpath read = read_program(op.path, rules, gcode);
   const Toolpath& path = read.toolpath;
   std::vector<int> tools;  // the tool of each move, moves before any change taking the first
   int first = 0;
@@ -166,13 +175,15 @@ std::vector<ToolRun> program_runs(const Operation& op, const Job& options,
   // entry for it, else the program's own cutter.
   if (used.size() <= 1 && (!table || !op.tool.empty() || used.empty() || used.front() == 0)) {
     const int tool = used.empty() ? 0 : used.front();
-    return {{read, choose_cutter(op.tool, op.tool_at, path, op.path, unit_length(options.units)),
-             tool, std::nullopt, loading(path, tool, op.path), gcode}};
+    return whole(std::move(read),
+                 choose_cutter(op.tool, op.tool_at, path, op.path, unit_length(options.units)),
+                 tool, loading(path, tool, op.path), gcode);
   }
   if (!table) {
     if (!op.tool.empty() && options.tool_for_all) {
-      return {{read, choose_cutter(op.tool, op.tool_at, path, op.path, unit_length(options.units)),
-               0, std::nullopt, SourceLocation{op.path}, gcode}};
+      return whole(std::move(read),
+                   choose_cutter(op.tool, op.tool_at, path, op.path, unit_length(options.units)), 0,
+                   SourceLocation{op.path}, gcode);
     }
     const bool defined = std::all_of(used.begin(), used.end(),
                                      [&](int t) { return path.tool_definitions.count(t) > 0; });
