@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian packages cwe needs to build and test, only those that are missing.
 # Works as root on a fresh Debian 12 machine (uses sudo otherwise, when available).
+#   scripts/bootstrap.sh             the packages of the build and the tests
+#   scripts/bootstrap.sh PACKAGE…    those packages (scripts/fuzz.sh: clang and libFuzzer)
 set -euo pipefail
 
 packages=(
@@ -9,6 +11,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-dev pybind11-dev python3-numpy python3-pytest
 )
+[ $# -gt 0 ] && packages=("$@")
 
 missing=()
 for p in "${packages[@]}"; do

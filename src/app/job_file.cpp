@@ -259,7 +259,7 @@ void read_job(SimulateCommandOptions& options) {
     throw InputError(SourceLocation{options.job_file}, "expected a JSON object");
   for (const auto& [key, value] : job.items()) {
     const auto known = std::find_if(std::begin(kJobKeys), std::end(kJobKeys),
-                                    [&](const JobKey& k) { return key == k.name; });
+                                    [&name = key](const JobKey& k) { return name == k.name; });
     if (known == std::end(kJobKeys)) {
       std::vector<std::string> names;
       for (const JobKey& k : kJobKeys) names.emplace_back(k.name);

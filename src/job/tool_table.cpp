@@ -339,8 +339,10 @@ ToolTable linuxcnc_table(const std::string& path, bool inches) {
     start = end + 1;
     if (!row.empty() && row.back() == '\r') row.pop_back();
     std::string comment;
+    std::size_t comment_at = 0;  // the comment's offset in the line
     if (const std::size_t semi = row.find(';'); semi != std::string::npos) {
       comment = row.substr(semi + 1);
+      comment_at = semi + 1;
       row.resize(semi);
     }
     std::optional<int> number;
@@ -388,6 +390,7 @@ ToolTable linuxcnc_table(const std::string& path, bool inches) {
       const std::size_t from = key + 4;
       const std::size_t to = comment.find_first_of(" \t", from);
       entry.spec = comment.substr(from, to == std::string::npos ? std::string::npos : to - from);
+      entry.where.column = static_cast<int>(comment_at + from) + 1;  // the spec's own column
     } else if (diameter > 0.0) {
       entry.spec = fmt::format("flat:{:.6g}", diameter);
     } else {

@@ -432,8 +432,7 @@ class Interpreter {
   double return_value_ = 0.0;
   bool value_returned_ = false;
   std::vector<Frame> frames_ = std::vector<Frame>(1);
-  // Loop iterations since the last move: a loop that runs this often without moving never ends.
-  static constexpr long kMaxIdleIterations = 10'000'000;
+  // Loop iterations since the last move: past options_.max_idle_iterations, the loop never ends.
   long idle_iterations_ = 0;
 
   // Modal state, as LinuxCNC's setup_struct.

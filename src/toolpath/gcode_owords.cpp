@@ -224,7 +224,9 @@ std::optional<std::string> Interpreter::find_subroutine_file(const std::string& 
   for (const std::filesystem::path& folder : folders) {
     const std::filesystem::path candidate = folder / (name + ".ngc");
     std::error_code error;
-    if (std::filesystem::is_regular_file(candidate, error)) return candidate.string();
+    // Anything by that name is the file LinuxCNC would open: a folder is then an error when it
+    // is read ("the G-code subroutine file is a directory"), not "no such file".
+    if (std::filesystem::exists(candidate, error)) return candidate.string();
   }
   return std::nullopt;
 }
@@ -248,15 +250,19 @@ void Interpreter::back_to(const OLine& o) {
   // its own file if there is one, else further down this file; skip to its 'sub' line.
   const auto it = offsets_.find(o.name);
   if (it != offsets_.end()) {
-    if (++idle_iterations_ > kMaxIdleIterations) {
+    if (++idle_iterations_ > options_.max_idle_iterations) {
       fail(1, fmt::format("o{} {}: {} loop iterations and calls without a move: the program "
                           "never ends (LinuxCNC would run it forever)",
-                          o.label, o_name(o.type), kMaxIdleIterations));
+                          o.label, o_name(o.type), options_.max_idle_iterations));
     }
     Position at = it->second.at;
     at.line -= 1;  // the line is read again
     go_to(at);
     return;
+  }
+  // A name is a file name in the search folders, never a path (o</etc/x> would open /etc/x.ngc).
+  if (o.name.find('/') != std::string::npos) {
+    fail(1, fmt::format("subroutine name o<{}>: a name cannot hold '/'", o.name));
   }
   if (const std::optional<std::string> file = find_subroutine_file(o.name)) {
     go_to(Position{file_of(*file), 0, 0});

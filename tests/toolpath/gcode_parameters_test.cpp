@@ -270,6 +270,24 @@ TEST(GcodeOWords, AnEndlessLoopIsAnErrorNotAHang) {
   EXPECT_EQ(path.moves.size(), 20000u);
 }
 
+TEST(GcodeOWords, TheEndlessLoopLimitIsAnOption) {
+  // A caller may lower the count (the fuzz target does, to stay fast).
+  GcodeOptions options;
+  options.max_idle_iterations = 100;
+  try {
+    (void)read_gcode("G21\n#1=0\no1 while [1]\n#1=[#1+1]\no1 endwhile\nM2", "p.ngc", options);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.location().line, 5);
+    EXPECT_NE(e.message().find("100 loop iterations"), std::string::npos) << e.message();
+  }
+  // Below the limit, the loop runs.
+  const Toolpath path = read_gcode(
+      "G21\n#1=0\no1 while [#1 LT 50]\n#1=[#1+1]\no1 endwhile\nG0 X#1\nM2", "p.ngc", options);
+  ASSERT_EQ(path.moves.size(), 1u);
+  EXPECT_EQ(path.moves.back().end.x(), 50.0);
+}
+
 TEST(GcodeOWords, ArgumentsAndLocalsBelongToTheCall) {
   // #1-#30 are the call's arguments (0 beyond those given) and come back afterwards; a named
   // local of the caller is not visible in the sub; a global is.

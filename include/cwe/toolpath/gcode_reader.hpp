@@ -55,6 +55,9 @@ struct GcodeOptions {
   // is 0, so machine coordinates are the program's, with a warning at the first G53, G28 or G30.
   // `initial_position` is in the frame's coordinates either way.
   std::optional<MachineDefinition> machine;
+  // Loop iterations and subroutine calls in a row without a move after which the program is
+  // refused as never ending (LinuxCNC would run it forever); about 10 s at the default.
+  long max_idle_iterations = 10'000'000;
 };
 
 // Folders from a ':'-separated list (LinuxCNC's SUBROUTINE_PATH form); empty entries are dropped.

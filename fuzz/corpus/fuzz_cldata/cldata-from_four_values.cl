@@ -1,0 +1,3 @@
+UNITS/MM
+FROM/0,0,0,1
+FINI

@@ -1,0 +1,3 @@
+$$ a CL file that holds only comments
+PARTNO/NOTHING
+FINI
