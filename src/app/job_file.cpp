@@ -234,8 +234,8 @@ class JobFileReader {
         fail(at, "expected \"path\": a toolpath file");
       }
       if (op.contains("tool") && !op["tool"].is_string()) fail(at + "/tool", "expected a string");
-      SourceLocation tool_at = where(at + "/tool");
-      if (tool_at.line > 0) ++tool_at.column;  // the text's first character, after the quote
+      if (op.contains("tool")) given(at + "/tool");
+      const SourceLocation tool_at = options_.text_origin(at + "/tool");
       options_.operations.push_back({text(Kind::kToolSpec, op.value("tool", std::string())),
                                      relative(op["path"].get<std::string>()), tool_at});
     }

@@ -137,23 +137,8 @@ PreparedJob prepare_job(Job& options) {
 
   // Everything the job needs is read and checked before the long part starts.
   job.stock = read_stock_spec(options.stock, options.origin("stock"));
-  {
-    // The rays are the run's big allocation: checked here, where the resolution's origin is known.
-    const Aabb box = stock_box(job.stock);
-    const double s = simulation.resolution;
-    const double rays = TriDexel::rays_for(box, s);
-    const Vec3 size = box.size();
-    if (rays > 3.0 * static_cast<double>(TriDexel::kMaxRaysPerFamily)) {
-      throw InputError(options.origin("resolution"),
-                       fmt::format("{:g} mm is too fine for a {:g} × {:g} × {:g} mm stock: it "
-                                   "would need {:.3g} rays",
-                                   s, size.x(), size.y(), size.z(), rays));
-    }
-    check_memory(rays * static_cast<double>(sizeof(DexelRay)),
-                 fmt::format("{:g} mm: the {:.3g} dexel rays of a {:g} × {:g} × {:g} mm stock", s,
-                             rays, size.x(), size.y(), size.z()),
-                 options.origin("resolution"), "use a coarser resolution");
-  }
+  // The rays are the run's big allocation: checked here, where the resolution's origin is known.
+  TriDexel::check_grid(stock_box(job.stock), simulation.resolution, options.origin("resolution"));
   const EntryRules entries = entry_rules(options, stock_top(job.stock));
   std::vector<std::pair<std::size_t, ToolRun>> runs;  // with their operation
   for (std::size_t o = 0; o < options.operations.size(); ++o) {

@@ -39,20 +39,39 @@ void TriDexel::index_tile(RemovalRecord::Tile& tile, int first_j, bool sort) {
   }
 }
 
-std::array<double, 3> TriDexel::cells_for(const Aabb& box, double spacing) {
+namespace {
+
+// The cells along x, y, z a stock box at `spacing` gets: the fewest whole cells no wider than the
+// spacing, one at least (a spacing above the box's size gives one ray per family through its
+// middle). Doubles: they are checked against the limits before any cast.
+std::array<double, 3> cells_for(const Aabb& box, double spacing) {
   std::array<double, 3> cells{};
   for (int a = 0; a < 3; ++a) {
-    // The fewest whole cells no wider than the spacing (one at least: a spacing above the box's
-    // size gives one ray per family through its middle).
     cells[static_cast<std::size_t>(a)] =
         std::max(1.0, std::ceil(box.size()[a] / spacing - tol::kRelative));
   }
   return cells;
 }
 
-double TriDexel::rays_for(const Aabb& box, double spacing) {
+}  // namespace
+
+void TriDexel::check_grid(const Aabb& box, double spacing, const SourceLocation& where) {
   const std::array<double, 3> n = cells_for(box, spacing);
-  return n[0] * n[1] + n[1] * n[2] + n[2] * n[0];
+  const double rays = n[0] * n[1] + n[1] * n[2] + n[2] * n[0];
+  const Vec3 size = box.size();
+  for (int a = 0; a < 3; ++a) {
+    const double family =
+        n[static_cast<std::size_t>(cross_b(a))] * n[static_cast<std::size_t>(cross_c(a))];
+    if (n[static_cast<std::size_t>(a)] > 1e7 || family > static_cast<double>(kMaxRaysPerFamily)) {
+      throw InputError(where, fmt::format("{:g} mm is too fine for a {:g} × {:g} × {:g} mm "
+                                          "stock: it would need {:.3g} rays",
+                                          spacing, size.x(), size.y(), size.z(), rays));
+    }
+  }
+  check_memory(rays * static_cast<double>(sizeof(DexelRay)),
+               fmt::format("{:g} mm: the {:.3g} dexel rays of a {:g} × {:g} × {:g} mm stock",
+                           spacing, rays, size.x(), size.y(), size.z()),
+               where, "use a coarser resolution");
 }
 
 TriDexel TriDexel::empty_grid(const Aabb& box, double spacing) {
@@ -63,21 +82,8 @@ TriDexel TriDexel::empty_grid(const Aabb& box, double spacing) {
     throw InputError(fmt::format("dexel spacing {} mm: expected a positive length", spacing));
   }
   // Every bound is checked before anything is allocated.
+  check_grid(box, spacing);
   const std::array<double, 3> n = cells_for(box, spacing);
-  for (int a = 0; a < 3; ++a) {
-    const double rays =
-        n[static_cast<std::size_t>(cross_b(a))] * n[static_cast<std::size_t>(cross_c(a))];
-    if (n[static_cast<std::size_t>(a)] > 1e7 || rays > static_cast<double>(kMaxRaysPerFamily)) {
-      throw InputError(fmt::format(
-          "dexel spacing {} mm is too fine for a {:g} × {:g} × {:g} mm "
-          "stock: it would need {:.3g} rays",
-          spacing, box.size().x(), box.size().y(), box.size().z(), rays_for(box, spacing)));
-    }
-  }
-  check_memory(rays_for(box, spacing) * static_cast<double>(sizeof(DexelRay)),
-               fmt::format("the dexel rays of a {:g} × {:g} × {:g} mm stock at {:g} mm",
-                           box.size().x(), box.size().y(), box.size().z(), spacing),
-               SourceLocation{}, "use a coarser ray spacing");
   TriDexel d;
   std::array<int, 3> cells{};
   for (int a = 0; a < 3; ++a) {

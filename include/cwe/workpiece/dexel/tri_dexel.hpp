@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "cwe/core/error.hpp"
 #include "cwe/geometry/aabb.hpp"
 #include "cwe/geometry/ray.hpp"
 #include "cwe/geometry/triangle_mesh.hpp"
@@ -55,11 +56,11 @@ class TriDexel {
   static TriDexel from_mesh(const TriangleMesh& mesh, double spacing, const std::string& source);
 
   static constexpr std::size_t kMaxRaysPerFamily = std::size_t{1} << 31;
-  // The cells along x, y, z and the rays of all three families a stock box at `spacing` gets
-  // (doubles: they are checked against the limits before any cast). The rays take
-  // sizeof(DexelRay) bytes each, plus 8 per interval beyond a ray's second.
-  static std::array<double, 3> cells_for(const Aabb& box, double spacing);
-  static double rays_for(const Aabb& box, double spacing);
+  // What from_box and from_mesh check before allocating: InputError at `where` (the option or
+  // job-file key that gave the spacing) when a stock box at `spacing` would need more than 1e7
+  // cells along an axis, more than kMaxRaysPerFamily rays in one family, or rays
+  // (sizeof(DexelRay) bytes each) beyond the memory limit. `spacing` must be positive.
+  static void check_grid(const Aabb& box, double spacing, const SourceLocation& where = {});
 
   // The ray spacing: the largest cell side (at most the spacing asked for).
   double spacing() const { return spacing_.maxCoeff(); }
