@@ -434,6 +434,7 @@ class Interpreter {
   std::vector<Frame> frames_ = std::vector<Frame>(1);
   // Loop iterations since the last move: past options_.max_idle_iterations, the loop never ends.
   long idle_iterations_ = 0;
+  bool never_ends_ = false;  // the loop limit was hit: reading stops at that error
 
   // Modal state, as LinuxCNC's setup_struct.
   Vec3 position_ = Vec3::Zero();  // program units

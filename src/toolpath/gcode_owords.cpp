@@ -251,6 +251,7 @@ void Interpreter::back_to(const OLine& o) {
   const auto it = offsets_.find(o.name);
   if (it != offsets_.end()) {
     if (++idle_iterations_ > options_.max_idle_iterations) {
+      never_ends_ = true;
       fail(1, fmt::format("o{} {}: {} loop iterations and calls without a move: the program "
                           "never ends (LinuxCNC would run it forever)",
                           o.label, o_name(o.type), options_.max_idle_iterations));

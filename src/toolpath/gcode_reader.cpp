@@ -498,8 +498,15 @@ Toolpath Interpreter::run() {
     }
     return errors.size() + more < kErrorsRead;
   };
+  std::size_t lines_read = 0;
   for (;;) {
     std::string_view raw;
+    if (options_.max_lines_read > 0 && ++lines_read > options_.max_lines_read) {
+      record(InputError(SourceLocation{source_, line_, 0},
+                        fmt::format("reading stopped after {} lines (the reading's line limit)",
+                                    options_.max_lines_read)));
+      break;
+    }
     if (!next_line(raw)) {
       try {
         end_of_file();
@@ -511,6 +518,11 @@ Toolpath Interpreter::run() {
     try {
       if (!run_line(raw)) break;
     } catch (const InputError& e) {
+      // A loop found never ending is the last error: reading on would only go round it again.
+      if (never_ends_) {
+        record(e);
+        break;
+      }
       if (!record(e)) {
         errors.push_back(
             InputError(e.location(), fmt::format("reading stopped after {} errors", kErrorsRead)));

@@ -288,6 +288,47 @@ TEST(GcodeOWords, TheEndlessLoopLimitIsAnOption) {
   EXPECT_EQ(path.moves.back().end.x(), 50.0);
 }
 
+TEST(GcodeOWords, AnEndlessLoopEndsTheReading) {
+  // Found by the fuzz target: an endless loop nested in a loop that moves, beside a line in
+  // error. Reading on after the first "never ends" went round the outer loop again, each pass
+  // another full count of idle iterations, for a thousand errors (minutes). Now that error is
+  // the last one.
+  GcodeOptions options;
+  options.max_idle_iterations = 100;
+  try {
+    (void)read_gcode("G21 F100\no2 while [1]\nG1 X1\nM221\no1 while [1]\no1 endwhile\n"
+                     "o2 endwhile\nM2",
+                     "p.ngc", options);
+    ADD_FAILURE() << "no error";
+  } catch (const InputErrors& e) {
+    ASSERT_EQ(e.errors().size(), 2u);
+    EXPECT_EQ(e.errors()[0].location().line, 4);  // M221
+    EXPECT_EQ(e.errors()[1].location().line, 6);
+    EXPECT_NE(e.errors()[1].message().find("never ends"), std::string::npos);
+  }
+}
+
+TEST(GcodeOWords, TheLinesReadCanBeLimited) {
+  // A loop that moves ten thousand times reads 30,000 lines; a limit of 1,000 stops it at the
+  // 1,001st line, located at the last line read.
+  GcodeOptions options;
+  options.max_lines_read = 1000;
+  try {
+    (void)read_gcode("G21 #1=0\no1 while [#1 LT 10000]\nG0 X#1\n#1=[#1+1]\no1 endwhile\nM2",
+                     "p.ngc", options);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_GE(e.location().line, 2);
+    EXPECT_LE(e.location().line, 5);
+    EXPECT_NE(e.message().find("after 1000 lines"), std::string::npos) << e.message();
+  }
+  options.max_lines_read = 0;  // no limit
+  EXPECT_EQ(read_gcode("G21 #1=0\no1 while [#1 LT 10000]\nG0 X#1\n#1=[#1+1]\no1 endwhile\nM2",
+                       "p.ngc", options)
+                .moves.size(),
+            10000u);
+}
+
 TEST(GcodeOWords, ArgumentsAndLocalsBelongToTheCall) {
   // #1-#30 are the call's arguments (0 beyond those given) and come back afterwards; a named
   // local of the caller is not visible in the sub; a global is.

@@ -58,6 +58,9 @@ struct GcodeOptions {
   // Loop iterations and subroutine calls in a row without a move after which the program is
   // refused as never ending (LinuxCNC would run it forever); about 10 s at the default.
   long max_idle_iterations = 10'000'000;
+  // Lines read, counting each pass through a loop, after which reading stops with an error;
+  // 0: no limit. Bounds the work of a fuzzed input; a user's program has no such limit.
+  std::size_t max_lines_read = 0;
 };
 
 // Folders from a ':'-separated list (LinuxCNC's SUBROUTINE_PATH form); empty entries are dropped.

@@ -23,7 +23,7 @@ namespace {
 // of its lower end along the two other axes in cyclic order, b = a + 1 and c = a + 2 (mod 3).
 constexpr int kCorners = 8;
 constexpr int kEdges = 12;
-constexpr int kCases = 256;
+constexpr int kCases = 1 << kCorners;  // a case: the set of corners inside
 constexpr int kMaxTriangles = 10;  // loops of L crossings give L − 2 triangles; ΣL ≤ 12
 
 struct CubeCase {
