@@ -57,18 +57,26 @@ std::vector<ScheduledFile> scheduled_files(const PreparedJob& job, const std::st
       continue;
     }
     file_of.push_back(files.size());
-    files.push_back({op.path, op.read.format, {}, {}, op.gcode});
+    files.push_back({op.path, op.format, {}, {}, op.gcode});
+  }
+  // A program whose moves come from other files too cannot be rewritten whole.
+  struct FromOtherFile {};
+  OperationVisitor visitor;
+  visitor.move = [&](const Move& m, const std::vector<std::string>&) {
+    if (m.source != 0) throw FromOtherFile{};
+  };
+  std::size_t current = 0;
+  visitor.begin = [&](std::size_t o) { current = o; };
+  try {
+    for_each_move(job, visitor);
+  } catch (const FromOtherFile&) {
+    throw InputError(SourceLocation{job.operations[current].path},
+                     "the program includes other files; scheduling rewrites one file only");
   }
   for (ScheduledFile& file : files) {
     const PreparedOperation& op = *std::find_if(
         job.operations.begin(), job.operations.end(),
         [&](const PreparedOperation& o) { return o.path == file.path; });
-    const Toolpath& path = op.read.toolpath;
-    if (std::any_of(path.moves.begin(), path.moves.end(),
-                    [](const Move& m) { return m.source != 0; })) {
-      throw InputError(SourceLocation{op.path},
-                       "the program includes other files; scheduling rewrites one file only");
-    }
     const std::filesystem::path target =
         files.size() == 1
             ? std::filesystem::path(out)
@@ -104,42 +112,47 @@ std::vector<ScheduledProgram> schedule_operations(const PreparedJob& job,
                                                   std::vector<ScheduledFile>& files,
                                                   const std::vector<std::size_t>& file_of) {
   std::vector<ScheduledProgram> programs;
-  std::size_t moves_before = 0;
-  for (std::size_t o = 0; o < job.operations.size(); ++o) {
+  std::size_t moves_before = 0, i = 0;  // moves of the operations before; of this one
+  std::vector<MoveFeed> feeds;
+  std::vector<SourceLocation> at;  // of each feed move scheduled
+  OperationVisitor visitor;
+  visitor.begin = [&](std::size_t) {
+    i = 0;
+    feeds.clear();
+    at.clear();
+  };
+  visitor.move = [&](const Move& m, const std::vector<std::string>& sources) {
+    const double programmed = feed_rate(m, *job.forces);
+    const std::optional<double> allowed = allowance.allowed()[moves_before + i++];
+    if (!(programmed > 0.0)) return;
+    feeds.push_back({programmed, allowed, m.length()});
+    at.push_back(SourceLocation{m.source > 0 ? sources[static_cast<std::size_t>(m.source)] : "",
+                                m.line});
+  };
+  visitor.end = [&](std::size_t o) {
     const PreparedOperation& op = job.operations[o];
-    const Toolpath& path = op.read.toolpath;
-    const auto allowed = [&](std::size_t i) { return allowance.allowed()[moves_before + i]; };
-    std::vector<MoveFeed> feeds;
-    std::vector<std::size_t> index;  // feed moves scheduled, into path.moves
-    for (std::size_t i = 0; i < path.moves.size(); ++i) {
-      const Move& m = path.moves[i];
-      const double programmed = feed_rate(m, *job.forces);
-      if (!(programmed > 0.0)) continue;
-      feeds.push_back({programmed, allowed(i), m.length()});
-      index.push_back(i);
-    }
     ScheduledProgram program;
     program.schedule = schedule_feeds(feeds, bounds);
     LineFeeds& lines = files[file_of[o]].lines;
-    for (std::size_t f = 0; f < index.size(); ++f) {
-      const Move& m = path.moves[index[f]];
-      if (m.source > 0) {
-        throw InputError(SourceLocation{path.sources[static_cast<std::size_t>(m.source)], m.line},
+    for (std::size_t f = 0; f < at.size(); ++f) {
+      if (!at[f].source.empty()) {
+        throw InputError(at[f],
                          fmt::format("a feed move of {} comes from this subroutine file: cwe "
                                      "schedule rewrites the feeds of the program file only (put "
                                      "the subroutine in the program to schedule it)",
                                      op.path));
       }
       const ScheduledMove& s = program.schedule.moves[f];
-      auto [it, inserted] = lines.emplace(m.line, s.feed);
+      auto [it, inserted] = lines.emplace(at[f].line, s.feed);
       if (!inserted) it->second = std::min(it->second, s.feed);
       if (s.limit_exceeded && program.first_exceeded_line == 0) {
-        program.first_exceeded_line = m.line;
+        program.first_exceeded_line = at[f].line;
       }
     }
     programs.push_back(std::move(program));
-    moves_before += path.moves.size();
-  }
+    moves_before += i;
+  };
+  for_each_move(job, visitor);
   return programs;
 }
 
@@ -241,8 +254,7 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
                                         static_cast<std::size_t>(job.threads));
   TriDexel stock = make_stock(job.stock, job.simulation);
   ProgressBar bar(sim.quiet ? nullptr : progress);
-  std::size_t all_moves = 0;
-  for (const PreparedOperation& op : job.operations) all_moves += op.read.toolpath.moves.size();
+  const std::size_t all_moves = move_count(job);
   FeedAllowance allowance(all_moves, limit, bounds);
   ClSink* const sinks[] = {&allowance};
   run_job(job, std::move(stock), RunOptions{true, false}, sinks,

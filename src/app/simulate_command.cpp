@@ -154,9 +154,9 @@ void print_report(std::ostream& out, const SimulateCommandOptions& options, cons
   const double seconds = summary["seconds"].get<double>();
   const int threads = job.threads;
   std::size_t warning_count = 0;
-  for (const PreparedOperation& op : operations) warning_count += op.read.toolpath.warnings.size();
+  for (const PreparedOperation& op : operations) warning_count += op.toolpath.warnings.size();
   for (const PreparedOperation& op : operations) {
-    fmt::print(out, "cwe simulate: {} moves of {} with {}\n", op.read.toolpath.moves.size(),
+    fmt::print(out, "cwe simulate: {} moves of {} with {}\n", op.moves.size(),
                op.path, op.cutter.name());
   }
   fmt::print(out, "  stock       {} at s = {:g} mm: {} rays, peak {:.1f} MiB ({:.2f} bytes/ray)\n",
@@ -195,7 +195,7 @@ void print_report(std::ostream& out, const SimulateCommandOptions& options, cons
     fmt::print(out,
                "  warning     {} rapid moves cut material (first: {} line {}); see "
                "summary.json\n",
-               removal.rapid_cuts.size(), first.location.source, first.location.line);
+               removal.rapid_cut_count, first.location.source, first.location.line);
   }
   if (warning_count > 0) {
     fmt::print(out, "  warning     the toolpath readers reported {} warnings; see summary.json\n",
@@ -286,7 +286,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   std::vector<ClSink*> sinks;
   if (!options.stock_only) {
     files.emplace(folder, job.forces.has_value(), unit);
-    figures.emplace(folder, maps, curves, job.forces.has_value());
+    figures.emplace(folder, maps, curves, job.forces.has_value(), cl_count);
     sinks = {&*files, &*figures};
   }
   JobResult run = run_job(job, std::move(initial_stock), RunOptions{!options.stock_only}, sinks,

@@ -71,8 +71,8 @@ std::string forces_csv_row(std::size_t k, const ClPoint& cl, std::size_t operati
       "{:.{}f},{:.1f},{:.{}f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{}\n",
       k, cl.move + 1, unit.length(f.feed_per_tooth), 6 + e, f.mean_force.x(), f.mean_force.y(),
       f.mean_force.z(), f.peak_force.x(), f.peak_force.y(), f.peak_force.z(), f.peak_resultant,
-      f.mean_torque, f.peak_torque, f.mean_power, cl.line, operation, unit.length(feed_rate),
-      3 + e, f.spindle_speed, unit.length(f.max_chip), 6 + e, f.mean_force_world.x(),
+      f.mean_torque, f.peak_torque, f.mean_power, cl.line, operation, unit.length(feed_rate), 3 + e,
+      f.spindle_speed, unit.length(f.max_chip), 6 + e, f.mean_force_world.x(),
       f.mean_force_world.y(), f.mean_force_world.z(), f.peak_force_world.x(),
       f.peak_force_world.y(), f.peak_force_world.z(), tool);
 }
@@ -80,7 +80,7 @@ std::string forces_csv_row(std::size_t k, const ClPoint& cl, std::size_t operati
 // One engagement.jsonl line: the engaged discs and rings, angles in degrees, heights and radii in
 // `unit`.
 std::string engagement_jsonl_line(std::size_t k, const ClPoint& cl, const EngagementMap& map,
-                       const ReportUnit& unit) {
+                                  const ReportUnit& unit) {
   const int e = unit.extra_decimals;
   const auto intervals = [](const std::vector<Interval>& phi) {
     std::string out = "[";
@@ -167,9 +167,12 @@ void EngagementFiles::flush(bool force) {
   forces_block_.clear();
 }
 
-Figures::Figures(const std::filesystem::path& folder, MapChoice maps, MapChoice curves,
-                 bool forces)
-    : maps_(std::move(maps)), curves_(std::move(curves)), map_folder_(folder, "maps") {
+Figures::Figures(const std::filesystem::path& folder, MapChoice maps, MapChoice curves, bool forces,
+                 std::size_t cl_count)
+    : maps_(std::move(maps)),
+      curves_(std::move(curves)),
+      map_folder_(folder, "maps"),
+      path_stride_(std::max<std::size_t>(1, (cl_count + kPathPoints - 1) / kPathPoints)) {
   if (forces) curve_folder_.emplace(folder, "force_curves");
 }
 
@@ -181,8 +184,10 @@ bool Figures::wants_curve(std::size_t index, bool engaged) {
 void Figures::add(const ClResult& r) {
   const std::size_t k = r.index;
   const EngagementMap& map = r.map;
-  along_.push_back({static_cast<int>(k), map.engaged, degrees(map.phi_entry),
-                    degrees(map.phi_exit), map.axial_depth});
+  if (k % path_stride_ == 0) {
+    along_.push_back({static_cast<int>(k), map.engaged, degrees(map.phi_entry),
+                      degrees(map.phi_exit), map.axial_depth});
+  }
   const std::string place =
       fmt::format("CL {} · move {} ({} line {})", k, r.cl.move + 1,
                   std::filesystem::path(r.file).filename().string(), r.cl.line);
@@ -198,8 +203,8 @@ void Figures::add(const ClResult& r) {
   }
   curve_ = false;
   if (!maps_.chosen(k, map.engaged)) return;
-  const MapPlotInfo info{fmt::format("{} · {}", place, r.cutter.name()),
-                         0.5 * r.cutter.diameter(), r.cutter.flute_length()};
+  const MapPlotInfo info{fmt::format("{} · {}", place, r.cutter.name()), 0.5 * r.cutter.diameter(),
+                         r.cutter.flute_length()};
   map_folder_.write(name + ".png", engagement_map_png(map, info));
   map_folder_.write(name + ".svg", engagement_map_svg(map, info));
   ++maps_written_;
@@ -214,6 +219,5 @@ void Figures::commit() {
   map_folder_.commit();
   if (curve_folder_) curve_folder_->commit();
 }
-
 
 }  // namespace cwe

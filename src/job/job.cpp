@@ -98,6 +98,25 @@ void check_numbers(const Job& job) {
                "a spindle angle step in [0.01°, 90°]");
 }
 
+// Counts the CL samples of every operation, the programs read again move by move (a move with
+// too many is an error at its line), and with forces checks that every feed move turns the
+// spindle.
+void count_cl_points(PreparedJob& job) {
+  std::optional<ClSampler> sampler;
+  PreparedOperation* op = nullptr;
+  OperationVisitor visitor;
+  visitor.begin = [&](std::size_t o) {
+    op = &job.operations[o];
+    sampler.emplace(op->sampling);
+  };
+  visitor.move = [&](const Move& move, const std::vector<std::string>& sources) {
+    op->cl_points += static_cast<std::size_t>(sampler->steps(move, &sources));
+    if (op->forces) check_spindle(move, sources, op->path, *job.forces);
+  };
+  visitor.end = [&](std::size_t) { job.cl_count += op->cl_points; };
+  for_each_move(job, visitor);
+}
+
 }  // namespace
 
 PreparedJob prepare_job(Job& options) {
@@ -169,8 +188,6 @@ PreparedJob prepare_job(Job& options) {
     const std::string& program = options.operations[o].path;
     SamplingOptions sampling;
     sampling.step = options.cl_step.value_or(default_cl_step(run.cutter.diameter()));
-    const std::size_t cls = count_cl_points(run.read.toolpath, sampling);
-    job.cl_count += cls;
     std::optional<ForceModel> forces;
     if (job.forces) {
       if (!run.coefficients && !job.forces->coefficients) {
@@ -179,7 +196,6 @@ PreparedJob prepare_job(Job& options) {
                                      "\"forces\" in its tool table entry",
                                      run.tool));
       }
-      check_spindle(run.read.toolpath, program, *job.forces);
       forces.emplace(run.cutter, run.coefficients.value_or(*job.forces->coefficients),
                      job.forces->model);
     }
@@ -195,9 +211,11 @@ PreparedJob prepare_job(Job& options) {
                        run.cutter.name(), run.cutter.diameter(), across, simulation.resolution,
                        run.cutter.diameter() / (2.0 * kFewestRaysAcross))});
     }
-    job.operations.push_back({program, std::move(run.read), std::move(run.cutter), sampling, cls,
-                              std::move(forces), run.tool, o, std::move(run.gcode)});
+    job.operations.push_back({program, std::move(run.header), run.format, std::move(run.moves),
+                              std::move(run.cutter), sampling, 0, std::move(forces), run.tool, o,
+                              std::move(run.gcode), run.program_moves});
   }
+  count_cl_points(job);
   return job;
 }
 

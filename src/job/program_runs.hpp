@@ -36,22 +36,25 @@ EntryRules entry_rules(const Job& options, double stock_top);
 
 // A stretch of a program cut by one tool.
 struct ToolRun {
-  ReadToolpath read;  // the program with only the stretch's moves
+  Toolpath header;  // the program without its moves (its warnings with the first stretch only)
+  ToolpathFormat format = ToolpathFormat::kGcode;
+  OperationMoves moves;  // the stretch's moves in the program, with the tool change's rapids
   Cutter cutter;
-  int tool = 0;  // 0: the program loads no tool
+  int tool = 0;                                     // 0: the program loads no tool
   std::optional<CuttingCoefficients> coefficients;  // the tool table's for this tool, if any
-  SourceLocation loaded;  // where the program loads the tool (the file when it does not)
-  GcodeOptions gcode;     // what the program was read with (G-code)
+  SourceLocation loaded;          // where the program loads the tool (the file when it does not)
+  GcodeOptions gcode;             // what the program was read with (G-code)
+  std::size_t program_moves = 0;  // of the whole program
 };
 
 // The program of `op` read with its tool starting where `rules` say, cut into stretches of one
 // tool each (the cutter of each from the tool table, else the program's own definition; one
 // stretch with op.tool for a program that loads at most one tool), each new tool coming in as
 // `rules` say: the old tool rapids up and across to the change position (moves of its own, at
-// the line that loads the new tool), and the new tool's first move starts there. Throws
-// InputError at the line that loads a tool no table or definition names, or for one --tool with
-// a program that changes tools (unless options.tool_for_all).
-std::vector<ToolRun> program_runs(const Operation& op, const Job& options,
-                                  const EntryRules& rules);
+// the line that loads the new tool), and the new tool's first move starts there. The program is
+// read move by move and its moves are not kept. Throws InputError at the line that loads a tool
+// no table or definition names, or for one --tool with a program that changes tools (unless
+// options.tool_for_all).
+std::vector<ToolRun> program_runs(const Operation& op, const Job& options, const EntryRules& rules);
 
 }  // namespace cwe

@@ -17,11 +17,11 @@ void merge(RemovalSummary& job, const RemovalSummary& op, int move_offset) {
   job.linear_pieces += op.linear_pieces;
   job.deviation_bound = std::max(job.deviation_bound, op.deviation_bound);
   for (RapidCut cut : op.rapid_cuts) {
+    if (job.rapid_cuts.size() == RemovalSummary::kRapidCutsKept) break;
     cut.move += move_offset;
     job.rapid_cuts.push_back(cut);
   }
-  job.removed_by_move.insert(job.removed_by_move.end(), op.removed_by_move.begin(),
-                             op.removed_by_move.end());
+  job.rapid_cut_count += op.rapid_cut_count;
 }
 
 }  // namespace
@@ -43,69 +43,87 @@ JobResult run_job(const PreparedJob& job, TriDexel stock, const RunOptions& opti
   JobResult result(std::move(stock));
   result.initial_volume = result.stock.volume();
   DexelWorkpiece workpiece(result.stock);  // the workpiece seam (cwe/engagement/workpiece.hpp)
-  std::size_t all_moves = 0;
-  for (const PreparedOperation& op : job.operations) all_moves += op.read.toolpath.moves.size();
-  std::size_t moves_before = 0, cls_before = 0;
-  for (const PreparedOperation& op : job.operations) {
-    const Toolpath& path = op.read.toolpath;
-    const auto report = [&](std::size_t done, std::size_t) {
-      if (progress) progress(moves_before + done, all_moves);
-    };
-    if (!options.engagement) {
-      result.per_operation.push_back(
-          remove_toolpath(workpiece, op.cutter, path, simulation, report));
-    } else {
-      const auto sink = [&](std::size_t index, const ClPoint& cl, const ToolState& state,
-                            const EngagementMap& map) {
-        const std::size_t k = cls_before + index;
-        ClPoint global = cl;
-        global.move += static_cast<int>(moves_before);
-        ++result.cl_points;
-        if (map.engaged) ++result.engaged_cl_points;
-        result.deepest = std::max(result.deepest, map.axial_depth);
-        result.largest_area = std::max(result.largest_area, map.area);
-        const Move& move = path.moves[static_cast<std::size_t>(cl.move)];
-        const std::string& file =
-            move.source >= 0 && static_cast<std::size_t>(move.source) < path.sources.size()
-                ? path.sources[static_cast<std::size_t>(move.source)]
-                : op.path;
-        std::optional<ClForces> forces;
-        double feed = 0.0, spindle = 0.0;
-        if (op.forces) {
-          spindle = spindle_speed(move, *job.forces);
-          feed = feed_rate(move, *job.forces);
-        }
-        if (op.forces && options.forces) {
-          // Every sink is asked (no short cut): a sink's choice may keep state from CL to CL.
-          bool curve = false;
-          for (ClSink* s : sinks) curve = s->wants_curve(k, map.engaged) || curve;
-          forces = op.forces->evaluate(
-              map, state, feed_per_tooth(feed, op.forces->flutes(), spindle), spindle, curve);
-          result.extremes.add(*forces, k, file, cl.line);
-        }
-        const ClResult at{k,
-                          global,
-                          state,
-                          map,
-                          op.cutter,
-                          op.operation,
-                          op.tool,
-                          file,
-                          move,
-                          op.forces ? &*op.forces : nullptr,
-                          feed,
-                          spindle,
-                          forces ? &*forces : nullptr};
-        for (ClSink* s : sinks) s->add(at);
-      };
-      result.per_operation.push_back(simulate_engagement(
-          workpiece, op.cutter, path, {simulation, op.sampling, {}}, sink, report));
-      // ClSampler counts as it samples: the operation's CLs are numbered 0 … cl_points - 1.
-      cls_before += op.cl_points;
+  const std::size_t all_moves = move_count(job);
+  std::size_t moves_before = 0, cls_before = 0, done = 0;
+  // The operation running, and the move being added to it (its CLs come to `sink` during add).
+  const PreparedOperation* op = nullptr;
+  const Move* move = nullptr;
+  const std::vector<std::string>* sources = nullptr;
+  const auto sink = [&](std::size_t index, const ClPoint& cl, const ToolState& state,
+                        const EngagementMap& map) {
+    const std::size_t k = cls_before + index;
+    ClPoint global = cl;
+    global.move += static_cast<int>(moves_before);
+    ++result.cl_points;
+    if (map.engaged) ++result.engaged_cl_points;
+    result.deepest = std::max(result.deepest, map.axial_depth);
+    result.largest_area = std::max(result.largest_area, map.area);
+    const std::string& file =
+        move->source >= 0 && static_cast<std::size_t>(move->source) < sources->size()
+            ? (*sources)[static_cast<std::size_t>(move->source)]
+            : op->path;
+    std::optional<ClForces> forces;
+    double feed = 0.0, spindle = 0.0;
+    if (op->forces) {
+      spindle = spindle_speed(*move, *job.forces);
+      feed = feed_rate(*move, *job.forces);
     }
+    if (op->forces && options.forces) {
+      // Every sink is asked (no short cut): a sink's choice may keep state from CL to CL.
+      bool curve = false;
+      for (ClSink* s : sinks) curve = s->wants_curve(k, map.engaged) || curve;
+      forces = op->forces->evaluate(map, state, feed_per_tooth(feed, op->forces->flutes(), spindle),
+                                    spindle, curve);
+      result.extremes.add(*forces, k, file, cl.line);
+    }
+    const ClResult at{k,
+                      global,
+                      state,
+                      map,
+                      op->cutter,
+                      op->operation,
+                      op->tool,
+                      file,
+                      *move,
+                      op->forces ? &*op->forces : nullptr,
+                      feed,
+                      spindle,
+                      forces ? &*forces : nullptr};
+    for (ClSink* s : sinks) s->add(at);
+  };
+  // One of these runs the current operation.
+  std::optional<RemovalRun> removal;
+  std::optional<EngagementRun> engagement;
+  OperationVisitor visitor;
+  visitor.begin = [&](std::size_t o) {
+    op = &job.operations[o];
+    if (!options.engagement) {
+      removal.emplace(workpiece, op->cutter, simulation);
+    } else {
+      engagement.emplace(workpiece, op->cutter, EngagementRunOptions{simulation, op->sampling, {}},
+                         sink);
+    }
+  };
+  visitor.move = [&](const Move& m, const std::vector<std::string>& files) {
+    move = &m;
+    sources = &files;
+    if (removal) {
+      removal->add(m, files);
+    } else {
+      engagement->add(m, files);
+    }
+    if (progress) progress(++done, all_moves);
+  };
+  visitor.end = [&](std::size_t) {
+    result.per_operation.push_back(removal ? removal->finish() : engagement->finish());
+    removal.reset();
+    engagement.reset();
     merge(result.removal, result.per_operation.back(), static_cast<int>(moves_before));
-    moves_before += path.moves.size();
-  }
+    moves_before += op->moves.size();
+    // EngagementRun counts as it samples: the operation's CLs are numbered 0 … cl_points - 1.
+    if (options.engagement) cls_before += op->cl_points;
+  };
+  for_each_move(job, visitor);
   result.final_volume = result.stock.volume();
   return result;
 }

@@ -79,10 +79,10 @@ void add_rapid_cuts_and_warnings(const PreparedJob& job, const RemovalSummary& r
                       {"line", cut.location.line},
                       {"removed_mm3", cut.volume}});
   }
-  summary["rapid_cuts"] = {{"count", removal.rapid_cuts.size()}, {"first", rapids}};
+  summary["rapid_cuts"] = {{"count", removal.rapid_cut_count}, {"first", rapids}};
   nlohmann::json warnings = nlohmann::json::array();
   for (const PreparedOperation& op : job.operations) {
-    for (const Diagnostic& d : op.read.toolpath.warnings) {
+    for (const Diagnostic& d : op.toolpath.warnings) {
       warnings.push_back(
           {{"file", d.location.source}, {"line", d.location.line}, {"message", d.message}});
     }

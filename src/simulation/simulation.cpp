@@ -89,57 +89,89 @@ TriDexel make_stock(const StockSpec& spec, const SimulationOptions& options) {
 
 namespace {
 
-// Counts a move and its removal into the summary.
-void record_move(RemovalSummary& summary, const Toolpath& path, std::size_t index, int pieces,
-                 double deviation, double volume, double cell) {
-  const Move& move = path.moves[index];
+// The file a move's `source` names (empty when it names none).
+std::string source_file(const Move& move, const std::vector<std::string>& sources) {
+  return move.source >= 0 && static_cast<std::size_t>(move.source) < sources.size()
+             ? sources[static_cast<std::size_t>(move.source)]
+             : std::string();
+}
+
+// Counts a move (index `index`, a rapid or not, at `location`) and its removal into the summary.
+void record_move(RemovalSummary& summary, std::size_t index, bool rapid,
+                 const SourceLocation& location, int pieces, double deviation, double volume,
+                 double cell, const MoveRemoved& removed) {
   ++summary.moves;
-  ++(move.is_rapid() ? summary.rapid_moves : summary.feed_moves);
+  ++(rapid ? summary.rapid_moves : summary.feed_moves);
   summary.linear_pieces += pieces;
   summary.deviation_bound = std::max(summary.deviation_bound, deviation);
-  summary.removed_by_move.push_back(volume);
+  if (removed) removed(index, volume);
   // Float rounding of ray ends can shave slivers off rays a move only touches; a move cuts when
   // it removes at least one cell's worth, s³. A rapid is reported from ten cells on: subdivided
   // moves (arcs, 5-axis) leave slivers up to their tolerance thick that a retract may clear.
   const bool cuts = volume >= cell;
   if (cuts) ++summary.cutting_moves;
-  if (volume >= 10.0 * cell && move.is_rapid()) {
-    const std::string file =
-        move.source >= 0 && static_cast<std::size_t>(move.source) < path.sources.size()
-            ? path.sources[static_cast<std::size_t>(move.source)]
-            : std::string();
-    summary.rapid_cuts.push_back(
-        {static_cast<int>(index), SourceLocation{file, move.line}, volume});
+  if (volume >= 10.0 * cell && rapid) {
+    if (summary.rapid_cuts.size() < RemovalSummary::kRapidCutsKept) {
+      summary.rapid_cuts.push_back({static_cast<int>(index), location, volume});
+    }
+    ++summary.rapid_cut_count;
   }
+}
+
+// A MoveRemoved that also keeps the volumes in `summary.removed_by_move` (the Toolpath
+// functions).
+MoveRemoved keeping(std::vector<double>& volumes) {
+  return [&volumes](std::size_t, double volume) { volumes.push_back(volume); };
 }
 
 }  // namespace
 
+RemovalRun::RemovalRun(Workpiece& stock, const Cutter& cutter, const SimulationOptions& options,
+                       MoveRemoved removed)
+    : stock_(stock),
+      parts_(cutter, options.effective_tolerance()),
+      removed_(std::move(removed)),
+      cell_(stock.cell_volume()) {}
+
+void RemovalRun::add(const Move& move, const std::vector<std::string>& sources) {
+  sweeps_.emplace_back(parts_, move);
+  pending_.push_back({move.is_rapid(), SourceLocation{source_file(move, sources), move.line}});
+  pieces_ += sweeps_.back().pieces().size();
+  if (pieces_ >= kBatchPieces) flush();
+}
+
+void RemovalRun::flush() {
+  if (sweeps_.empty()) return;
+  const std::vector<double> volume = stock_.remove(sweeps_);
+  for (std::size_t m = 0; m < sweeps_.size(); ++m) {
+    record_move(summary_, static_cast<std::size_t>(summary_.moves), pending_[m].rapid,
+                pending_[m].location, static_cast<int>(sweeps_[m].pieces().size()),
+                sweeps_[m].deviation_bound(), volume[m], cell_, removed_);
+  }
+  sweeps_.clear();
+  pending_.clear();
+  pieces_ = 0;
+}
+
+RemovalSummary RemovalRun::finish() {
+  flush();
+  return std::move(summary_);
+}
+
 RemovalSummary remove_toolpath(Workpiece& stock, const Cutter& cutter, const Toolpath& path,
                                const SimulationOptions& options, const Progress& progress) {
-  RemovalSummary summary;
-  const ConvexParts parts(cutter, options.effective_tolerance());
+  std::vector<double> volumes;
+  RemovalRun run(stock, cutter, options, keeping(volumes));
   const std::size_t total = path.moves.size();
-  const double cell = stock.cell_volume();
-  // Moves are removed in batches of about kBatchPieces linear pieces (one pass of the
-  // workpiece: the same result as one by one).
-  constexpr std::size_t kBatchPieces = 64;
-  std::vector<MoveSweep> sweeps;
-  for (std::size_t first = 0; first < total;) {
-    sweeps.clear();
-    std::size_t pieces = 0;
-    for (std::size_t i = first; i < total && pieces < kBatchPieces; ++i) {
-      sweeps.emplace_back(parts, path.moves[i]);
-      pieces += sweeps.back().pieces().size();
-    }
-    const std::vector<double> volume = stock.remove(sweeps);
-    for (std::size_t m = 0; m < sweeps.size(); ++m) {
-      record_move(summary, path, first + m, static_cast<int>(sweeps[m].pieces().size()),
-                  sweeps[m].deviation_bound(), volume[m], cell);
-    }
-    first += sweeps.size();
-    if (progress) progress(first, total);
+  for (std::size_t i = 0; i < total; ++i) {
+    const std::size_t removed = volumes.size();
+    run.add(path.moves[i], path.sources);
+    if (progress && volumes.size() != removed) progress(volumes.size(), total);  // a batch
   }
+  const std::size_t removed = volumes.size();
+  RemovalSummary summary = run.finish();
+  if (progress && volumes.size() != removed) progress(volumes.size(), total);
+  summary.removed_by_move = std::move(volumes);
   return summary;
 }
 
@@ -149,53 +181,78 @@ RemovalSummary remove_toolpath(TriDexel& stock, const Cutter& cutter, const Tool
   return remove_toolpath(workpiece, cutter, path, options, progress);
 }
 
+namespace {
+
+// Removed material within the sweep tolerance of the cutter touches it (5-axis pieces turn about
+// their mean axis, so a cutter location and the end of the step before it differ by up to the
+// tolerance).
+EngagementOptions with_contact(EngagementOptions engagement, double tolerance) {
+  if (engagement.contact == 0.0) engagement.contact = tolerance;
+  return engagement;
+}
+
+SamplingOptions feed_only(SamplingOptions sampling) {
+  sampling.include_rapids = false;
+  return sampling;
+}
+
+}  // namespace
+
+EngagementRun::EngagementRun(Workpiece& stock, const Cutter& cutter,
+                             const EngagementRunOptions& options, const EngagementSink& sink,
+                             MoveRemoved removed)
+    : cell_(stock.cell_volume()),
+      parts_(cutter, options.simulation.effective_tolerance()),
+      engage_(stock.engagement(
+          cutter, with_contact(options.engagement, options.simulation.effective_tolerance()))),
+      sampler_(feed_only(options.sampling)),
+      sink_(sink),
+      removed_(std::move(removed)) {}
+
+EngagementRun::~EngagementRun() = default;
+
+void EngagementRun::add(const Move& move, const std::vector<std::string>& sources) {
+  const std::size_t i = moves_++;
+  sampler_.next(move, static_cast<int>(i), cls_);
+  int pieces = 0;
+  double deviation = 0.0, volume = 0.0;
+  const auto remove_part = [&](double u0, double u1, bool record = false) {
+    const MoveSweep sweep(parts_, u0 == 0.0 && u1 == 1.0 ? move : move.part(u0, u1));
+    pieces += static_cast<int>(sweep.pieces().size());
+    deviation = std::max(deviation, sweep.deviation_bound());
+    volume += engage_->remove(sweep, record);
+  };
+  if (cls_.empty()) {
+    remove_part(0.0, 1.0);
+  } else {
+    if (cls_.front().u > 0.0) remove_part(0.0, cls_.front().u);
+    for (std::size_t k = 0; k < cls_.size(); ++k) {
+      // The step from this location to the next is removed first: the engagement here is where
+      // that removal touches the cutter (CWE = FCS ∩ (W ∩ SV)).
+      const ToolState state = tool_state(cls_[k], previous_x_);
+      previous_x_ = state.tcs.x();
+      remove_part(cls_[k].u, k + 1 < cls_.size() ? cls_[k + 1].u : 1.0, true);
+      sink_(index_++, cls_[k], state, engage_->at(state));
+    }
+  }
+  record_move(summary_, i, move.is_rapid(), SourceLocation{source_file(move, sources), move.line},
+              pieces, deviation, volume, cell_, removed_);
+}
+
+RemovalSummary EngagementRun::finish() { return std::move(summary_); }
+
 RemovalSummary simulate_engagement(Workpiece& stock, const Cutter& cutter, const Toolpath& path,
                                    const EngagementRunOptions& options, const EngagementSink& sink,
                                    const Progress& progress) {
-  RemovalSummary summary;
-  const double tolerance = options.simulation.effective_tolerance();
-  const ConvexParts parts(cutter, tolerance);
-  // Removed material within the sweep tolerance of the cutter touches it (5-axis pieces turn
-  // about their mean axis, so a cutter location and the end of the step before it differ by up
-  // to the tolerance).
-  EngagementOptions engagement = options.engagement;
-  if (engagement.contact == 0.0) engagement.contact = tolerance;
-  const std::unique_ptr<StepEngagement> engage = stock.engagement(cutter, engagement);
-  SamplingOptions feed_only = options.sampling;
-  feed_only.include_rapids = false;
-  ClSampler sampler(feed_only);
-  std::vector<ClPoint> cls;  // of the current move
+  std::vector<double> volumes;
+  EngagementRun run(stock, cutter, options, sink, keeping(volumes));
   const std::size_t total = path.moves.size();
-  const double cell = stock.cell_volume();
-  std::size_t index = 0;  // of the next CL among all of the path's
-  Vec3 previous_x = Vec3::Zero();
   for (std::size_t i = 0; i < total; ++i) {
-    const Move& move = path.moves[i];
-    sampler.next(move, static_cast<int>(i), cls);
-    int pieces = 0;
-    double deviation = 0.0, volume = 0.0;
-    const auto remove_part = [&](double u0, double u1, bool record = false) {
-      const MoveSweep sweep(parts, u0 == 0.0 && u1 == 1.0 ? move : move.part(u0, u1));
-      pieces += static_cast<int>(sweep.pieces().size());
-      deviation = std::max(deviation, sweep.deviation_bound());
-      volume += engage->remove(sweep, record);
-    };
-    if (cls.empty()) {
-      remove_part(0.0, 1.0);
-    } else {
-      if (cls.front().u > 0.0) remove_part(0.0, cls.front().u);
-      for (std::size_t k = 0; k < cls.size(); ++k) {
-        // The step from this location to the next is removed first: the engagement here is
-        // where that removal touches the cutter (CWE = FCS ∩ (W ∩ SV)).
-        const ToolState state = tool_state(cls[k], previous_x);
-        previous_x = state.tcs.x();
-        remove_part(cls[k].u, k + 1 < cls.size() ? cls[k + 1].u : 1.0, true);
-        sink(index++, cls[k], state, engage->at(state));
-      }
-    }
-    record_move(summary, path, i, pieces, deviation, volume, cell);
+    run.add(path.moves[i], path.sources);
     if (progress) progress(i + 1, total);
   }
+  RemovalSummary summary = run.finish();
+  summary.removed_by_move = std::move(volumes);
   return summary;
 }
 

@@ -19,8 +19,8 @@ namespace cwe {
 
 // The unit of the lengths the per-CL files and the terminal report give (--report-units).
 struct ReportUnit {
-  double mm = 1.0;        // mm per unit
-  int extra_decimals = 0; // written with this many more decimals than mm
+  double mm = 1.0;         // mm per unit
+  int extra_decimals = 0;  // written with this many more decimals than mm
   std::string name = "mm";
   // "mm" or "" (millimetres) or "in" (inches).
   static ReportUnit of(const std::string& units);
@@ -105,7 +105,12 @@ class EngagementFiles : public ClSink {
 // force_curves/ (the chosen CLs' force-versus-angle curves) in `folder`.
 class Figures : public ClSink {
  public:
-  Figures(const std::filesystem::path& folder, MapChoice maps, MapChoice curves, bool forces);
+  // The path plot keeps at most about this many CLs (40 bytes each): of a job with more, every
+  // k-th (the plot is about a thousand pixels wide).
+  static constexpr std::size_t kPathPoints = 1'000'000;
+  // `cl_count`: the job's CLs, for the path plot's stride.
+  Figures(const std::filesystem::path& folder, MapChoice maps, MapChoice curves, bool forces,
+          std::size_t cl_count);
   bool wants_curve(std::size_t index, bool engaged) override;
   void add(const ClResult& r) override;
   void finish(const std::string& title);  // draws the path plot
@@ -118,7 +123,8 @@ class Figures : public ClSink {
   OutputFolder map_folder_;
   std::optional<OutputFolder> curve_folder_;
   std::vector<PathPlotPoint> along_;
-  bool curve_ = false;  // the CL being added asked for its curve
+  std::size_t path_stride_ = 1;  // every path_stride_-th CL in along_
+  bool curve_ = false;           // the CL being added asked for its curve
   std::size_t maps_written_ = 0, curves_written_ = 0;
 };
 

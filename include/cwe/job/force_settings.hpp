@@ -35,9 +35,10 @@ struct ForceOverrides {
 // InputError for coefficients that cannot be read or a runout that is not offset[,angle].
 ForceSettings force_settings(const std::string& forces, const ForceOverrides& overrides);
 
-// Checks that every feed move of `path` turns the spindle (or that an override is given):
-// InputError naming the file and line of the first that does not.
-void check_spindle(const Toolpath& path, const std::string& file, const ForceSettings& settings);
+// Checks that a feed move turns the spindle (or that an override is given): else InputError at
+// its line in its file (`sources` indexed by its `source`; `file` when that names none).
+void check_spindle(const Move& move, const std::vector<std::string>& sources,
+                   const std::string& file, const ForceSettings& settings);
 
 // Spindle speed (rev/min) of a move, the override first.
 double spindle_speed(const Move& move, const ForceSettings& settings);

@@ -90,18 +90,35 @@ struct Job {
   InputError error(std::string_view key, const std::string& message) const;
 };
 
-// An operation ready to run: its program read, its cutter chosen, its force model (with
-// forces). A program that changes tools becomes one operation per stretch of one tool.
+// The moves of an operation: a stretch of its program's moves, which is read again from its file
+// each time they are needed (for_each_move: a program is never held whole, so memory does not
+// grow with its length), with the rapids of the tool changes around it.
+struct OperationMoves {
+  std::size_t first = 0;  // the program's moves [first, first + count), in reading order
+  std::size_t count = 0;
+  std::optional<Vec3> first_start;  // the first of them starts here (after a tool change)
+  std::vector<Move> lead_in;        // before them: to an arc's start after a tool change
+  std::vector<Move> lead_out;       // after them: the old tool up and across to the tool change
+  std::size_t size() const { return lead_in.size() + count + lead_out.size(); }
+};
+
+// An operation ready to run: its program read and checked, its cutter chosen, its force model
+// (with forces). A program that changes tools becomes one operation per stretch of one tool.
 struct PreparedOperation {
   std::string path;
-  ReadToolpath read;
+  // The program's sources, tool definitions, tool changes and units, and its warnings (with its
+  // first operation only); no moves: those are in `moves`.
+  Toolpath toolpath;
+  ToolpathFormat format = ToolpathFormat::kGcode;
+  OperationMoves moves;
   Cutter cutter;
   SamplingOptions sampling;
   std::size_t cl_points = 0;
   std::optional<ForceModel> forces;
   int tool = 0;  // the tool number whose moves these are (0: the program loads no tool)
-  std::size_t operation = 0;  // the job's operation (program) this comes from, from 0
-  GcodeOptions gcode;         // what the program was read with (G-code), to read it again
+  std::size_t operation = 0;      // the job's operation (program) this comes from, from 0
+  GcodeOptions gcode;             // what the program was read with (G-code), to read it again
+  std::size_t program_moves = 0;  // the moves of the whole program, to check a reading again
 };
 
 // A cutter narrower than this many ray spacings gets a warning (prepare_job).
@@ -123,6 +140,21 @@ struct PreparedJob {
 // `operations` from `path` and `tool`, the tool table read, `tool_units` defaulted, a bare box in
 // inches marked so. Throws InputError naming the option, file and line of the first problem.
 PreparedJob prepare_job(Job& job);
+
+// What for_each_move calls: `begin` and `end` around each operation's moves (by index into
+// PreparedJob::operations), `move` with each move and the files its `source` indexes.
+struct OperationVisitor {
+  std::function<void(std::size_t)> begin;
+  MoveSink move;
+  std::function<void(std::size_t)> end;
+};
+
+// The moves of every operation of `job`, in order: each program read again, once for all of its
+// operations. Throws InputError when a program reads differently than when the job was prepared
+// (it was changed meanwhile).
+void for_each_move(const PreparedJob& job, const OperationVisitor& visitor);
+// How many moves the job's operations have (with their tool changes' rapids).
+std::size_t move_count(const PreparedJob& job);
 
 // The cutting coefficient sets of the job's operations, each named once in order of use: their
 // names, or (sources) where their numbers come from. Empty without forces.

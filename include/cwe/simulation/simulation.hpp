@@ -61,18 +61,58 @@ struct RapidCut {
 };
 
 struct RemovalSummary {
+  // Rapid cuts listed (each is counted in rapid_cut_count): a program that crashes on every
+  // line does not grow the summary.
+  static constexpr std::size_t kRapidCutsKept = 1000;
+
   int moves = 0;
   int feed_moves = 0;
   int rapid_moves = 0;
   int cutting_moves = 0;         // moves that removed at least one cell (s³) of material
   int linear_pieces = 0;         // exact linear sweeps removed (after subdivision, per convex part)
   double deviation_bound = 0.0;  // largest Hausdorff bound of any move's sweep, mm
-  std::vector<RapidCut> rapid_cuts;
-  std::vector<double> removed_by_move;  // mm³, per move of the toolpath
+  std::vector<RapidCut> rapid_cuts;  // the first kRapidCutsKept
+  std::size_t rapid_cut_count = 0;   // rapids that cut, all of them
+  // mm³, per move: filled by the functions that take a whole Toolpath (which hold its moves
+  // anyway); the move-at-a-time runs hand each move's volume to their MoveRemoved instead.
+  std::vector<double> removed_by_move;
 };
 
 // Called after each move with (moves done, moves in all).
 using Progress = std::function<void(std::size_t, std::size_t)>;
+// Called with each move's index (from 0, in the order the moves were given) and the volume it
+// removed, mm³.
+using MoveRemoved = std::function<void(std::size_t, double)>;
+
+// Removal one move at a time, for a program read move by move (memory that does not grow with
+// its length): add() the moves in order, then finish(). Moves are removed in batches of about
+// kBatchPieces linear pieces (one pass of the workpiece, the same result as one by one); the
+// workpiece is complete after finish(). remove_toolpath is this over a Toolpath's moves.
+class RemovalRun {
+ public:
+  static constexpr std::size_t kBatchPieces = 64;
+  // `stock` and `cutter` must outlive the run.
+  RemovalRun(Workpiece& stock, const Cutter& cutter, const SimulationOptions& options,
+             MoveRemoved removed = {});
+  // `sources` are the files the move's `source` indexes (Toolpath::sources).
+  void add(const Move& move, const std::vector<std::string>& sources);
+  RemovalSummary finish();
+
+ private:
+  struct Pending {
+    bool rapid = false;
+    SourceLocation location;  // for a rapid that cuts
+  };
+  void flush();
+  Workpiece& stock_;
+  ConvexParts parts_;
+  MoveRemoved removed_;
+  double cell_;
+  RemovalSummary summary_;
+  std::vector<MoveSweep> sweeps_;
+  std::vector<Pending> pending_;
+  std::size_t pieces_ = 0;
+};
 
 // Removes every move of `path` swept by `cutter` from `stock`, in order (batched: several moves
 // to one pass of the workpiece).
@@ -94,17 +134,44 @@ struct EngagementRunOptions {
   EngagementOptions engagement;  // a contact of 0 takes the sweep tolerance
 };
 
+// The main job (simulate_engagement) one move at a time: add() the moves in order, then finish().
+// Each move's cutter locations go to `sink` during its add().
+class EngagementRun {
+ public:
+  // `stock` and `cutter` must outlive the run.
+  EngagementRun(Workpiece& stock, const Cutter& cutter, const EngagementRunOptions& options,
+                const EngagementSink& sink, MoveRemoved removed = {});
+  ~EngagementRun();
+  EngagementRun(const EngagementRun&) = delete;
+  EngagementRun& operator=(const EngagementRun&) = delete;
+  void add(const Move& move, const std::vector<std::string>& sources);
+  RemovalSummary finish();
+
+ private:
+  double cell_;
+  ConvexParts parts_;
+  std::unique_ptr<StepEngagement> engage_;
+  ClSampler sampler_;
+  EngagementSink sink_;
+  MoveRemoved removed_;
+  RemovalSummary summary_;
+  std::vector<ClPoint> cls_;  // of the current move
+  std::size_t moves_ = 0;     // given so far
+  std::size_t index_ = 0;     // of the next CL among all of the run's
+  Vec3 previous_x_ = Vec3::Zero();
+};
+
 // The main job: at each cutter location of the feed moves (ClSampler, one move at a time), the
 // removal of the motion up to the next location, and the engagement there: where that step's
 // removal touches the cutter, the workpiece having been cut by all motion before the location
 // (docs/architecture.md flow; DexelEngagement). Rapid moves and moves without samples are
 // removed whole. The removal summary is that of remove_toolpath (the same workpiece results).
 RemovalSummary simulate_engagement(Workpiece& stock, const Cutter& cutter, const Toolpath& path,
-                                   const EngagementRunOptions& options,
-                                   const EngagementSink& sink, const Progress& progress = {});
+                                   const EngagementRunOptions& options, const EngagementSink& sink,
+                                   const Progress& progress = {});
 // The same on the tri-dexel workpiece (DexelWorkpiece).
 RemovalSummary simulate_engagement(TriDexel& stock, const Cutter& cutter, const Toolpath& path,
-                                   const EngagementRunOptions& options,
-                                   const EngagementSink& sink, const Progress& progress = {});
+                                   const EngagementRunOptions& options, const EngagementSink& sink,
+                                   const Progress& progress = {});
 
 }  // namespace cwe
