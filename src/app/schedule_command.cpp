@@ -49,7 +49,7 @@ struct ScheduledFile {
 std::vector<ScheduledFile> scheduled_files(const PreparedJob& job, const std::string& out,
                                            std::vector<std::size_t>& file_of) {
   std::vector<ScheduledFile> files;
-    for (const PreparedOperation& op : job.operations) {
+  for (const PreparedOperation& op : job.operations) {
     const auto known = std::find_if(files.begin(), files.end(),
                                     [&](const ScheduledFile& f) { return f.path == op.path; });
     if (known != files.end()) {
@@ -60,27 +60,19 @@ std::vector<ScheduledFile> scheduled_files(const PreparedJob& job, const std::st
     files.push_back({op.path, op.format, {}, {}, op.gcode});
   }
   // A program whose moves come from other files too cannot be rewritten whole.
-  struct FromOtherFile {};
-  OperationVisitor visitor;
-  visitor.move = [&](const Move& m, const std::vector<std::string>&) {
-    if (m.source != 0) throw FromOtherFile{};
-  };
-  std::size_t current = 0;
-  visitor.begin = [&](std::size_t o) { current = o; };
-  try {
-    for_each_move(job, visitor);
-  } catch (const FromOtherFile&) {
-    throw InputError(SourceLocation{job.operations[current].path},
-                     "the program includes other files; scheduling rewrites one file only");
+  for (const PreparedOperation& op : job.operations) {
+    if (op.moves_from_other_files) {
+      throw InputError(SourceLocation{op.path},
+                       "the program includes other files; scheduling rewrites one file only");
+    }
   }
   for (ScheduledFile& file : files) {
-    const PreparedOperation& op = *std::find_if(
-        job.operations.begin(), job.operations.end(),
-        [&](const PreparedOperation& o) { return o.path == file.path; });
+    const PreparedOperation& op =
+        *std::find_if(job.operations.begin(), job.operations.end(),
+                      [&](const PreparedOperation& o) { return o.path == file.path; });
     const std::filesystem::path target =
-        files.size() == 1
-            ? std::filesystem::path(out)
-            : std::filesystem::path(out) / std::filesystem::path(op.path).filename();
+        files.size() == 1 ? std::filesystem::path(out)
+                          : std::filesystem::path(out) / std::filesystem::path(op.path).filename();
     const auto same = [&](const std::filesystem::path& other) {
       std::error_code ec;
       return std::filesystem::weakly_canonical(target, ec) ==
@@ -126,8 +118,8 @@ std::vector<ScheduledProgram> schedule_operations(const PreparedJob& job,
     const std::optional<double> allowed = allowance.allowed()[moves_before + i++];
     if (!(programmed > 0.0)) return;
     feeds.push_back({programmed, allowed, m.length()});
-    at.push_back(SourceLocation{m.source > 0 ? sources[static_cast<std::size_t>(m.source)] : "",
-                                m.line});
+    at.push_back(
+        SourceLocation{m.source > 0 ? sources[static_cast<std::size_t>(m.source)] : "", m.line});
   };
   visitor.end = [&](std::size_t o) {
     const PreparedOperation& op = job.operations[o];

@@ -42,11 +42,7 @@ ForceSettings force_settings(const std::string& forces, const ForceOverrides& ov
 void check_spindle(const Move& move, const std::vector<std::string>& sources,
                    const std::string& file, const ForceSettings& settings) {
   if (settings.spindle || move.is_rapid() || move.spindle_speed > 0.0) return;
-  const std::string& source =
-      move.source >= 0 && static_cast<std::size_t>(move.source) < sources.size()
-          ? sources[static_cast<std::size_t>(move.source)]
-          : file;
-  throw InputError(SourceLocation{source, move.line},
+  throw InputError(SourceLocation{source_file(move, sources, file), move.line},
                    "feed move with no spindle speed (no S word or SPINDL before it): the "
                    "feed per tooth needs one; give --spindle rev/min");
 }

@@ -99,8 +99,8 @@ void check_numbers(const Job& job) {
 }
 
 // Counts the CL samples of every operation, the programs read again move by move (a move with
-// too many is an error at its line), and with forces checks that every feed move turns the
-// spindle.
+// too many is an error at its line), notes the operations with moves from other files, and with
+// forces checks that every feed move turns the spindle.
 void count_cl_points(PreparedJob& job) {
   std::optional<ClSampler> sampler;
   PreparedOperation* op = nullptr;
@@ -111,6 +111,7 @@ void count_cl_points(PreparedJob& job) {
   };
   visitor.move = [&](const Move& move, const std::vector<std::string>& sources) {
     op->cl_points += static_cast<std::size_t>(sampler->steps(move, &sources));
+    if (move.source != 0) op->moves_from_other_files = true;
     if (op->forces) check_spindle(move, sources, op->path, *job.forces);
   };
   visitor.end = [&](std::size_t) { job.cl_count += op->cl_points; };

@@ -58,10 +58,7 @@ JobResult run_job(const PreparedJob& job, TriDexel stock, const RunOptions& opti
     if (map.engaged) ++result.engaged_cl_points;
     result.deepest = std::max(result.deepest, map.axial_depth);
     result.largest_area = std::max(result.largest_area, map.area);
-    const std::string& file =
-        move->source >= 0 && static_cast<std::size_t>(move->source) < sources->size()
-            ? (*sources)[static_cast<std::size_t>(move->source)]
-            : op->path;
+    const std::string& file = source_file(*move, *sources, op->path);
     std::optional<ClForces> forces;
     double feed = 0.0, spindle = 0.0;
     if (op->forces) {

@@ -89,14 +89,16 @@ TriDexel make_stock(const StockSpec& spec, const SimulationOptions& options) {
 
 namespace {
 
-// The file a move's `source` names (empty when it names none).
-std::string source_file(const Move& move, const std::vector<std::string>& sources) {
-  return move.source >= 0 && static_cast<std::size_t>(move.source) < sources.size()
-             ? sources[static_cast<std::size_t>(move.source)]
-             : std::string();
+// Where a rapid is in its file (a rapid that cuts is listed); nothing for a feed move, so that
+// the moves that are not listed cost no copy of their file's name.
+SourceLocation rapid_location(const Move& move, const std::vector<std::string>& sources) {
+  static const std::string kNoFile;
+  if (!move.is_rapid()) return {};
+  return SourceLocation{source_file(move, sources, kNoFile), move.line};
 }
 
-// Counts a move (index `index`, a rapid or not, at `location`) and its removal into the summary.
+// Counts a move (index `index`, a rapid or not; a rapid at `location`) and its removal into the
+// summary.
 void record_move(RemovalSummary& summary, std::size_t index, bool rapid,
                  const SourceLocation& location, int pieces, double deviation, double volume,
                  double cell, const MoveRemoved& removed) {
@@ -135,7 +137,7 @@ RemovalRun::RemovalRun(Workpiece& stock, const Cutter& cutter, const SimulationO
 
 void RemovalRun::add(const Move& move, const std::vector<std::string>& sources) {
   sweeps_.emplace_back(parts_, move);
-  pending_.push_back({move.is_rapid(), SourceLocation{source_file(move, sources), move.line}});
+  pending_.push_back({move.is_rapid(), rapid_location(move, sources)});
   pieces_ += sweeps_.back().pieces().size();
   if (pieces_ >= kBatchPieces) flush();
 }
@@ -235,8 +237,8 @@ void EngagementRun::add(const Move& move, const std::vector<std::string>& source
       sink_(index_++, cls_[k], state, engage_->at(state));
     }
   }
-  record_move(summary_, i, move.is_rapid(), SourceLocation{source_file(move, sources), move.line},
-              pieces, deviation, volume, cell_, removed_);
+  record_move(summary_, i, move.is_rapid(), rapid_location(move, sources), pieces, deviation,
+              volume, cell_, removed_);
 }
 
 RemovalSummary EngagementRun::finish() { return std::move(summary_); }

@@ -119,6 +119,13 @@ Move Move::part(double u0, double u1) const {
   return m;
 }
 
+const std::string& source_file(const Move& move, const std::vector<std::string>& sources,
+                               const std::string& otherwise) {
+  return move.source >= 0 && static_cast<std::size_t>(move.source) < sources.size()
+             ? sources[static_cast<std::size_t>(move.source)]
+             : otherwise;
+}
+
 void hold_move(std::vector<Move>& moves, const Move& move, const SourceLocation& where) {
   if (moves.size() == moves.capacity()) {
     // std::vector doubles; the old block is held while the new one is filled.

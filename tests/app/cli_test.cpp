@@ -638,6 +638,34 @@ TEST(CliSchedule, ScheduledProgramNeverExceedsTheLimit) {
 
 // A slot in two 3 mm levels: the second level cuts no deeper than the first, so the schedule
 // gives both the same feed (the walls the first level left beside the second are not engagement).
+// A program whose moves come from a subroutine file is refused before the run: only the program
+// file is rewritten. A subroutine file without moves does not stop it.
+TEST(CliSchedule, MovesFromASubroutineFileAreRefused) {
+  const auto dir = scratch_dir("schedule-sub");
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "slot.ngc") << "o<slot> sub\nG1 X60 F600\no<slot> endsub\n";
+  std::ofstream(dir / "depth.ngc") << "o<depth> sub\n#<_depth> = -3\no<depth> endsub\n";
+  std::ofstream(dir / "main.ngc")
+      << "G21 G90 G17\nS10000 M3\nG0 X-10 Y10 Z1\nG1 Z-3 F300\no<slot> call\nG0 Z5\nM2\n";
+  std::ofstream(dir / "own.ngc") << "G21 G90 G17\nS10000 M3\no<depth> call\nG0 X-10 Y10 Z1\n"
+                                    "G1 Z#<_depth> F300\nG1 X60 F600\nG0 Z5\nM2\n";
+  const auto schedule = [&](const char* program) {
+    return run_cwe({"schedule", "--path", (dir / program).string(), "--stock",
+                    "box:0,0,-10,50,20,0", "--tool", "flat:10,20", "--resolution", "0.5",
+                    "--forces", "al7075-t6-carbide", "--quiet", "--limit", "force=220N", "--out",
+                    (dir / "scheduled.ngc").string()});
+  };
+  const Result refused = schedule("main.ngc");
+  EXPECT_EQ(refused.status, 2);
+  EXPECT_NE(refused.err.find("main.ngc: error: the program includes other files"),
+            std::string::npos)
+      << refused.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "scheduled.ngc"));
+  const Result own = schedule("own.ngc");
+  EXPECT_EQ(own.status, 0) << own.err;
+  EXPECT_TRUE(std::filesystem::exists(dir / "scheduled.ngc"));
+}
+
 TEST(CliSchedule, StepDownLevelsOfEqualDepthGetEqualFeeds) {
   const auto dir = scratch_dir("schedule_levels");
   std::filesystem::create_directories(dir);

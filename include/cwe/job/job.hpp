@@ -116,9 +116,10 @@ struct PreparedOperation {
   std::size_t cl_points = 0;
   std::optional<ForceModel> forces;
   int tool = 0;  // the tool number whose moves these are (0: the program loads no tool)
-  std::size_t operation = 0;      // the job's operation (program) this comes from, from 0
-  GcodeOptions gcode;             // what the program was read with (G-code), to read it again
-  std::size_t program_moves = 0;  // the moves of the whole program, to check a reading again
+  std::size_t operation = 0;            // the job's operation (program) this comes from, from 0
+  GcodeOptions gcode;                   // what the program was read with (G-code), to read it again
+  std::size_t program_moves = 0;        // the moves of the whole program, to check a reading again
+  bool moves_from_other_files = false;  // some of `moves` come from a subroutine file
 };
 
 // A cutter narrower than this many ray spacings gets a warning (prepare_job).

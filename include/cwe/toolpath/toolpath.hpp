@@ -39,6 +39,11 @@ struct Toolpath {
   ProgramUnits units = ProgramUnits::kMillimetres;  // the units the program was written in
 };
 
+// The file of `sources` (Toolpath::sources) that `move` comes from; `otherwise` when its `source`
+// names none.
+const std::string& source_file(const Move& move, const std::vector<std::string>& sources,
+                               const std::string& otherwise);
+
 // Appends `move` to moves held in memory. When the vector must grow, its new size is first
 // checked against the memory limit (cwe/core/memory_limit.hpp): a program too long to hold is an
 // InputError at `where` (the move's file and line), before the allocation.
