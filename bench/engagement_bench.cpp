@@ -88,11 +88,10 @@ void run(benchmark::State& state, const char* tool, const cwe::Toolpath& path, d
     maps.clear();
     state.ResumeTiming();
     cwe::simulate_engagement(stock, cutter, path, {options, sampling, {}},
-                             [&](std::size_t, const cwe::ClPoint&, const cwe::ToolState& at,
-                                 const cwe::EngagementMap& map) {
+                             [&](const cwe::ClEngagement& e) {
                                ++cls;
-                               engaged += map.engaged ? 1 : 0;
-                               maps.emplace_back(map, at);
+                               engaged += e.map.engaged ? 1 : 0;
+                               maps.emplace_back(e.map, e.state);
                              });
   }
   const double job_seconds =

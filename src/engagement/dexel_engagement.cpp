@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include <fmt/format.h>
-#include <tbb/parallel_for.h>
 
 #include "cwe/core/error.hpp"
 #include "cwe/envelope/tangency.hpp"
@@ -85,9 +84,9 @@ DexelEngagement::DexelEngagement(const Cutter& cutter, double spacing,
     throw InputError(
         fmt::format("engagement: ray spacing {} mm, expected a positive length", spacing));
   }
-  if (!(options.disc_height >= 0.0) || !(options.phi_step >= 0.0) ||
-      !(options.contact >= 0.0) || !std::isfinite(options.disc_height) ||
-      !std::isfinite(options.phi_step) || !std::isfinite(options.contact)) {
+  if (!(options.disc_height >= 0.0) || !(options.phi_step >= 0.0) || !(options.contact >= 0.0) ||
+      !std::isfinite(options.disc_height) || !std::isfinite(options.phi_step) ||
+      !std::isfinite(options.contact)) {
     throw InputError(
         "engagement: disc height, φ step and contact must be positive (or 0 for the default)");
   }
@@ -172,8 +171,7 @@ std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const Removal
   const Vec3 centre = tcs.origin + band.z * z;
   // Skip a band whose circle cannot reach what the step removed: a cell reads a ray within
   // s√(3/2) of its point, over √3 (departure + contact) along it.
-  const double margin =
-      spacing_ * std::sqrt(1.5) + std::sqrt(3.0) * (band.departure + contact_);
+  const double margin = spacing_ * std::sqrt(1.5) + std::sqrt(3.0) * (band.departure + contact_);
   Aabb reach;
   for (int a = 0; a < 3; ++a) {
     const double e = band.rho * std::sqrt(std::max(0.0, 1.0 - z[a] * z[a])) + margin;
@@ -259,14 +257,15 @@ EngagementMap DexelEngagement::at(const TriDexel& stock, const RemovalRecord& st
                                   const ToolState& state) const {
   EngagementMap map;
   const Vec3 v = state.tip_velocity_tcs(), w = state.angular_velocity_tcs();
-  // Bands are independent: scanned in parallel, each into its own slot (deterministic).
+  // One thread: the main loop finds the engagement of several locations at once
+  // (EngagementRun), which gives each thread far more work than one location's bands.
   std::vector<std::vector<Interval>> found(discs_.size() + rings_.size());
   // A step that removes nothing engages nothing: the bands are left empty without a scan.
   if (!step.empty()) {
-    tbb::parallel_for(std::size_t{0}, found.size(), [&](std::size_t k) {
+    for (std::size_t k = 0; k < found.size(); ++k) {
       const Band& band = k < discs_.size() ? discs_[k] : rings_[k - discs_.size()];
       found[k] = scan(stock, step, state, band, v, w);
-    });
+    }
   }
   std::vector<Interval> all;
   for (std::size_t k = 0; k < discs_.size(); ++k) {

@@ -15,29 +15,35 @@ TriDexel::Cut cut_of(const LinearSweep& piece) {
   return cut;
 }
 
+// A step's record: the dexel stretches it removed.
+struct DexelStep : StepEngagement::Step {
+  RemovalRecord removed;
+};
+
 class DexelStepEngagement : public StepEngagement {
  public:
   DexelStepEngagement(TriDexel& stock, const Cutter& cutter, const EngagementOptions& options)
       : stock_(stock), engage_(cutter, stock.spacing(), options) {}
 
-  double remove(const MoveSweep& sweep, bool record) override {
+  std::unique_ptr<Step> new_step() const override { return std::make_unique<DexelStep>(); }
+
+  double remove(const MoveSweep& sweep, Step* step) override {
     std::vector<TriDexel::Cut> cuts;
     for (const LinearSweep& piece : sweep.pieces()) cuts.push_back(cut_of(piece));
+    RemovalRecord* record = step != nullptr ? &static_cast<DexelStep*>(step)->removed : nullptr;
     double volume = 0.0;
-    for (const TriDexel::Removal& r : stock_.remove(cuts, record ? &step_ : nullptr)) {
-      volume += r.volume;
-    }
+    for (const TriDexel::Removal& r : stock_.remove(cuts, record)) volume += r.volume;
     return volume;
   }
 
-  EngagementMap at(const ToolState& state) const override {
-    return engage_.at(stock_, step_, state);
+  // Reads the stock's grid only (never its rays), so later removals may run meanwhile.
+  EngagementMap at(const ToolState& state, const Step& step) const override {
+    return engage_.at(stock_, static_cast<const DexelStep&>(step).removed, state);
   }
 
  private:
   TriDexel& stock_;
   DexelEngagement engage_;
-  RemovalRecord step_;
 };
 
 }  // namespace

@@ -45,20 +45,21 @@ JobResult run_job(const PreparedJob& job, TriDexel stock, const RunOptions& opti
   DexelWorkpiece workpiece(result.stock);  // the workpiece seam (cwe/engagement/workpiece.hpp)
   const std::size_t all_moves = move_count(job);
   std::size_t moves_before = 0, cls_before = 0, done = 0;
-  // The operation running, and the move being added to it (its CLs come to `sink` during add).
+  // The operation running (its CLs all come to `sink` before its run's finish() returns).
   const PreparedOperation* op = nullptr;
-  const Move* move = nullptr;
-  const std::vector<std::string>* sources = nullptr;
-  const auto sink = [&](std::size_t index, const ClPoint& cl, const ToolState& state,
-                        const EngagementMap& map) {
-    const std::size_t k = cls_before + index;
+  const auto sink = [&](const ClEngagement& e) {
+    const ClPoint& cl = e.cl;
+    const ToolState& state = e.state;
+    const EngagementMap& map = e.map;
+    const Move* move = &e.move;
+    const std::size_t k = cls_before + e.index;
     ClPoint global = cl;
     global.move += static_cast<int>(moves_before);
     ++result.cl_points;
     if (map.engaged) ++result.engaged_cl_points;
     result.deepest = std::max(result.deepest, map.axial_depth);
     result.largest_area = std::max(result.largest_area, map.area);
-    const std::string& file = source_file(*move, *sources, op->path);
+    const std::string& file = e.file.empty() ? op->path : e.file;
     std::optional<ClForces> forces;
     double feed = 0.0, spindle = 0.0;
     if (op->forces) {
@@ -102,8 +103,6 @@ JobResult run_job(const PreparedJob& job, TriDexel stock, const RunOptions& opti
     }
   };
   visitor.move = [&](const Move& m, const std::vector<std::string>& files) {
-    move = &m;
-    sources = &files;
     if (removal) {
       removal->add(m, files);
     } else {

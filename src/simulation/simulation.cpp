@@ -6,6 +6,8 @@
 #include <memory>
 
 #include <fmt/format.h>
+#include <tbb/parallel_pipeline.h>
+#include <tbb/task_arena.h>
 
 #include "cwe/core/assert.hpp"
 #include "cwe/core/numbers.hpp"
@@ -89,10 +91,12 @@ TriDexel make_stock(const StockSpec& spec, const SimulationOptions& options) {
 
 namespace {
 
+// The file of a move whose source names none.
+const std::string kNoFile;
+
 // Where a rapid is in its file (a rapid that cuts is listed); nothing for a feed move, so that
 // the moves that are not listed cost no copy of their file's name.
 SourceLocation rapid_location(const Move& move, const std::vector<std::string>& sources) {
-  static const std::string kNoFile;
   if (!move.is_rapid()) return {};
   return SourceLocation{source_file(move, sources, kNoFile), move.line};
 }
@@ -209,39 +213,109 @@ EngagementRun::EngagementRun(Workpiece& stock, const Cutter& cutter,
           cutter, with_contact(options.engagement, options.simulation.effective_tolerance()))),
       sampler_(feed_only(options.sampling)),
       sink_(sink),
-      removed_(std::move(removed)) {}
+      removed_(std::move(removed)) {
+  // Steps in flight: enough to keep every thread busy while one removes.
+  const int tokens = std::max(4, 2 * tbb::this_task_arena::max_concurrency());
+  for (int k = 0; k < tokens; ++k) steps_.push_back(engage_->new_step());
+}
 
 EngagementRun::~EngagementRun() = default;
 
 void EngagementRun::add(const Move& move, const std::vector<std::string>& sources) {
-  const std::size_t i = moves_++;
-  sampler_.next(move, static_cast<int>(i), cls_);
+  const std::size_t index = added_++;
+  sampler_.next(move, static_cast<int>(index), sampled_);
+  const std::string& file = source_file(move, sources, kNoFile);
+  if (files_.empty() || files_.back() != file) files_.push_back(file);
+  moves_.push_back({move, rapid_location(move, sources), index, files_.size() - 1, cls_.size(),
+                    sampled_.size()});
+  for (const ClPoint& cl : sampled_) {
+    const ToolState state = tool_state(cl, previous_x_);
+    previous_x_ = state.tcs.x();
+    cls_.push_back({cl, state});
+  }
+  if (cls_.size() >= kBatchLocations || moves_.size() >= kBatchMoves) flush();
+}
+
+void EngagementRun::flush() {
+  if (moves_.empty()) return;
+  // A step in flight: its location, its record and the engagement found there. Step n uses slot
+  // n mod tokens: the pipeline holds at most `tokens` steps and finishes them in order, so step
+  // n is done before step n + tokens starts.
+  struct Slot {
+    const PendingMove* move = nullptr;
+    const PendingCl* at = nullptr;
+    StepEngagement::Step* step = nullptr;
+    EngagementMap map;
+  };
+  const std::size_t tokens = steps_.size();
+  std::vector<Slot> slots(tokens);
+  std::size_t m = 0, next = 0;  // the move being removed and its next location
+  std::size_t started = 0;      // steps with a location started
   int pieces = 0;
   double deviation = 0.0, volume = 0.0;
-  const auto remove_part = [&](double u0, double u1, bool record = false) {
+  const auto remove_part = [&](const Move& move, double u0, double u1, StepEngagement::Step* step) {
     const MoveSweep sweep(parts_, u0 == 0.0 && u1 == 1.0 ? move : move.part(u0, u1));
     pieces += static_cast<int>(sweep.pieces().size());
     deviation = std::max(deviation, sweep.deviation_bound());
-    volume += engage_->remove(sweep, record);
+    volume += engage_->remove(sweep, step);
   };
-  if (cls_.empty()) {
-    remove_part(0.0, 1.0);
-  } else {
-    if (cls_.front().u > 0.0) remove_part(0.0, cls_.front().u);
-    for (std::size_t k = 0; k < cls_.size(); ++k) {
-      // The step from this location to the next is removed first: the engagement here is where
-      // that removal touches the cutter (CWE = FCS ∩ (W ∩ SV)).
-      const ToolState state = tool_state(cls_[k], previous_x_);
-      previous_x_ = state.tcs.x();
-      remove_part(cls_[k].u, k + 1 < cls_.size() ? cls_[k + 1].u : 1.0, true);
-      sink_(index_++, cls_[k], state, engage_->at(state));
+  const auto move_done = [&] {
+    const PendingMove& done = moves_[m];
+    record_move(summary_, done.index, done.move.is_rapid(), done.location, pieces, deviation,
+                volume, cell_, removed_);
+    pieces = 0;
+    deviation = volume = 0.0;
+    ++m;
+    next = 0;
+  };
+  // Removal, in order: each step from a location to the next is removed into its slot's record
+  // (CWE = FCS ∩ (W ∩ SV): the engagement at a location is where that removal touches the
+  // cutter); motion before a move's first location, and moves without one, are removed whole.
+  const auto remove_next = [&](tbb::flow_control& control) -> Slot* {
+    while (m < moves_.size()) {
+      const PendingMove& pending = moves_[m];
+      if (pending.cl_count == 0) {
+        remove_part(pending.move, 0.0, 1.0, nullptr);
+        move_done();
+        continue;
+      }
+      const PendingCl* at = &cls_[pending.first_cl + next];
+      if (next == 0 && at->cl.u > 0.0) remove_part(pending.move, 0.0, at->cl.u, nullptr);
+      Slot& slot = slots[started % tokens];
+      slot.step = steps_[started % tokens].get();
+      ++started;
+      slot.move = &pending;
+      slot.at = at;
+      const bool last = next + 1 == pending.cl_count;
+      remove_part(pending.move, at->cl.u, last ? 1.0 : (at + 1)->cl.u, slot.step);
+      ++next;
+      if (last) move_done();
+      return &slot;
     }
-  }
-  record_move(summary_, i, move.is_rapid(), rapid_location(move, sources), pieces, deviation,
-              volume, cell_, removed_);
+    control.stop();
+    return nullptr;
+  };
+  tbb::parallel_pipeline(
+      tokens,
+      tbb::make_filter<void, Slot*>(tbb::filter_mode::serial_in_order, remove_next) &
+          tbb::make_filter<Slot*, Slot*>(tbb::filter_mode::parallel,
+                                         [this](Slot* slot) {
+                                           slot->map = engage_->at(slot->at->state, *slot->step);
+                                           return slot;
+                                         }) &
+          tbb::make_filter<Slot*, void>(tbb::filter_mode::serial_in_order, [this](Slot* slot) {
+            sink_({index_++, slot->move->move, files_[slot->move->file], slot->at->cl,
+                   slot->at->state, slot->map});
+          }));
+  moves_.clear();
+  files_.clear();
+  cls_.clear();
 }
 
-RemovalSummary EngagementRun::finish() { return std::move(summary_); }
+RemovalSummary EngagementRun::finish() {
+  flush();
+  return std::move(summary_);
+}
 
 RemovalSummary simulate_engagement(Workpiece& stock, const Cutter& cutter, const Toolpath& path,
                                    const EngagementRunOptions& options, const EngagementSink& sink,

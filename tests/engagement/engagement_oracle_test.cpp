@@ -53,19 +53,17 @@ void check(const Case& c) {
   double nearest = 1e300;
   std::vector<ClPoint> cls;
   std::size_t chosen = 0;
-  simulate_engagement(
-      stock, cutter, path, {options, sampling, {}},
-      [&](std::size_t k, const ClPoint& p, const ToolState& s, const EngagementMap& m) {
-        cls.push_back(p);
-        const double d = (p.position - probe).norm();
-        if (d < nearest) {
-          nearest = d;
-          map = m;
-          cl = p;
-          state = s;
-          chosen = k;
-        }
-      });
+  simulate_engagement(stock, cutter, path, {options, sampling, {}}, [&](const ClEngagement& e) {
+    cls.push_back(e.cl);
+    const double d = (e.cl.position - probe).norm();
+    if (d < nearest) {
+      nearest = d;
+      map = e.map;
+      cl = e.cl;
+      state = e.state;
+      chosen = e.index;
+    }
+  });
   ASSERT_LT(nearest, 0.5);
   ASSERT_TRUE(map.engaged);
   // The step that follows the CL: to the next sample of the same move, or to the move's end.

@@ -43,15 +43,13 @@ Probe engagement_near(const char* tool, const Aabb& block, const std::vector<Mov
   sampling.step = cl_step;
   Probe best;
   double nearest = 1e300;
-  simulate_engagement(
-      stock, cutter, path, {options, sampling, {}},
-      [&](std::size_t, const ClPoint& cl, const ToolState&, const EngagementMap& map) {
-        const double d = (cl.position - probe).norm();
-        if (d < nearest) {
-          nearest = d;
-          best = {map, cl};
-        }
-      });
+  simulate_engagement(stock, cutter, path, {options, sampling, {}}, [&](const ClEngagement& e) {
+    const double d = (e.cl.position - probe).norm();
+    if (d < nearest) {
+      nearest = d;
+      best = {e.map, e.cl};
+    }
+  });
   EXPECT_LT(nearest, cl_step);
   return best;
 }

@@ -26,9 +26,9 @@ inline std::vector<Sample> simulate_samples(const Toolpath& path, const char* to
   SamplingOptions sampling;
   sampling.step = step;
   std::vector<Sample> samples;
-  simulate_engagement(stock, cutter, path, {options, sampling, {}},
-                      [&](std::size_t, const ClPoint& cl, const ToolState& state,
-                          const EngagementMap& map) { samples.push_back({cl, state, map}); });
+  simulate_engagement(stock, cutter, path, {options, sampling, {}}, [&](const ClEngagement& e) {
+    samples.push_back({e.cl, e.state, e.map});
+  });
   return samples;
 }
 

@@ -5,6 +5,7 @@
 
 #include <unistd.h>
 
+#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -451,13 +452,15 @@ class CountingWorkpiece : public Workpiece {
     struct Counting : StepEngagement {
       Counting(std::unique_ptr<StepEngagement> wrapped, CountingWorkpiece& counter)
           : inner(std::move(wrapped)), owner(counter) {}
-      double remove(const MoveSweep& sweep, bool record) override {
-        ++(record ? owner.recorded : owner.unrecorded);
-        return inner->remove(sweep, record);
+      std::unique_ptr<Step> new_step() const override { return inner->new_step(); }
+      double remove(const MoveSweep& sweep, Step* step) override {
+        ++(step != nullptr ? owner.recorded : owner.unrecorded);
+        return inner->remove(sweep, step);
       }
-      EngagementMap at(const ToolState& state) const override {
+      // Called from several threads at once.
+      EngagementMap at(const ToolState& state, const Step& step) const override {
         ++owner.queries;
-        return inner->at(state);
+        return inner->at(state, step);
       }
       std::unique_ptr<StepEngagement> inner;
       CountingWorkpiece& owner;
@@ -465,7 +468,8 @@ class CountingWorkpiece : public Workpiece {
     contact = options.contact;
     return std::make_unique<Counting>(inner_.engagement(cutter, options), *this);
   }
-  int batches = 0, recorded = 0, unrecorded = 0, queries = 0;
+  int batches = 0, recorded = 0, unrecorded = 0;
+  std::atomic<int> queries = 0;
   double contact = -1.0;
 
  private:
@@ -492,14 +496,13 @@ TEST(WorkpieceSeam, TheMainLoopGoesThroughTheBackend) {
   TriDexel b = TriDexel::from_box(kBlock, options.resolution);
   std::vector<EngagementMap> direct, through;
   const auto keep = [](std::vector<EngagementMap>& maps) {
-    return [&maps](std::size_t, const ClPoint&, const ToolState&, const EngagementMap& map) {
-      maps.push_back(map);
-    };
+    return [&maps](const ClEngagement& e) { maps.push_back(e.map); };
   };
   const RemovalSummary sa =
       simulate_engagement(a, cutter, path, {options, sampling, {}}, keep(direct));
   CountingWorkpiece counting(b);
-  const RemovalSummary sb = simulate_engagement(counting, cutter, path, {options, sampling, {}}, keep(through));
+  const RemovalSummary sb =
+      simulate_engagement(counting, cutter, path, {options, sampling, {}}, keep(through));
   // 60 mm at 0.5 mm: 120 locations at the start of each step (cl_sampling.hpp), each with its
   // recorded step and its query; the rapid, without locations, is removed whole.
   ASSERT_EQ(direct.size(), 120u);

@@ -18,14 +18,27 @@ namespace cwe {
 // One cutter's engagement on a workpiece, a step at a time: each step (the motion from a cutter
 // location to the next) is removed and recorded, and the engagement at the location is where
 // that removal touches the cutter (CWE = FCS ∩ (W ∩ SV), docs/engagement.md).
+//
+// Steps are removed in order, one at a time; the engagement of a step reads only that step's
+// record, so the main loop finds the engagement of several locations at once, and while later
+// steps are being removed (EngagementRun).
 class StepEngagement {
  public:
+  // What one step removed, as the backend records it.
+  class Step {
+   public:
+    virtual ~Step() = default;
+  };
   virtual ~StepEngagement() = default;
-  // Removes `sweep`; the volume removed, mm³. With `record`, `at` reports on this step; without,
-  // the sweep is motion between locations (a stretch before a move's first location).
-  virtual double remove(const MoveSweep& sweep, bool record) = 0;
-  // The engagement at `state` with the last step removed with `record`.
-  virtual EngagementMap at(const ToolState& state) const = 0;
+  // An empty record (to be filled by remove, and reused step after step).
+  virtual std::unique_ptr<Step> new_step() const = 0;
+  // Removes `sweep`; the volume removed, mm³. With `step`, what the sweep removed replaces the
+  // record's contents, for `at`; without, the sweep is motion between locations (a stretch
+  // before a move's first location).
+  virtual double remove(const MoveSweep& sweep, Step* step) = 0;
+  // The engagement at `state`, where `step` records the step that starts there. Safe to call
+  // concurrently with other calls of `at` and with `remove` of later steps into other records.
+  virtual EngagementMap at(const ToolState& state, const Step& step) const = 0;
 };
 
 class Workpiece {

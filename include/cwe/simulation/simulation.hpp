@@ -122,10 +122,17 @@ RemovalSummary remove_toolpath(Workpiece& stock, const Cutter& cutter, const Too
 RemovalSummary remove_toolpath(TriDexel& stock, const Cutter& cutter, const Toolpath& path,
                                const SimulationOptions& options, const Progress& progress = {});
 
-// Receives the engagement at each cutter location, in order: the sample (its index among all
-// samples, from 0), the tool's state there and the map.
-using EngagementSink =
-    std::function<void(std::size_t, const ClPoint&, const ToolState&, const EngagementMap&)>;
+// The engagement at one cutter location, as the main job hands it on.
+struct ClEngagement {
+  std::size_t index;        // of the sample among all of the run's, from 0
+  const Move& move;         // the move it lies on
+  const std::string& file;  // the file of the move's source line ("" when it names none)
+  const ClPoint& cl;
+  const ToolState& state;  // the tool's state there
+  const EngagementMap& map;
+};
+// Receives the engagement at each cutter location, in order.
+using EngagementSink = std::function<void(const ClEngagement&)>;
 
 // How the main job samples the moves and finds the engagement.
 struct EngagementRunOptions {
@@ -135,9 +142,17 @@ struct EngagementRunOptions {
 };
 
 // The main job (simulate_engagement) one move at a time: add() the moves in order, then finish().
-// Each move's cutter locations go to `sink` during its add().
+//
+// Moves are held until about kBatchLocations cutter locations (or kBatchMoves moves) are
+// waiting, then run as a pipeline: the steps are removed one after the other, each into a record
+// of its own, while the engagement of the steps already removed is found in parallel (it reads
+// only its step's record), and the locations go to `sink` in order, on one thread at a time
+// (not necessarily the caller's). So a move's locations reach `sink` during a later add() or
+// during finish(); the results are those of one step at a time, for any number of threads.
 class EngagementRun {
  public:
+  static constexpr std::size_t kBatchLocations = 256;
+  static constexpr std::size_t kBatchMoves = 1024;
   // `stock` and `cutter` must outlive the run.
   EngagementRun(Workpiece& stock, const Cutter& cutter, const EngagementRunOptions& options,
                 const EngagementSink& sink, MoveRemoved removed = {});
@@ -148,6 +163,19 @@ class EngagementRun {
   RemovalSummary finish();
 
  private:
+  // A move waiting, with its locations (cls_[first_cl …]).
+  struct PendingMove {
+    Move move;
+    SourceLocation location;  // for a rapid that cuts
+    std::size_t index = 0;    // among the run's moves
+    std::size_t file = 0;     // in files_
+    std::size_t first_cl = 0, cl_count = 0;
+  };
+  struct PendingCl {
+    ClPoint cl;
+    ToolState state;
+  };
+  void flush();
   double cell_;
   ConvexParts parts_;
   std::unique_ptr<StepEngagement> engage_;
@@ -155,9 +183,13 @@ class EngagementRun {
   EngagementSink sink_;
   MoveRemoved removed_;
   RemovalSummary summary_;
-  std::vector<ClPoint> cls_;  // of the current move
-  std::size_t moves_ = 0;     // given so far
-  std::size_t index_ = 0;     // of the next CL among all of the run's
+  std::vector<ClPoint> sampled_;  // of the move being added
+  std::vector<PendingMove> moves_;
+  std::vector<std::string> files_;  // of the waiting moves, each name once in a row
+  std::vector<PendingCl> cls_;
+  std::vector<std::unique_ptr<StepEngagement::Step>> steps_;  // one per step in flight
+  std::size_t added_ = 0;                                     // moves given so far
+  std::size_t index_ = 0;  // of the next CL among all of the run's
   Vec3 previous_x_ = Vec3::Zero();
 };
 

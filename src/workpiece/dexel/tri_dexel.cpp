@@ -199,62 +199,67 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
       if (taken->tiles.size() < tallies.size()) taken->tiles.resize(tallies.size());
     }
     auto& family = rays_[static_cast<std::size_t>(a)];
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, tallies.size(), 1),
-        [&](const tbb::blocked_range<std::size_t>& range) {
-          std::vector<Interval> stretches;
-          for (std::size_t t = range.begin(); t < range.end(); ++t) {
-            const int ti = ti0 + static_cast<int>(t % static_cast<std::size_t>(nti));
-            const int tj = tj0 + static_cast<int>(t / static_cast<std::size_t>(nti));
-            for (std::size_t k = 0; k < cuts.size(); ++k) {
-              const Reach& r = reach[k];
-              const int i0 = std::max(r.is[0], ti * kTile),
-                        i1 = std::min(r.is[1], ti * kTile + kTile - 1);
-              const int j0 = std::max(r.js[0], tj * kTile),
-                        j1 = std::min(r.js[1], tj * kTile + kTile - 1);
-              if (i0 > i1 || j0 > j1) continue;
-              Tally sum;
-              for (int j = j0; j <= j1; ++j) {
-                DexelRay* row = &family[index(a, 0, j)];
-                // The ray's origin as ray(a, i, j) makes it, without the index checks.
-                Vec3 origin = domain_.min;
-                origin[c] += (j + 0.5) * spacing_[c];
-                for (int i = i0; i <= i1; ++i) {
-                  DexelRay& material = row[i];
-                  if (!material.overlaps(r.low, r.high)) continue;
-                  origin[b] = domain_.min[b] + (i + 0.5) * spacing_[b];
-                  const Ray ray{origin, Vec3::Unit(a)};
-                  if (cuts[k].reach) {
-                    const Interval w = cuts[k].reach(ray);
-                    if (!material.overlaps(std::max(r.low, w.lo), std::min(r.high, w.hi))) {
-                      continue;
-                    }
-                  }
-                  const Interval cut = cuts[k].chord(ray);
-                  if (cut.is_empty()) continue;
-                  const auto before = static_cast<std::ptrdiff_t>(material.heap_bytes());
-                  double removed = 0.0;
-                  if (taken == nullptr) {
-                    removed = material.subtract(cut.lo, cut.hi);
-                  } else {
-                    stretches.clear();
-                    removed = material.subtract(cut.lo, cut.hi, &stretches);
-                    for (const Interval& s : stretches) {
-                      taken->tiles[t].stretches.push_back(
-                          {i, j, static_cast<float>(s.lo), static_cast<float>(s.hi)});
-                    }
-                  }
-                  if (removed == 0.0) continue;
-                  ++sum.changed;
-                  sum.length += removed;
-                  sum.heap += static_cast<std::ptrdiff_t>(material.heap_bytes()) - before;
+    const auto apply = [&](const tbb::blocked_range<std::size_t>& range) {
+      std::vector<Interval> stretches;
+      for (std::size_t t = range.begin(); t < range.end(); ++t) {
+        const int ti = ti0 + static_cast<int>(t % static_cast<std::size_t>(nti));
+        const int tj = tj0 + static_cast<int>(t / static_cast<std::size_t>(nti));
+        for (std::size_t k = 0; k < cuts.size(); ++k) {
+          const Reach& r = reach[k];
+          const int i0 = std::max(r.is[0], ti * kTile),
+                    i1 = std::min(r.is[1], ti * kTile + kTile - 1);
+          const int j0 = std::max(r.js[0], tj * kTile),
+                    j1 = std::min(r.js[1], tj * kTile + kTile - 1);
+          if (i0 > i1 || j0 > j1) continue;
+          Tally sum;
+          for (int j = j0; j <= j1; ++j) {
+            DexelRay* row = &family[index(a, 0, j)];
+            // The ray's origin as ray(a, i, j) makes it, without the index checks.
+            Vec3 origin = domain_.min;
+            origin[c] += (j + 0.5) * spacing_[c];
+            for (int i = i0; i <= i1; ++i) {
+              DexelRay& material = row[i];
+              if (!material.overlaps(r.low, r.high)) continue;
+              origin[b] = domain_.min[b] + (i + 0.5) * spacing_[b];
+              const Ray ray{origin, Vec3::Unit(a)};
+              if (cuts[k].reach) {
+                const Interval w = cuts[k].reach(ray);
+                if (!material.overlaps(std::max(r.low, w.lo), std::min(r.high, w.hi))) {
+                  continue;
                 }
               }
-              if (sum.changed > 0) tallies[t].emplace_back(k, sum);
+              const Interval cut = cuts[k].chord(ray);
+              if (cut.is_empty()) continue;
+              const auto before = static_cast<std::ptrdiff_t>(material.heap_bytes());
+              double removed = 0.0;
+              if (taken == nullptr) {
+                removed = material.subtract(cut.lo, cut.hi);
+              } else {
+                stretches.clear();
+                removed = material.subtract(cut.lo, cut.hi, &stretches);
+                for (const Interval& s : stretches) {
+                  taken->tiles[t].stretches.push_back(
+                      {i, j, static_cast<float>(s.lo), static_cast<float>(s.hi)});
+                }
+              }
+              if (removed == 0.0) continue;
+              ++sum.changed;
+              sum.length += removed;
+              sum.heap += static_cast<std::ptrdiff_t>(material.heap_bytes()) - before;
             }
-            if (taken != nullptr) index_tile(taken->tiles[t], tj * kTile, cuts.size() > 1);
           }
-        });
+          if (sum.changed > 0) tallies[t].emplace_back(k, sum);
+        }
+        if (taken != nullptr) index_tile(taken->tiles[t], tj * kTile, cuts.size() > 1);
+      }
+    };
+    // A few tiles (a step between cutter locations) are not worth a hand-off between threads.
+    const tbb::blocked_range<std::size_t> all_tiles(0, tallies.size(), 1);
+    if (tallies.size() <= kSerialTiles) {
+      apply(all_tiles);
+    } else {
+      tbb::parallel_for(all_tiles, apply);
+    }
     for (const auto& tile : tallies) {
       for (const auto& [k, sum] : tile) {
         removals[k].rays += sum.changed;

@@ -81,6 +81,8 @@ class TriDexel {
   // `bounds` are skipped without calling `chord`.
   using ChordFunction = std::function<Interval(const Ray&)>;
   static constexpr int kTile = 32;
+  // Removals that reach at most this many tiles of a family run on the calling thread.
+  static constexpr std::size_t kSerialTiles = 8;
   struct Removal {
     std::size_t rays = 0;
     double volume = 0.0;  // mm³

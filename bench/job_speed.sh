@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Speed of the main job (removal, engagement and forces) on a pocketing program, in cutter
+# locations per second, the benchmark of docs/performance.md.
+#   bench/job_speed.sh [build/cwe] [RESOLUTION] [RUNS] [THREADS]
+# The program: a 10 mm flat end mill clearing a 80 × 80 mm pocket in a 100 × 100 × 40 mm block
+# in three 2 mm levels, zig-zag rows of 1 mm G1 segments at 5 mm stepover (4,131 feed moves,
+# about 8,700 cutter locations at the default CL step of 0.5 mm). Runs `cwe simulate` with
+# forces (al7075-t6-carbide), default maps, RUNS times (default 3) at RESOLUTION mm (default
+# 0.1) on THREADS threads (default 2), and prints each run's wall and CPU seconds, CL per wall
+# second and CL per CPU second, then the medians.
+set -euo pipefail
+cwe=$(realpath "${1:-build/cwe}")
+resolution=${2:-0.1}
+runs=${3:-3}
+threads=${4:-2}
+[ -x /usr/bin/time ] || { echo "needs /usr/bin/time (Debian package time)" >&2; exit 1; }
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+awk 'BEGIN { print "G21 G90 G17 F1200 S12000 M3"; print "G0 X10 Y10 Z45";
+             for (z = 38; z >= 34; z -= 2) {
+               print "G0 X10 Y10"; printf "G1 Z%d\n", z;
+               row = 0;
+               for (y = 10; y <= 90; y += 5) {
+                 if (y > 10) printf "G1 Y%d\n", y;
+                 for (k = 1; k <= 80; k++) printf "G1 X%d\n", row % 2 == 0 ? 10 + k : 90 - k;
+                 row++;
+               }
+               print "G0 Z45";
+             }
+             print "M2" }' > "$dir/pocket.ngc"
+walls=() cpus=()
+for r in $(seq "$runs"); do
+  rm -rf "$dir/out"
+  /usr/bin/time -f "%e %U %S" -o "$dir/time" "$cwe" simulate --stock box:0,0,0,100,100,40 \
+    --tool flat:10,30 --path "$dir/pocket.ngc" --resolution "$resolution" --threads "$threads" \
+    --forces al7075-t6-carbide --out "$dir/out" --quiet > /dev/null
+  read -r wall user sys < "$dir/time"
+  cls=$(($(wc -l < "$dir/out/engagement.csv") - 1))
+  awk -v r="$r" -v w="$wall" -v u="$user" -v s="$sys" -v n="$cls" \
+    'BEGIN { printf "run %d: %d CLs, wall %.2f s, CPU %.2f s, %.0f CL/s, %.0f CL per CPU-second\n",
+                    r, n, w, u + s, n / w, n / (u + s) }'
+  walls+=("$wall") cpus+=("$(awk -v u="$user" -v s="$sys" 'BEGIN { print u + s }')")
+done
+median() { printf '%s\n' "$@" | sort -g | awk '{ v[NR] = $1 } END { print v[int((NR + 1) / 2)] }'; }
+w=$(median "${walls[@]}") c=$(median "${cpus[@]}")
+awk -v w="$w" -v c="$c" -v n="$cls" -v s="$resolution" -v t="$threads" \
+  'BEGIN { printf "median (s = %s mm, %d threads): wall %.2f s, CPU %.2f s, %.0f CL/s, %.0f CL per CPU-second\n",
+                  s, t, w, c, n / w, n / c }'
