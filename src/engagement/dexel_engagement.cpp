@@ -194,11 +194,18 @@ std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const Removal
   // and an earlier one share (a wall at the tool's radius, a floor at the tip): two float
   // spacings of the stock's coordinates.
   const double rounding = 4.0 * stock.float_rounding();
+  // A stretch the test for P can touch lies within `margin` of P (the ray within s√(3/2) of P
+  // where it meets the tangent plane, the window within √3·(departure + contact) of that along
+  // it): a point farther than that from the step's box reads nothing.
+  Aabb near = step.bounds();
+  near.inflate(margin);
   const auto engaged = [&](double s, double c) {
     if (!(f.a * s + f.b * c + f.c > f_min)) return false;
     const Vec3 radial = s * x + c * y;
-    const std::optional<TriDexel::SurfaceRay> ray = stock.surface_ray(
-        centre + band.rho * radial, band.normal.x() * radial + band.normal.y() * z);
+    const Vec3 point = centre + band.rho * radial;
+    if (!near.contains(point)) return false;
+    const std::optional<TriDexel::SurfaceRay> ray =
+        stock.surface_ray(point, band.normal.x() * radial + band.normal.y() * z);
     if (!ray) return false;
     // The window along the ray, in outward distance from Q: from where the surface may lie
     // inside the tangent plane (less the contact tolerance) to `contact` outside it.

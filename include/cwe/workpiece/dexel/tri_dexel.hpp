@@ -127,7 +127,8 @@ class TriDexel {
     double along = 1.0;
   };
   // Inline: engagement asks it for every cell of the cutter surface that moves into material.
-  std::optional<SurfaceRay> surface_ray(const Vec3& point, const Vec3& normal) const {
+  [[gnu::always_inline]] std::optional<SurfaceRay> surface_ray(const Vec3& point,
+                                                               const Vec3& normal) const {
     int a = 0;
     for (int k = 1; k < 3; ++k) {
       if (std::abs(normal[k]) > std::abs(normal[a])) a = k;
@@ -135,8 +136,8 @@ class TriDexel {
     if (!(std::abs(normal[a]) > 0.0)) return std::nullopt;
     const int b = (a + 1) % 3, c = (a + 2) % 3;
     const auto& g = grid_[static_cast<std::size_t>(a)];
-    const double fi = std::floor((point[b] - domain_.min[b]) / spacing_[b]);
-    const double fj = std::floor((point[c] - domain_.min[c]) / spacing_[c]);
+    const double fi = std::floor((point[b] - domain_.min[b]) * inverse_spacing_[b]);
+    const double fj = std::floor((point[c] - domain_.min[c]) * inverse_spacing_[c]);
     if (!(fi >= 0.0 && fj >= 0.0 && fi < g[0] && fj < g[1])) return std::nullopt;
     SurfaceRay ray;
     ray.axis = a;
@@ -176,7 +177,8 @@ class TriDexel {
   std::array<int, 2> index_range(int axis, int cross, double lo, double hi) const;
 
   Aabb domain_;
-  Vec3 spacing_ = Vec3::Ones();  // cell side per axis
+  Vec3 spacing_ = Vec3::Ones();          // cell side per axis
+  Vec3 inverse_spacing_ = Vec3::Ones();  // 1 / spacing_
   std::array<std::array<int, 2>, 3> grid_{};
   std::array<std::vector<DexelRay>, 3> rays_;
   std::size_t heap_bytes_ = 0;
