@@ -275,6 +275,8 @@ EngagementMap DexelEngagement::at(const TriDexel& stock, const RemovalRecord& st
     }
   }
   std::vector<Interval> all;
+  map.discs.reserve(discs_.size());
+  map.rings.reserve(rings_.size());
   for (std::size_t k = 0; k < discs_.size(); ++k) {
     const Band& band = discs_[k];
     DiscEngagement disc{band.lo, band.hi, band.patch, std::move(found[k])};

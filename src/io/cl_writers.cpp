@@ -188,11 +188,15 @@ void Figures::add(const ClResult& r) {
     along_.push_back({static_cast<int>(k), map.engaged, degrees(map.phi_entry),
                       degrees(map.phi_exit), map.axial_depth});
   }
+  const bool curve = r.forces != nullptr && curve_ && curve_folder_;
+  curve_ = false;
+  const bool chosen = maps_.chosen(k, map.engaged);
+  if (!curve && !chosen) return;  // most CLs: no figure, nothing to name
   const std::string place =
       fmt::format("CL {} · move {} ({} line {})", k, r.cl.move + 1,
                   std::filesystem::path(r.file).filename().string(), r.cl.line);
   const std::string name = fmt::format("cl_{:06d}", k);
-  if (r.forces != nullptr && curve_ && curve_folder_) {
+  if (curve) {
     const ClForces& f = *r.forces;
     const ForcePlotInfo info{fmt::format("{} · fz {:.4f} mm · {:.0f} rev/min", place,
                                          f.feed_per_tooth, f.spindle_speed)};
@@ -201,8 +205,7 @@ void Figures::add(const ClResult& r) {
     curve_folder_->write(name + ".svg", force_curve_svg(f.curve, info));
     ++curves_written_;
   }
-  curve_ = false;
-  if (!maps_.chosen(k, map.engaged)) return;
+  if (!chosen) return;
   const MapPlotInfo info{fmt::format("{} · {}", place, r.cutter.name()), 0.5 * r.cutter.diameter(),
                          r.cutter.flute_length()};
   map_folder_.write(name + ".png", engagement_map_png(map, info));
