@@ -92,6 +92,7 @@ DexelEngagement::DexelEngagement(const Cutter& cutter, double spacing,
   }
   disc_height_ = options.disc_height > 0.0 ? options.disc_height : spacing;
   contact_ = options.contact > 0.0 ? options.contact : spacing / 10.0;
+  skip_far_cells_ = options.skip_far_cells;
   const Profile& profile = cutter.profile();
   const double max_radius = std::max(profile.max_radius(), spacing);
   // Cells of about one ray spacing at the largest radius: interval ends are refined by bisection
@@ -169,16 +170,20 @@ std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const Removal
   const Frame& tcs = state.tcs;
   const Vec3 x = tcs.x(), y = tcs.y(), z = tcs.z();
   const Vec3 centre = tcs.origin + band.z * z;
-  // Skip a band whose circle cannot reach what the step removed: a cell reads a ray within
-  // s√(3/2) of its point, over √3 (departure + contact) along it.
+  // A stretch the test for a cell P can touch lies within `margin` of P: the ray read meets
+  // P's tangent plane within s√(3/2) of P, and the window along it reaches √3·(departure +
+  // contact) from there. So a P farther than that from the step's box reads nothing, and a band
+  // whose circle's box misses that grown box is skipped whole.
   const double margin = spacing_ * std::sqrt(1.5) + std::sqrt(3.0) * (band.departure + contact_);
-  Aabb reach;
+  Aabb near = step.bounds();
+  near.inflate(margin);
+  Aabb circle;
   for (int a = 0; a < 3; ++a) {
-    const double e = band.rho * std::sqrt(std::max(0.0, 1.0 - z[a] * z[a])) + margin;
-    reach.min[a] = centre[a] - e;
-    reach.max[a] = centre[a] + e;
+    const double e = band.rho * std::sqrt(std::max(0.0, 1.0 - z[a] * z[a]));
+    circle.min[a] = centre[a] - e;
+    circle.max[a] = centre[a] + e;
   }
-  if (!reach.intersects(step.bounds())) return {};
+  if (!circle.intersects(near)) return {};
 
   const TangencyCoefficients f =
       tangency_coefficients(Vec2(band.rho, band.z), band.normal, v_tcs, w_tcs);
@@ -194,16 +199,11 @@ std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const Removal
   // and an earlier one share (a wall at the tool's radius, a floor at the tip): two float
   // spacings of the stock's coordinates.
   const double rounding = 4.0 * stock.float_rounding();
-  // A stretch the test for P can touch lies within `margin` of P (the ray within s√(3/2) of P
-  // where it meets the tangent plane, the window within √3·(departure + contact) of that along
-  // it): a point farther than that from the step's box reads nothing.
-  Aabb near = step.bounds();
-  near.inflate(margin);
   const auto engaged = [&](double s, double c) {
     if (!(f.a * s + f.b * c + f.c > f_min)) return false;
     const Vec3 radial = s * x + c * y;
     const Vec3 point = centre + band.rho * radial;
-    if (!near.contains(point)) return false;
+    if (skip_far_cells_ && !near.contains(point)) return false;
     const std::optional<TriDexel::SurfaceRay> ray =
         stock.surface_ray(point, band.normal.x() * radial + band.normal.y() * z);
     if (!ray) return false;

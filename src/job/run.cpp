@@ -51,7 +51,6 @@ JobResult run_job(const PreparedJob& job, TriDexel stock, const RunOptions& opti
     const ClPoint& cl = e.cl;
     const ToolState& state = e.state;
     const EngagementMap& map = e.map;
-    const Move* move = &e.move;
     const std::size_t k = cls_before + e.index;
     ClPoint global = cl;
     global.move += static_cast<int>(moves_before);
@@ -63,8 +62,8 @@ JobResult run_job(const PreparedJob& job, TriDexel stock, const RunOptions& opti
     std::optional<ClForces> forces;
     double feed = 0.0, spindle = 0.0;
     if (op->forces) {
-      spindle = spindle_speed(*move, *job.forces);
-      feed = feed_rate(*move, *job.forces);
+      spindle = spindle_speed(e.move, *job.forces);
+      feed = feed_rate(e.move, *job.forces);
     }
     if (op->forces && options.forces) {
       // Every sink is asked (no short cut): a sink's choice may keep state from CL to CL.
@@ -82,7 +81,7 @@ JobResult run_job(const PreparedJob& job, TriDexel stock, const RunOptions& opti
                       op->operation,
                       op->tool,
                       file,
-                      *move,
+                      e.move,
                       op->forces ? &*op->forces : nullptr,
                       feed,
                       spindle,

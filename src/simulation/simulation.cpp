@@ -226,8 +226,7 @@ void EngagementRun::add(const Move& move, const std::vector<std::string>& source
   sampler_.next(move, static_cast<int>(index), sampled_);
   const std::string& file = source_file(move, sources, kNoFile);
   if (files_.empty() || files_.back() != file) files_.push_back(file);
-  moves_.push_back({move, rapid_location(move, sources), index, files_.size() - 1, cls_.size(),
-                    sampled_.size()});
+  moves_.push_back({move, index, files_.size() - 1, cls_.size(), sampled_.size()});
   for (const ClPoint& cl : sampled_) {
     const ToolState state = tool_state(cl, previous_x_);
     previous_x_ = state.tcs.x();
@@ -261,8 +260,10 @@ void EngagementRun::flush() {
   };
   const auto move_done = [&] {
     const PendingMove& done = moves_[m];
-    record_move(summary_, done.index, done.move.is_rapid(), done.location, pieces, deviation,
-                volume, cell_, removed_);
+    const bool rapid = done.move.is_rapid();
+    record_move(summary_, done.index, rapid,
+                rapid ? SourceLocation{files_[done.file], done.move.line} : SourceLocation{},
+                pieces, deviation, volume, cell_, removed_);
     pieces = 0;
     deviation = volume = 0.0;
     ++m;

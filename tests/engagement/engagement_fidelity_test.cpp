@@ -404,5 +404,84 @@ TEST(EngagementFidelity, BallRastersCutOnlyTheirCrescents) {
   }
 }
 
+// The per-cell skip of DexelEngagement (a cell farther from the step's removal box than any
+// stretch its test can touch) is exact: with it and without it, every map of every location is
+// the same, interval for interval, on the families above (a step-down and its contour finishing
+// along the wall, a ring groove in two levels, a ball raster in two depths, a tilted step-down
+// with a 5-axis repeat).
+TEST(EngagementFidelity, SkippingFarCellsChangesNoMap) {
+  const auto maps = [](const Toolpath& path, const char* tool, bool skip) {
+    TriDexel stock = TriDexel::from_box(kBlock, kSpacing);
+    SimulationOptions options;
+    options.resolution = kSpacing;
+    SamplingOptions sampling;
+    sampling.step = 0.5;
+    EngagementOptions engagement;
+    engagement.skip_far_cells = skip;
+    std::vector<EngagementMap> found;
+    simulate_engagement(stock, cutter_from_spec(tool), path, {options, sampling, engagement},
+                        [&](const ClEngagement& e) { found.push_back(e.map); });
+    return found;
+  };
+  std::string raster = std::string(kHeader) + "G0 X-10 Y20\n";
+  for (const double depth : {2.0, 3.0}) {
+    raster += "G1 Z-" + std::to_string(depth) + " F600\n";
+    for (int k = 0; k < 4; ++k) {
+      if (k > 0) raster += "G1 Y" + std::to_string(20 + k) + "\n";
+      raster += k % 2 == 0 ? "G1 X110\n" : "G1 X-10\n";
+    }
+    raster += "G0 Z5\nG0 X-10 Y20\n";
+  }
+  const Vec3 axis(std::sin(20 * kDeg), 0.0, std::cos(20 * kDeg));
+  Toolpath tilted;
+  tilted.sources = {"test"};
+  for (const double back : {0.0, 3.0, 3.0}) {
+    Move m;
+    m.start = Vec3(50, -10, -4) - back * axis;
+    m.end = Vec3(50, 70, -4) - back * axis;
+    m.start_axis = m.end_axis = axis;
+    m.feed_rate = 600.0;
+    tilted.moves.push_back(m);
+  }
+  tilted.moves[2].end_axis = Vec3(0.0, std::sin(10 * kDeg), std::cos(10 * kDeg));
+  const std::vector<std::pair<Toolpath, const char*>> cases = {
+      {read_gcode(kStepDownSlot + "G0 Z5\nG0 X-10 Y30.5\nG1 Z-6\nG1 X110\n", "finish.ngc"),
+       "flat:10,20"},
+      {read_gcode(std::string(kHeader) + "G0 X65 Y30\nG1 Z-3 F600\nG2 X65 Y30 I-15 J0\n"
+                                         "G1 Z-6\nG2 X65 Y30 I-15 J0\n",
+                  "ring.ngc"),
+       "bull:10,2,20"},
+      {read_gcode(raster, "raster.ngc"), "ball:10,20"},
+      {tilted, "flat:8,20"}};
+  for (const auto& [path, tool] : cases) {
+    SCOPED_TRACE(tool);
+    const std::vector<EngagementMap> fast = maps(path, tool, true);
+    const std::vector<EngagementMap> full = maps(path, tool, false);
+    ASSERT_EQ(fast.size(), full.size());
+    std::size_t engaged = 0;
+    for (std::size_t k = 0; k < fast.size(); ++k) {
+      SCOPED_TRACE(testing::Message() << "CL " << k);
+      engaged += full[k].engaged ? 1 : 0;
+      ASSERT_EQ(fast[k].discs.size(), full[k].discs.size());
+      ASSERT_EQ(fast[k].rings.size(), full[k].rings.size());
+      for (std::size_t d = 0; d < full[k].discs.size(); ++d) {
+        ASSERT_EQ(fast[k].discs[d].phi.size(), full[k].discs[d].phi.size()) << "disc " << d;
+        for (std::size_t i = 0; i < full[k].discs[d].phi.size(); ++i) {
+          EXPECT_EQ(fast[k].discs[d].phi[i].lo, full[k].discs[d].phi[i].lo);
+          EXPECT_EQ(fast[k].discs[d].phi[i].hi, full[k].discs[d].phi[i].hi);
+        }
+      }
+      for (std::size_t r = 0; r < full[k].rings.size(); ++r) {
+        ASSERT_EQ(fast[k].rings[r].phi.size(), full[k].rings[r].phi.size()) << "ring " << r;
+        for (std::size_t i = 0; i < full[k].rings[r].phi.size(); ++i) {
+          EXPECT_EQ(fast[k].rings[r].phi[i].lo, full[k].rings[r].phi[i].lo);
+          EXPECT_EQ(fast[k].rings[r].phi[i].hi, full[k].rings[r].phi[i].hi);
+        }
+      }
+    }
+    EXPECT_GT(engaged, fast.size() / 2);  // the comparison is about engaged maps
+  }
+}
+
 }  // namespace
 }  // namespace cwe

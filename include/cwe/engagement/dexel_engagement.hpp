@@ -33,9 +33,9 @@
 // fresh material (φ = 0° or 180° of a slot) the removed layer thins as ρ(1 - cos φ); it is seen
 // down to twice the float rounding, about 0.2° for ρ = 5 mm on a 100 mm stock.
 //
-// Cost: per cutter location, the discs and rings whose ring meets the workpiece's domain are
-// scanned; f is evaluated for every cell of those, the removal record (a binary search per ray)
-// only where f > 0.
+// Cost: per cutter location, the discs and rings whose circle comes within reach of the step's
+// removal box are scanned; f is evaluated for every cell of those, the removal record (a binary
+// search per ray) only where f > 0 and the cell's point is within that reach.
 
 #include "cwe/engagement/engagement_map.hpp"
 #include "cwe/kinematics/tool_state.hpp"
@@ -81,6 +81,7 @@ class DexelEngagement {
   double spacing_;
   double disc_height_;
   double contact_;
+  bool skip_far_cells_;
   int phi_cells_;
   std::vector<double> sin_, cos_;  // of the cell centres
   std::vector<Band> discs_, rings_;

@@ -62,6 +62,9 @@ struct EngagementOptions {
   double disc_height = 0.0;  // mm; 0: the workpiece's resolution (dexel: the ray spacing s)
   double phi_step = 0.0;     // rad; 0: an arc of s at the cutter's largest radius, ≤ 1°
   double contact = 0.0;      // mm; 0: s/10 (the default sweep tolerance)
+  // Dexel: skip a cell whose point lies farther from the step's removal box than any stretch its
+  // test can touch (exact: the same maps, with less work). Off only to check that in the tests.
+  bool skip_far_cells = true;
 };
 
 }  // namespace cwe

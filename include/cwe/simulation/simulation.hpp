@@ -166,9 +166,8 @@ class EngagementRun {
   // A move waiting, with its locations (cls_[first_cl …]).
   struct PendingMove {
     Move move;
-    SourceLocation location;  // for a rapid that cuts
-    std::size_t index = 0;    // among the run's moves
-    std::size_t file = 0;     // in files_
+    std::size_t index = 0;  // among the run's moves
+    std::size_t file = 0;   // in files_
     std::size_t first_cl = 0, cl_count = 0;
   };
   struct PendingCl {

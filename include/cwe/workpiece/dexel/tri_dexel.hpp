@@ -136,8 +136,10 @@ class TriDexel {
     if (!(std::abs(normal[a]) > 0.0)) return std::nullopt;
     const int b = (a + 1) % 3, c = (a + 2) % 3;
     const auto& g = grid_[static_cast<std::size_t>(a)];
-    const double fi = std::floor((point[b] - domain_.min[b]) * inverse_spacing_[b]);
-    const double fj = std::floor((point[c] - domain_.min[c]) * inverse_spacing_[c]);
+    // Divided, not multiplied by 1/s: a point exactly on a cell border (round coordinates of a
+    // CAM program) must fall in the same cell as everywhere else in the code.
+    const double fi = std::floor((point[b] - domain_.min[b]) / spacing_[b]);
+    const double fj = std::floor((point[c] - domain_.min[c]) / spacing_[c]);
     if (!(fi >= 0.0 && fj >= 0.0 && fi < g[0] && fj < g[1])) return std::nullopt;
     SurfaceRay ray;
     ray.axis = a;
@@ -177,8 +179,7 @@ class TriDexel {
   std::array<int, 2> index_range(int axis, int cross, double lo, double hi) const;
 
   Aabb domain_;
-  Vec3 spacing_ = Vec3::Ones();          // cell side per axis
-  Vec3 inverse_spacing_ = Vec3::Ones();  // 1 / spacing_
+  Vec3 spacing_ = Vec3::Ones();  // cell side per axis
   std::array<std::array<int, 2>, 3> grid_{};
   std::array<std::vector<DexelRay>, 3> rays_;
   std::size_t heap_bytes_ = 0;
