@@ -70,19 +70,31 @@ void DexelRay::clear() {
 
 DexelRay::DexelRay(float lo, float hi) {
   clear();
-  if (lo <= hi) {
+  if (lo < hi) {  // as assign() has it: a point holds no material
     slot_[0] = lo;
     slot_[1] = hi;
   }
 }
 
+// A ray of at most two intervals is its four floats: copied as they are (a stock box fills
+// millions of rays from one), without the vector a heap ray's copy goes through.
 DexelRay::DexelRay(const DexelRay& other) {
+  if (!other.on_heap()) {
+    std::memcpy(slot_, other.slot_, sizeof slot_);
+    return;
+  }
   clear();
   assign(other.intervals());
 }
 
 DexelRay& DexelRay::operator=(const DexelRay& other) {
-  if (this != &other) assign(other.intervals());
+  if (this == &other) return *this;
+  if (!other.on_heap()) {
+    release();
+    std::memcpy(slot_, other.slot_, sizeof slot_);
+    return *this;
+  }
+  assign(other.intervals());
   return *this;
 }
 

@@ -24,7 +24,7 @@ class alignas(8) DexelRay {
   DexelRay& operator=(DexelRay&& other) noexcept;
   ~DexelRay() { release(); }
 
-  // A ray with one interval of material.
+  // A ray with one interval of material (none unless lo < hi).
   explicit DexelRay(float lo, float hi);
 
   int count() const;
