@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 #include <fmt/format.h>
 
@@ -204,18 +205,23 @@ std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const Removal
     const Vec3 radial = s * x + c * y;
     const Vec3 point = centre + band.rho * radial;
     if (skip_far_cells_ && !near.contains(point)) return false;
-    const std::optional<TriDexel::SurfaceRay> ray =
-        stock.surface_ray(point, band.normal.x() * radial + band.normal.y() * z);
+    const Vec3 normal = band.normal.x() * radial + band.normal.y() * z;
+    const std::optional<TriDexel::SurfaceRay> ray = stock.surface_ray(point, normal);
     if (!ray) return false;
+    // Most cells' rays lost nothing in the step: the divisions below wait until one did.
+    const std::span<const RemovalRecord::Stretch> stretches =
+        step.on_ray(ray->axis, ray->i, ray->j);
+    if (stretches.empty()) return false;
+    const double t = ray->meet(point, normal);
     // The window along the ray, in outward distance from Q: from where the surface may lie
     // inside the tangent plane (less the contact tolerance) to `contact` outside it.
     const double along = std::abs(ray->along);
     const double inner = -(band.departure + contact_) / along, outer = contact_ / along;
     const double outward = ray->along > 0.0 ? 1.0 : -1.0;
     bool touched = false;
-    for (const RemovalRecord::Stretch& taken : step.on_ray(ray->axis, ray->i, ray->j)) {
-      const double u0 = outward * (static_cast<double>(taken.lo) - ray->t);
-      const double u1 = outward * (static_cast<double>(taken.hi) - ray->t);
+    for (const RemovalRecord::Stretch& taken : stretches) {
+      const double u0 = outward * (static_cast<double>(taken.lo) - t);
+      const double u1 = outward * (static_cast<double>(taken.hi) - t);
       if (std::min(std::max(u0, u1), outer) - std::max(std::min(u0, u1), inner) > rounding) {
         touched = true;
         break;
@@ -223,7 +229,7 @@ std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const Removal
     }
     if (!touched) return false;
     Vec3 q = ray->origin;
-    q[ray->axis] += ray->t;
+    q[ray->axis] += t;
     const Vec3 d = q - tcs.origin;
     const double height = d.dot(z);
     return bottom ? d.squaredNorm() - height * height <= rim * rim : height >= 0.0 && height <= top;

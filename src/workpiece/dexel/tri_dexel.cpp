@@ -89,6 +89,7 @@ TriDexel TriDexel::empty_grid(const Aabb& box, double spacing) {
   for (int a = 0; a < 3; ++a) {
     cells[static_cast<std::size_t>(a)] = static_cast<int>(n[static_cast<std::size_t>(a)]);
     d.spacing_[a] = box.size()[a] / n[static_cast<std::size_t>(a)];
+    d.inverse_spacing_[a] = 1.0 / d.spacing_[a];
   }
   d.domain_ = box;
   for (int a = 0; a < 3; ++a) {

@@ -116,15 +116,18 @@ class TriDexel {
 
   // The ray that reads a surface through `point` with unit outward `normal`: of the family most
   // nearly along the normal (|n_a| ≥ 1/√3), the one passing nearest the point (within s/√2).
-  // `t` is the ray coordinate where it meets the surface's tangent plane, `along` the normal's
-  // component n_a along the ray (its sign says which way along the ray is outward). None when
-  // the point's nearest ray would lie outside the grid.
+  // `along` is the normal's component n_a along the ray (its sign says which way along the ray
+  // is outward); meet() is the ray coordinate where it meets the surface's tangent plane. None
+  // when the point's nearest ray would lie outside the grid.
   struct SurfaceRay {
     int axis = 0;
     int i = 0, j = 0;  // the ray's indices across its family, as at(axis, i, j)
     Vec3 origin = Vec3::Zero();
-    double t = 0.0;
     double along = 1.0;
+    // Apart from the rest: a caller that finds nothing on the ray never pays its division.
+    double meet(const Vec3& point, const Vec3& normal) const {
+      return (point - origin).dot(normal) / along;
+    }
   };
   // Inline: engagement asks it for every cell of the cutter surface that moves into material.
   [[gnu::always_inline]] std::optional<SurfaceRay> surface_ray(const Vec3& point,
@@ -136,10 +139,8 @@ class TriDexel {
     if (!(std::abs(normal[a]) > 0.0)) return std::nullopt;
     const int b = (a + 1) % 3, c = (a + 2) % 3;
     const auto& g = grid_[static_cast<std::size_t>(a)];
-    // Divided, not multiplied by 1/s: a point exactly on a cell border (round coordinates of a
-    // CAM program) must fall in the same cell as everywhere else in the code.
-    const double fi = std::floor((point[b] - domain_.min[b]) / spacing_[b]);
-    const double fj = std::floor((point[c] - domain_.min[c]) / spacing_[c]);
+    const double fi = cell_floor(point[b] - domain_.min[b], b);
+    const double fj = cell_floor(point[c] - domain_.min[c], c);
     if (!(fi >= 0.0 && fj >= 0.0 && fi < g[0] && fj < g[1])) return std::nullopt;
     SurfaceRay ray;
     ray.axis = a;
@@ -148,10 +149,20 @@ class TriDexel {
     ray.origin = domain_.min;
     ray.origin[b] += (fi + 0.5) * spacing_[b];
     ray.origin[c] += (fj + 0.5) * spacing_[c];
-    // The ray (origin o, direction e_a) meets the tangent plane (q - point)·n = 0 at t.
     ray.along = normal[a];
-    ray.t = (point - ray.origin).dot(normal) / normal[a];
     return ray;
+  }
+
+  // ⌊x / s⌋ along `axis`, exactly as the division gives it (a point on a cell border, as a CAM
+  // program's round coordinates put it, must fall in the same cell everywhere in the code), but
+  // from x · (1/s): the product is within 3 ulps of the quotient, so the two floors can differ
+  // only where the product lies that close to a whole number, and there the division decides.
+  [[gnu::always_inline]] double cell_floor(double x, int axis) const {
+    const double q = x * inverse_spacing_[axis];
+    const double f = std::floor(q);
+    const double border = 1e-13 * (1.0 + std::abs(q));
+    if (q - f > border && (f + 1.0) - q > border) return f;
+    return std::floor(x / spacing_[axis]);
   }
 
   // The largest rounding of a stored ray end: half the spacing of floats at the domain's
@@ -179,7 +190,8 @@ class TriDexel {
   std::array<int, 2> index_range(int axis, int cross, double lo, double hi) const;
 
   Aabb domain_;
-  Vec3 spacing_ = Vec3::Ones();  // cell side per axis
+  Vec3 spacing_ = Vec3::Ones();          // cell side per axis
+  Vec3 inverse_spacing_ = Vec3::Ones();  // 1 / spacing_ (cell_floor)
   std::array<std::array<int, 2>, 3> grid_{};
   std::array<std::vector<DexelRay>, 3> rays_;
   std::size_t heap_bytes_ = 0;
