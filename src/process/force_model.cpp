@@ -123,7 +123,9 @@ class Revolution {
           const double lo = std::max(a, (static_cast<double>(k) - 0.5) * step_);
           const double hi = std::min(b, (static_cast<double>(k) + 0.5) * step_);
           if (!(hi > lo)) continue;
-          const int index = static_cast<int>(k % n_);
+          // k < 2n + 1 (a ≥ −Δ/2, b < 4π): the index without an integer division.
+          int index = static_cast<int>(k);
+          while (index >= n_) index -= n_;
           double s, c;
           if (hi - lo >= step_ * (1.0 - tol::kRelative)) {  // the whole step: θ = kΔ from the table
             s = sin_[index] * co + cos_[index] * so;
@@ -200,9 +202,13 @@ class Revolution {
     const double a = feed_.x() * s + feed_.y() * c, b = feed_.z();
     const double area_per_feed = a * e.s1 - b * e.c1;  // ∫g dℓ
     if (!(area_per_feed > 0.0)) return;
-    // With runout the flute's chip is not c·g: scale the feed by the ratio at the mean g.
-    const double g = area_per_feed / e.l;
-    const double feed = runout_.offset > 0.0 ? chip(j, g, e.mean_sin_kappa(), e.lag) / g : c_;
+    // With runout the flute's chip is not c·g: scale the feed by the ratio at the mean g (a
+    // division only then: it is most of this function's time when paid for every sample).
+    double feed = c_;
+    if (runout_.offset > 0.0) {
+      const double g = area_per_feed / e.l;
+      feed = chip(j, g, e.mean_sin_kappa(), e.lag) / g;
+    }
     if (!(feed > 0.0)) return;
     cutting_ = true;
     // ∫dF_t, ∫dF_r sin κ, ∫dF_r cos κ, ∫dF_a sin κ, ∫dF_a cos κ, ∫ρ dF_t.
