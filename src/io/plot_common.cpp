@@ -2,11 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csetjmp>
+#include <cstdint>
 #include <memory>
 #include <stdexcept>
+#include <vector>
 
 #include <cairo-svg.h>
 #include <fmt/format.h>
+#include <png.h>
 
 #include "patch_style.hpp"
 
@@ -41,6 +45,62 @@ void check(cairo_status_t status, const char* what) {
   }
 }
 
+// libpng's write callback: appends to the std::string behind the io pointer (must not throw
+// through C: a failed append is reported through png_error, which longjmps to encode_png).
+void append_png(png_structp png, png_bytep data, png_size_t length) {
+  try {
+    static_cast<std::string*>(png_get_io_ptr(png))
+        ->append(reinterpret_cast<const char*>(data), length);
+  } catch (...) {
+    png_error(png, "out of memory");
+  }
+}
+
+// The PNG of a cairo RGB24 image (native-endian 0x00RRGGBB words): 8-bit RGB with a white
+// background chunk, as cairo writes it, but with the "up" filter on every row and zlib level 3
+// instead of libpng's per-row trial of all five filters at level 6. Cairo's way took about
+// 250 M instructions for a 1000 × 600 map, more than the engagement of a thousand cutter
+// locations; this takes a fifth of that for files about a tenth larger (a plot's flat colours
+// repeat from row to row).
+std::string encode_png(const unsigned char* data, int stride, int width, int height) {
+  std::string bytes;
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png != nullptr ? png_create_info_struct(png) : nullptr;
+  if (info == nullptr) {
+    png_destroy_write_struct(&png, nullptr);
+    throw std::runtime_error("PNG figure: libpng: out of memory");
+  }
+  std::vector<png_byte> row(static_cast<std::size_t>(width) * 3);
+  // No C++ object with a destructor is created between here and the last libpng call.
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    throw std::runtime_error("PNG figure: libpng could not encode it");
+  }
+  png_set_write_fn(png, &bytes, append_png, nullptr);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8,
+               PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+               PNG_FILTER_TYPE_DEFAULT);
+  png_color_16 white{};
+  white.red = white.green = white.blue = white.gray = 0xFF;
+  png_set_bKGD(png, info, &white);
+  png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_UP);
+  png_set_compression_level(png, 3);
+  png_write_info(png, info);
+  for (int y = 0; y < height; ++y) {
+    const auto* pixels = reinterpret_cast<const std::uint32_t*>(data + std::ptrdiff_t{y} * stride);
+    for (int x = 0; x < width; ++x) {
+      const std::uint32_t p = pixels[x];
+      row[3 * static_cast<std::size_t>(x)] = static_cast<png_byte>(p >> 16);
+      row[3 * static_cast<std::size_t>(x) + 1] = static_cast<png_byte>(p >> 8);
+      row[3 * static_cast<std::size_t>(x) + 2] = static_cast<png_byte>(p);
+    }
+    png_write_row(png, row.data());
+  }
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  return bytes;
+}
+
 }  // namespace
 
 std::string render_png(int width, int height, const DrawFigure& draw) {
@@ -52,9 +112,8 @@ std::string render_png(int width, int height, const DrawFigure& draw) {
     check(cairo_status(cr.get()), "PNG figure");
   }
   cairo_surface_flush(surface.get());
-  std::string bytes;
-  check(cairo_surface_write_to_png_stream(surface.get(), append_to_string, &bytes), "PNG figure");
-  return bytes;
+  return encode_png(cairo_image_surface_get_data(surface.get()),
+                    cairo_image_surface_get_stride(surface.get()), width, height);
 }
 
 std::string render_svg(int width, int height, const DrawFigure& draw) {
