@@ -48,6 +48,28 @@ TEST(DexelRay, InlineUpToTwoIntervalsThenHeap) {
   EXPECT_EQ(moved.heap_bytes(), 0u);
 }
 
+// An inline ray (up to two intervals) is copied as its bytes: onto an empty ray, onto a heap ray
+// (whose array is released) and from a ray whose first interval was cut away.
+TEST(DexelRay, InlineCopiesKeepTheIntervals) {
+  DexelRay two(0.0f, 10.0f);
+  ASSERT_GT(two.subtract(0, 4), 0.0);  // [4, 10]
+  ASSERT_GT(two.subtract(6, 7), 0.0);  // [4, 6], [7, 10]
+  DexelRay heap(0.0f, 10.0f);
+  for (const double at : {1.0, 3.0, 5.0}) ASSERT_GT(heap.subtract(at, at + 0.5), 0.0);
+  ASSERT_GT(heap.heap_bytes(), 0u);
+  const DexelRay copied(two);
+  EXPECT_EQ(copied.intervals(), two.intervals());
+  heap = two;
+  EXPECT_EQ(heap.intervals(), two.intervals());
+  EXPECT_EQ(heap.heap_bytes(), 0u);
+  EXPECT_DOUBLE_EQ(heap.length(), 5.0);
+  EXPECT_GT(heap.subtract(5, 8), 0.0);  // the copy cuts like the original
+  EXPECT_EQ(heap.intervals(), (std::vector<Interval>{{4, 5}, {8, 10}}));
+  EXPECT_EQ(two.count(), 2);
+  // A point holds no material, as assign() has it.
+  EXPECT_TRUE(DexelRay(3.0f, 3.0f).empty());
+}
+
 // Property: random cuts keep the intervals sorted and disjoint, never add material, and agree
 // with the double-precision reference to float rounding (1e-5 mm at 100 mm).
 TEST(DexelRay, RandomCutsMatchTheReference) {

@@ -37,6 +37,33 @@ TEST(TriDexel, BoxStockVolumeAndGrid) {
   EXPECT_TRUE(r.direction.isApprox(Vec3::UnitZ()));
 }
 
+// cell_floor is ⌊x / s⌋ as the division rounds it, for every x: on cell borders (k·s as a
+// program's round numbers give them, and the doubles next to them), where x · (1/s) alone goes
+// wrong (0.3 / 0.1 = 2.9999999999999996 but 0.3 · 10 = 3), and anywhere else.
+TEST(TriDexel, CellFloorIsTheDivisionsFloor) {
+  test::Random random;
+  for (const double spacing : {0.1, 0.07, 0.05, 0.3, 1.0 / 3.0}) {
+    const TriDexel d = TriDexel::from_box(Aabb{{0, 0, 0}, {100, 50, 20}}, spacing);
+    for (int a = 0; a < 3; ++a) {
+      const double s = d.spacing(a);
+      const auto check = [&](double x) {
+        ASSERT_EQ(d.cell_floor(x, a), std::floor(x / s)) << "x = " << x << ", s = " << s;
+      };
+      for (int k = -2; k < 2100; ++k) {
+        for (const double x : {k * s, k * 0.1, k * 0.05, k / 3.0}) {
+          check(x);
+          check(std::nextafter(x, -1e9));
+          check(std::nextafter(x, 1e9));
+        }
+      }
+      for (int k = 0; k < 20000; ++k) check(random.uniform(-1.0, 110.0));
+    }
+  }
+  // The product alone would miss: 0.3 lies in cell 2 of 0.1 mm cells.
+  const TriDexel d = TriDexel::from_box(Aabb{{0, 0, 0}, {100, 100, 100}}, 0.1);
+  EXPECT_EQ(d.cell_floor(0.3, 0), 2.0);
+}
+
 TEST(TriDexel, RejectsBadStock) {
   EXPECT_THROW(TriDexel::from_box(Aabb{}, 1.0), InputError);
   EXPECT_THROW(TriDexel::from_box(Aabb{{0, 0, 0}, {1, 0, 1}}, 1.0), InputError);
