@@ -215,14 +215,14 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
           Tally sum;
           for (int j = j0; j <= j1; ++j) {
             DexelRay* row = &family[index(a, 0, j)];
-            // The ray's origin as ray(a, i, j) makes it, without the index checks.
-            Vec3 origin = domain_.min;
-            origin[c] += (j + 0.5) * spacing_[c];
+            // The ray as ray(a, i, j) makes it, without the index checks: one per row, its origin
+            // moved in place (a ray built afresh from a just-written origin stalled on the store).
+            Ray ray{domain_.min, Vec3::Unit(a)};
+            ray.origin[c] += (j + 0.5) * spacing_[c];
             for (int i = i0; i <= i1; ++i) {
               DexelRay& material = row[i];
               if (!material.overlaps(r.low, r.high)) continue;
-              origin[b] = domain_.min[b] + (i + 0.5) * spacing_[b];
-              const Ray ray{origin, Vec3::Unit(a)};
+              ray.origin[b] = domain_.min[b] + (i + 0.5) * spacing_[b];
               if (cuts[k].reach) {
                 const Interval w = cuts[k].reach(ray);
                 if (!material.overlaps(std::max(r.low, w.lo), std::min(r.high, w.hi))) {
