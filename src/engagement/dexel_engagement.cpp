@@ -206,8 +206,9 @@ std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const Removal
     const Vec3 point = centre + band.rho * radial;
     if (skip_far_cells_ && !near.contains(point)) return false;
     const Vec3 normal = band.normal.x() * radial + band.normal.y() * z;
-    const std::optional<TriDexel::SurfaceRay> ray = stock.surface_ray(point, normal);
-    if (!ray) return false;
+    TriDexel::SurfaceRay found;
+    if (!stock.surface_ray(point, normal, found)) return false;
+    const TriDexel::SurfaceRay* const ray = &found;
     // Most cells' rays lost nothing in the step: the divisions below wait until one did.
     const std::span<const RemovalRecord::Stretch> stretches =
         step.on_ray(ray->axis, ray->i, ray->j);
@@ -228,9 +229,9 @@ std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const Removal
       }
     }
     if (!touched) return false;
-    Vec3 q = ray->origin;
-    q[ray->axis] += t;
-    const Vec3 d = q - tcs.origin;
+    // Q = origin + t·e_axis as one vector sum (a coordinate written into a copy of the origin
+    // and the copy read back whole stalled on the store); the same values.
+    const Vec3 d = (ray->origin + t * Vec3::Unit(ray->axis)) - tcs.origin;
     const double height = d.dot(z);
     return bottom ? d.squaredNorm() - height * height <= rim * rim : height >= 0.0 && height <= top;
   };

@@ -19,7 +19,6 @@
 #include <cmath>
 #include <cstddef>
 #include <functional>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -117,8 +116,9 @@ class TriDexel {
   // The ray that reads a surface through `point` with unit outward `normal`: of the family most
   // nearly along the normal (|n_a| ≥ 1/√3), the one passing nearest the point (within s/√2).
   // `along` is the normal's component n_a along the ray (its sign says which way along the ray
-  // is outward); meet() is the ray coordinate where it meets the surface's tangent plane. None
-  // when the point's nearest ray would lie outside the grid.
+  // is outward); meet() is the ray coordinate where it meets the surface's tangent plane. False
+  // when the point's nearest ray would lie outside the grid. (Filled in place: a ray copied out
+  // right after its origin was written coordinate by coordinate stalled on the stores.)
   struct SurfaceRay {
     int axis = 0;
     int i = 0, j = 0;  // the ray's indices across its family, as at(axis, i, j)
@@ -130,19 +130,18 @@ class TriDexel {
     }
   };
   // Inline: engagement asks it for every cell of the cutter surface that moves into material.
-  [[gnu::always_inline]] std::optional<SurfaceRay> surface_ray(const Vec3& point,
-                                                               const Vec3& normal) const {
+  [[gnu::always_inline]] bool surface_ray(const Vec3& point, const Vec3& normal,
+                                          SurfaceRay& ray) const {
     int a = 0;
     for (int k = 1; k < 3; ++k) {
       if (std::abs(normal[k]) > std::abs(normal[a])) a = k;
     }
-    if (!(std::abs(normal[a]) > 0.0)) return std::nullopt;
+    if (!(std::abs(normal[a]) > 0.0)) return false;
     const int b = (a + 1) % 3, c = (a + 2) % 3;
     const auto& g = grid_[static_cast<std::size_t>(a)];
     const double fi = cell_floor(point[b] - domain_.min[b], b);
     const double fj = cell_floor(point[c] - domain_.min[c], c);
-    if (!(fi >= 0.0 && fj >= 0.0 && fi < g[0] && fj < g[1])) return std::nullopt;
-    SurfaceRay ray;
+    if (!(fi >= 0.0 && fj >= 0.0 && fi < g[0] && fj < g[1])) return false;
     ray.axis = a;
     ray.i = static_cast<int>(fi);
     ray.j = static_cast<int>(fj);
@@ -150,7 +149,7 @@ class TriDexel {
     ray.origin[b] += (fi + 0.5) * spacing_[b];
     ray.origin[c] += (fj + 0.5) * spacing_[c];
     ray.along = normal[a];
-    return ray;
+    return true;
   }
 
   // ⌊x / s⌋ along `axis`, exactly as the division gives it (a point on a cell border, as a CAM
