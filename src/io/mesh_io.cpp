@@ -1,5 +1,6 @@
 #include "cwe/io/mesh_io.hpp"
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
@@ -15,13 +16,6 @@
 
 namespace cwe {
 namespace {
-
-void put_float(std::string& out, double value) {
-  const auto f = static_cast<float>(value);
-  char bytes[4];
-  std::memcpy(bytes, &f, 4);  // STL is little-endian, as is every platform cwe builds on
-  out.append(bytes, 4);
-}
 
 // STL reading ------------------------------------------------------------------------------
 
@@ -110,7 +104,7 @@ bool starts_with_solid(std::string_view bytes) {
 
 std::uint32_t stl_triangle_count(std::string_view bytes) {
   std::uint32_t n = 0;
-  std::memcpy(&n, bytes.data() + kStlHeaderBytes, sizeof n);  // little-endian, as put_float
+  std::memcpy(&n, bytes.data() + kStlHeaderBytes, sizeof n);  // little-endian, as written
   return n;
 }
 
@@ -370,13 +364,15 @@ StlMesh read_stl(const std::string& path) {
 }
 
 std::string stl_binary(const TriangleMesh& mesh, std::string_view header) {
-  std::string out(80, ' ');
+  // Sized once and filled in place: appending four bytes at a time was most of the time taken
+  // for a stock of a million triangles.
+  std::string out(84 + 50 * mesh.triangles.size(), '\0');
+  std::fill_n(out.begin(), 80, ' ');
   out.replace(0, std::min<std::size_t>(header.size(), 80), header.substr(0, 80));
+  char* at = out.data() + 80;
   const auto count = static_cast<std::uint32_t>(mesh.triangles.size());
-  char bytes[4];
-  std::memcpy(bytes, &count, 4);
-  out.append(bytes, 4);
-  out.reserve(out.size() + 50 * mesh.triangles.size());
+  std::memcpy(at, &count, 4);
+  at += 4;
   for (const auto& t : mesh.triangles) {
     const Vec3& a = mesh.vertices[static_cast<std::size_t>(t[0])];
     const Vec3& b = mesh.vertices[static_cast<std::size_t>(t[1])];
@@ -384,11 +380,13 @@ std::string stl_binary(const TriangleMesh& mesh, std::string_view header) {
     Vec3 n = (b - a).cross(c - a);
     if (n.norm() > 0.0) n.normalize();
     for (const Vec3* v : {static_cast<const Vec3*>(&n), &a, &b, &c}) {
-      put_float(out, v->x());
-      put_float(out, v->y());
-      put_float(out, v->z());
+      // STL is little-endian, as is every platform cwe builds on.
+      const float xyz[3] = {static_cast<float>(v->x()), static_cast<float>(v->y()),
+                            static_cast<float>(v->z())};
+      std::memcpy(at, xyz, sizeof xyz);
+      at += sizeof xyz;
     }
-    out.append(2, '\0');
+    at += 2;  // the attribute count, 0
   }
   return out;
 }
