@@ -16,6 +16,7 @@
 #include <fmt/ranges.h>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
+#include <tbb/parallel_invoke.h>
 #include <nlohmann/json.hpp>
 
 #include "cli_checks.hpp"
@@ -291,22 +292,27 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   }
   JobResult run = run_job(job, std::move(initial_stock), RunOptions{!options.stock_only}, sinks,
                           [&](std::size_t done, std::size_t total) { bar(done, total); });
-  if (!options.stock_only) {
-    files->finish();
-    const std::string title =
-        operations.size() == 1
-            ? fmt::format("Engagement along {} with {}",
-                          std::filesystem::path(operations[0].path).filename().string(),
-                          operations[0].cutter.name())
-            : fmt::format("Engagement along {} operations", operations.size());
-    figures->finish(title);
-  }
   TriDexel& stock = run.stock;
-  const std::size_t maps_written = figures ? figures->maps_written() : 0;
-  const std::size_t curves_written = figures ? figures->curves_written() : 0;
   const int stride =
       options.mesh_stride ? *options.mesh_stride : dexel_mesh_stride(stock, kStockMeshTriangles);
-  const TriangleMesh mesh = dexel_mesh(stock, stride);
+  TriangleMesh mesh;
+  // The stock's contouring beside the last figures and files (they never read the stock): on
+  // one thread they were a serial fifth of a job's time after the parallel engagement.
+  tbb::parallel_invoke(
+      [&] {
+        if (options.stock_only) return;
+        files->finish();
+        const std::string title =
+            operations.size() == 1
+                ? fmt::format("Engagement along {} with {}",
+                              std::filesystem::path(operations[0].path).filename().string(),
+                              operations[0].cutter.name())
+                : fmt::format("Engagement along {} operations", operations.size());
+        figures->finish(title);
+      },
+      [&] { mesh = dexel_mesh(stock, stride); });
+  const std::size_t maps_written = figures ? figures->maps_written() : 0;
+  const std::size_t curves_written = figures ? figures->curves_written() : 0;
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 
