@@ -8,6 +8,11 @@
 namespace cwe {
 namespace {
 
+// A CL's forces, evaluated with its engagement (EngagementRun's prepare), without the curve.
+struct PreparedForces : ClExtra {
+  ClForces forces;
+};
+
 // Adds one operation's removal figures to the job's.
 void merge(RemovalSummary& job, const RemovalSummary& op, int move_offset) {
   job.moves += op.moves;
@@ -69,8 +74,12 @@ JobResult run_job(const PreparedJob& job, TriDexel stock, const RunOptions& opti
       // Every sink is asked (no short cut): a sink's choice may keep state from CL to CL.
       bool curve = false;
       for (ClSink* s : sinks) curve = s->wants_curve(k, map.engaged) || curve;
-      forces = op->forces->evaluate(map, state, feed_per_tooth(feed, op->forces->flutes(), spindle),
-                                    spindle, curve);
+      // The forces came with the engagement (prepare, below); a CL whose curve is wanted has
+      // them evaluated again with it (the same figures: the curve only adds to them).
+      forces = curve ? op->forces->evaluate(map, state,
+                                            feed_per_tooth(feed, op->forces->flutes(), spindle),
+                                            spindle, true)
+                     : static_cast<const PreparedForces*>(e.extra)->forces;
       result.extremes.add(*forces, k, file, cl.line);
     }
     const ClResult at{k,
@@ -88,6 +97,16 @@ JobResult run_job(const PreparedJob& job, TriDexel stock, const RunOptions& opti
                       forces ? &*forces : nullptr};
     for (ClSink* s : sinks) s->add(at);
   };
+  // The forces at a CL need no order: they are evaluated beside its engagement, in parallel.
+  const auto prepare = [&](const ClEngagement& e) -> std::unique_ptr<ClExtra> {
+    if (!(op->forces && options.forces)) return nullptr;
+    auto prepared = std::make_unique<PreparedForces>();
+    const double spindle = spindle_speed(e.move, *job.forces);
+    const double fpt =
+        feed_per_tooth(feed_rate(e.move, *job.forces), op->forces->flutes(), spindle);
+    prepared->forces = op->forces->evaluate(e.map, e.state, fpt, spindle, false);
+    return prepared;
+  };
   // One of these runs the current operation.
   std::optional<RemovalRun> removal;
   std::optional<EngagementRun> engagement;
@@ -98,7 +117,7 @@ JobResult run_job(const PreparedJob& job, TriDexel stock, const RunOptions& opti
       removal.emplace(workpiece, op->cutter, simulation);
     } else {
       engagement.emplace(workpiece, op->cutter, EngagementRunOptions{simulation, op->sampling, {}},
-                         sink);
+                         sink, MoveRemoved{}, prepare);
     }
   };
   visitor.move = [&](const Move& m, const std::vector<std::string>& files) {

@@ -206,14 +206,15 @@ SamplingOptions feed_only(SamplingOptions sampling) {
 
 EngagementRun::EngagementRun(Workpiece& stock, const Cutter& cutter,
                              const EngagementRunOptions& options, const EngagementSink& sink,
-                             MoveRemoved removed)
+                             MoveRemoved removed, ClPrepare prepare)
     : cell_(stock.cell_volume()),
       parts_(cutter, options.simulation.effective_tolerance()),
       engage_(stock.engagement(
           cutter, with_contact(options.engagement, options.simulation.effective_tolerance()))),
       sampler_(feed_only(options.sampling)),
       sink_(sink),
-      removed_(std::move(removed)) {
+      removed_(std::move(removed)),
+      prepare_(std::move(prepare)) {
   // Steps in flight: enough to keep every thread busy while one removes.
   const int tokens = std::max(4, 2 * tbb::this_task_arena::max_concurrency());
   for (int k = 0; k < tokens; ++k) steps_.push_back(engage_->new_step());
@@ -241,10 +242,15 @@ void EngagementRun::flush() {
   // n mod tokens: the pipeline holds at most `tokens` steps and finishes them in order, so step
   // n is done before step n + tokens starts.
   struct Slot {
+    std::size_t index = 0;  // of the location among the run's
     const PendingMove* move = nullptr;
     const PendingCl* at = nullptr;
     StepEngagement::Step* step = nullptr;
     EngagementMap map;
+    std::unique_ptr<ClExtra> extra;  // what prepare_ made of it
+    ClEngagement engagement(const std::vector<std::string>& files) const {
+      return {index, move->move, files[move->file], at->cl, at->state, map, extra.get()};
+    }
   };
   const std::size_t tokens = steps_.size();
   std::vector<Slot> slots(tokens);
@@ -285,6 +291,7 @@ void EngagementRun::flush() {
       Slot& slot = slots[started % tokens];
       slot.step = steps_[started % tokens].get();
       ++started;
+      slot.index = index_++;
       slot.move = &pending;
       slot.at = at;
       const bool last = next + 1 == pending.cl_count;
@@ -302,11 +309,13 @@ void EngagementRun::flush() {
           tbb::make_filter<Slot*, Slot*>(tbb::filter_mode::parallel,
                                          [this](Slot* slot) {
                                            slot->map = engage_->at(slot->at->state, *slot->step);
+                                           if (prepare_)
+                                             slot->extra = prepare_(slot->engagement(files_));
                                            return slot;
                                          }) &
           tbb::make_filter<Slot*, void>(tbb::filter_mode::serial_in_order, [this](Slot* slot) {
-            sink_({index_++, slot->move->move, files_[slot->move->file], slot->at->cl,
-                   slot->at->state, slot->map});
+            sink_(slot->engagement(files_));
+            slot->extra.reset();
           }));
   moves_.clear();
   files_.clear();

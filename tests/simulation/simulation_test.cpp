@@ -527,5 +527,56 @@ TEST(WorkpieceSeam, TheMainLoopGoesThroughTheBackend) {
               sa.removed_by_move[0] + sa.removed_by_move[1], 0.05);
 }
 
+// EngagementRun's prepare: called once for every location, beside the engagement search (on
+// any thread), and what it returns reaches the sink with that same location, in order, for
+// one thread and for several. The probe records the location's index and area.
+TEST(EngagementRun, PreparedWorkReachesTheSinkWithItsLocation) {
+  struct Probe : ClExtra {
+    std::size_t index = 0;
+    double area = 0.0;
+  };
+  Move slot;
+  slot.start = Vec3(-10, 15, -2);
+  slot.end = Vec3(50, 15, -2);
+  slot.feed_rate = 600;
+  const Cutter cutter = cutter_from_spec("flat:10,20");
+  SimulationOptions options;
+  options.resolution = 0.25;
+  for (const int threads : {1, 4}) {
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                                    static_cast<std::size_t>(threads));
+    TriDexel stock = TriDexel::from_box(kBlock, options.resolution);
+    DexelWorkpiece workpiece(stock);
+    std::atomic<int> prepared = 0;
+    std::vector<std::size_t> seen;
+    int engaged = 0;
+    const auto prepare = [&](const ClEngagement& e) -> std::unique_ptr<ClExtra> {
+      EXPECT_EQ(e.extra, nullptr);
+      ++prepared;
+      auto probe = std::make_unique<Probe>();
+      probe->index = e.index;
+      probe->area = e.map.area;
+      return probe;
+    };
+    const auto sink = [&](const ClEngagement& e) {
+      const auto* probe = dynamic_cast<const Probe*>(e.extra);
+      ASSERT_NE(probe, nullptr);
+      EXPECT_EQ(probe->index, e.index);
+      EXPECT_EQ(probe->area, e.map.area);
+      engaged += e.map.engaged ? 1 : 0;
+      seen.push_back(e.index);
+    };
+    EngagementRun run(workpiece, cutter, {options, {}, {}}, sink, {}, prepare);
+    run.add(slot, {"test"});
+    run.finish();
+    // 60 mm at 0.5 mm: 120 locations; the tool's front meets the 40 mm block from x = -5 to 40,
+    // 90 of them (one either way for the locations at the block's faces).
+    ASSERT_EQ(seen.size(), 120u) << threads;
+    EXPECT_EQ(prepared, 120) << threads;
+    for (std::size_t k = 0; k < seen.size(); ++k) EXPECT_EQ(seen[k], k) << threads;
+    EXPECT_NEAR(engaged, 90, 1) << threads;
+  }
+}
+
 }  // namespace
 }  // namespace cwe

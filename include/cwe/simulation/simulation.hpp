@@ -122,6 +122,11 @@ RemovalSummary remove_toolpath(Workpiece& stock, const Cutter& cutter, const Too
 RemovalSummary remove_toolpath(TriDexel& stock, const Cutter& cutter, const Toolpath& path,
                                const SimulationOptions& options, const Progress& progress = {});
 
+// What a ClPrepare made of a location, handed on with it (a derived type of the caller's).
+struct ClExtra {
+  virtual ~ClExtra() = default;
+};
+
 // The engagement at one cutter location, as the main job hands it on.
 struct ClEngagement {
   std::size_t index;        // of the sample among all of the run's, from 0
@@ -130,9 +135,14 @@ struct ClEngagement {
   const ClPoint& cl;
   const ToolState& state;  // the tool's state there
   const EngagementMap& map;
+  const ClExtra* extra;  // what the run's ClPrepare returned (null without one)
 };
 // Receives the engagement at each cutter location, in order.
 using EngagementSink = std::function<void(const ClEngagement&)>;
+// Work at a location that needs no order (a force model's evaluation, say): called beside the
+// engagement search, on any thread and several locations at once, so that the sink keeps only
+// the work that must be done in order. It must not change shared state. `extra` is null.
+using ClPrepare = std::function<std::unique_ptr<ClExtra>(const ClEngagement&)>;
 
 // How the main job samples the moves and finds the engagement.
 struct EngagementRunOptions {
@@ -149,13 +159,15 @@ struct EngagementRunOptions {
 // only its step's record), and the locations go to `sink` in order, on one thread at a time
 // (not necessarily the caller's). So a move's locations reach `sink` during a later add() or
 // during finish(); the results are those of one step at a time, for any number of threads.
+// `prepare`, when given, runs with the engagement search and its result reaches `sink` with the
+// location.
 class EngagementRun {
  public:
   static constexpr std::size_t kBatchLocations = 256;
   static constexpr std::size_t kBatchMoves = 1024;
   // `stock` and `cutter` must outlive the run.
   EngagementRun(Workpiece& stock, const Cutter& cutter, const EngagementRunOptions& options,
-                const EngagementSink& sink, MoveRemoved removed = {});
+                const EngagementSink& sink, MoveRemoved removed = {}, ClPrepare prepare = {});
   ~EngagementRun();
   EngagementRun(const EngagementRun&) = delete;
   EngagementRun& operator=(const EngagementRun&) = delete;
@@ -181,6 +193,7 @@ class EngagementRun {
   ClSampler sampler_;
   EngagementSink sink_;
   MoveRemoved removed_;
+  ClPrepare prepare_;
   RemovalSummary summary_;
   std::vector<ClPoint> sampled_;  // of the move being added
   std::vector<PendingMove> moves_;
@@ -188,7 +201,7 @@ class EngagementRun {
   std::vector<PendingCl> cls_;
   std::vector<std::unique_ptr<StepEngagement::Step>> steps_;  // one per step in flight
   std::size_t added_ = 0;                                     // moves given so far
-  std::size_t index_ = 0;  // of the next CL among all of the run's
+  std::size_t index_ = 0;  // of the next CL among all of the run's to be removed
   Vec3 previous_x_ = Vec3::Zero();
 };
 
