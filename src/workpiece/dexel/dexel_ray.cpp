@@ -192,48 +192,6 @@ void DexelRay::store(const float* pairs, int n) {
 double DexelRay::subtract(double lo, double hi, std::vector<Interval>* removed_stretches) {
   // Removing a point (or nothing) leaves the material's measure as it is.
   if (!(lo < hi)) return 0.0;
-  // Most rays a cut reaches hold their material inline (one or two intervals): the general walk
-  // below, step for step, without its calls and buffers. (on_heap() first: a heap ray's tag is a
-  // NaN, never compared as a float.)
-  if (!on_heap()) {
-    float pairs[4];
-    int n = 0;
-    for (int slot = 0; slot < 4; slot += 2) {
-      if (slot_[slot] <= slot_[slot + 1]) {
-        pairs[2 * n] = slot_[slot], pairs[2 * n + 1] = slot_[slot + 1];
-        ++n;
-      }
-    }
-    const auto cut_lo = static_cast<float>(lo), cut_hi = static_cast<float>(hi);
-    float kept[8];
-    int count = 0;
-    bool changed = false;
-    double removed = 0.0;
-    for (int k = 0; k < n; ++k) {
-      const float a = pairs[2 * k], b = pairs[2 * k + 1];
-      if (hi <= a || lo >= b) {
-        kept[2 * count] = a, kept[2 * count + 1] = b;
-        ++count;
-        continue;
-      }
-      changed = true;
-      const float taken_lo = std::max(a, cut_lo), taken_hi = std::min(b, cut_hi);
-      removed += static_cast<double>(taken_hi) - static_cast<double>(taken_lo);
-      if (removed_stretches != nullptr && taken_lo < taken_hi) {
-        removed_stretches->push_back({taken_lo, taken_hi});
-      }
-      if (a < cut_lo) kept[2 * count] = a, kept[2 * count + 1] = cut_lo, ++count;
-      if (cut_hi < b) kept[2 * count] = cut_hi, kept[2 * count + 1] = b, ++count;
-    }
-    if (!changed) return 0.0;
-    if (count <= 2) {
-      clear();
-      for (int k = 0; k < 2 * count; ++k) slot_[k] = kept[k];
-    } else {
-      store(kept, count);
-    }
-    return std::max(removed, std::numeric_limits<double>::min());
-  }
   const Interval span = extent();
   if (span.is_empty() || hi <= span.lo || lo >= span.hi) return 0.0;
   const int n = count();
