@@ -334,7 +334,9 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   if (figures) figures->commit();
   const std::string title =
       fmt::format("cwe in-process stock after {}", summary["path"].get<std::string>());
-  write_file_atomically(folder / "stock.stl", stl_binary(mesh, title));
+  AtomicFileWriter stl(folder / "stock.stl");
+  stl_binary(mesh, title, [&stl](std::string_view piece) { stl.append(piece); });
+  stl.commit();
   if (options.ply) write_file_atomically(folder / "stock.ply", ply_ascii(mesh, title));
   write_file_atomically(folder / "summary.json", summary_text);
   outputs.publish();

@@ -363,32 +363,45 @@ StlMesh read_stl(const std::string& path) {
   return parse_stl(read_binary_file(path, "STL file"), path);
 }
 
-std::string stl_binary(const TriangleMesh& mesh, std::string_view header) {
-  // Sized once and filled in place: appending four bytes at a time was most of the time taken
-  // for a stock of a million triangles.
-  std::string out(84 + 50 * mesh.triangles.size(), '\0');
-  std::fill_n(out.begin(), 80, ' ');
+void stl_binary(const TriangleMesh& mesh, std::string_view header,
+                const std::function<void(std::string_view)>& write) {
+  constexpr std::size_t kChunkTriangles = 1300;  // 65,000 bytes a piece
+  std::string out(84, ' ');
   out.replace(0, std::min<std::size_t>(header.size(), 80), header.substr(0, 80));
-  char* at = out.data() + 80;
   const auto count = static_cast<std::uint32_t>(mesh.triangles.size());
-  std::memcpy(at, &count, 4);
-  at += 4;
-  for (const auto& t : mesh.triangles) {
-    const Vec3& a = mesh.vertices[static_cast<std::size_t>(t[0])];
-    const Vec3& b = mesh.vertices[static_cast<std::size_t>(t[1])];
-    const Vec3& c = mesh.vertices[static_cast<std::size_t>(t[2])];
-    Vec3 n = (b - a).cross(c - a);
-    if (n.norm() > 0.0) n.normalize();
-    for (const Vec3* v : {static_cast<const Vec3*>(&n), &a, &b, &c}) {
-      // STL is little-endian, as is every platform cwe builds on.
-      const float xyz[3] = {static_cast<float>(v->x()), static_cast<float>(v->y()),
-                            static_cast<float>(v->z())};
-      std::memcpy(at, xyz, sizeof xyz);
-      at += sizeof xyz;
+  std::memcpy(out.data() + 80, &count, 4);
+  write(out);
+  // Each piece sized once and filled in place: appending four bytes at a time was most of the
+  // time taken for a stock of a million triangles.
+  for (std::size_t first = 0; first < mesh.triangles.size(); first += kChunkTriangles) {
+    const std::size_t n = std::min(kChunkTriangles, mesh.triangles.size() - first);
+    out.assign(50 * n, '\0');
+    char* at = out.data();
+    for (std::size_t k = first; k < first + n; ++k) {
+      const auto& t = mesh.triangles[k];
+      const Vec3& a = mesh.vertices[static_cast<std::size_t>(t[0])];
+      const Vec3& b = mesh.vertices[static_cast<std::size_t>(t[1])];
+      const Vec3& c = mesh.vertices[static_cast<std::size_t>(t[2])];
+      Vec3 normal = (b - a).cross(c - a);
+      if (normal.norm() > 0.0) normal.normalize();
+      for (const Vec3* v : {static_cast<const Vec3*>(&normal), &a, &b, &c}) {
+        // STL is little-endian, as is every platform cwe builds on.
+        const float xyz[3] = {static_cast<float>(v->x()), static_cast<float>(v->y()),
+                              static_cast<float>(v->z())};
+        std::memcpy(at, xyz, sizeof xyz);
+        at += sizeof xyz;
+      }
+      at += 2;  // the attribute count, 0
     }
-    at += 2;  // the attribute count, 0
+    write(out);
   }
-  return out;
+}
+
+std::string stl_binary(const TriangleMesh& mesh, std::string_view header) {
+  std::string bytes;
+  bytes.reserve(84 + 50 * mesh.triangles.size());
+  stl_binary(mesh, header, [&bytes](std::string_view piece) { bytes.append(piece); });
+  return bytes;
 }
 
 std::string ply_ascii(const TriangleMesh& mesh, std::string_view comment) {

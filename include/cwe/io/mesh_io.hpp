@@ -2,6 +2,7 @@
 // Mesh and polyline files as byte strings (write them with write_file_atomically), and STL
 // reading (docs/stock.md states the reader's rules).
 
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -13,6 +14,10 @@ namespace cwe {
 // Binary STL: 80-byte header (from `header`, truncated), facet normals from the winding,
 // coordinates as 32-bit floats in millimetres.
 std::string stl_binary(const TriangleMesh& mesh, std::string_view header);
+// The same bytes handed to `write` in pieces of at most about 64 KiB, in order: a stock of a
+// million triangles (50 MB) goes to its file without a buffer of its size.
+void stl_binary(const TriangleMesh& mesh, std::string_view header,
+                const std::function<void(std::string_view)>& write);
 
 // A triangle mesh read from an STL file.
 struct StlMesh {
