@@ -173,21 +173,6 @@ LinearSweep::LinearSweep(const Cutter& cutter, const Vec3& start, const Vec3& en
         if (r > widest) widest = r, widest_height_ = h;
       }
     }
-    for (const ProfileSegment& piece : segments) {
-      const double lo = piece.min_z(), hi = piece.max_z();
-      if (piece.kind != ProfileSegment::Kind::kLine || piece.start.x() != piece.end.x() ||
-          !(piece.start.x() > 0.0) || !(lo < hi)) {
-        continue;
-      }
-      // radius_at(z) = start + u·0 there: the radius exactly, unless another piece shares it.
-      bool alone = true;
-      for (const ProfileSegment& other : segments) {
-        if (&other != &piece && other.min_z() < hi && other.max_z() > lo) alone = false;
-      }
-      if (!alone) continue;
-      cylinder_lo_ = lo, cylinder_hi_ = hi, cylinder_radius_ = piece.start.x();
-      break;
-    }
     if (mode_ == Mode::kLevel) {
       path_start_ = start.head<2>();
       const Vec2 along = end.head<2>() - path_start_;
@@ -245,7 +230,7 @@ Interval LinearSweep::level_chord(const Ray& ray) const {
   if (d.z() == 0.0) {
     const double h = o.z() - start_.z();
     if (!(h >= 0.0 && h <= profile.height())) return Interval::empty();
-    const double r = h > cylinder_lo_ && h < cylinder_hi_ ? cylinder_radius_ : profile.radius_at(h);
+    const double r = profile.radius_at(h);
     const int along = d.y() == 0.0 ? 0 : 1;
     if (d.squaredNorm() == 1.0 && d[1 - along] == 0.0) {
       // Along world X or Y: the capsule's extent on the ray's line, then t = ±(x - o_x).

@@ -204,6 +204,19 @@ Profile::Profile(std::vector<ProfileSegment> segments, const std::string& source
   if (height() <= tol) fail(0, "the profile must rise above the tip (height > 0)");
   if (top_radius() <= 0.0) fail(0, "the profile must end away from the axis (top radius > 0)");
   CWE_ASSERT(segments_.front().start == Vec2::Zero(), "profile not snapped to the tip");
+  // The flutes' cylinder, where radius_at needs no walk over the pieces: a vertical line whose
+  // open height range no other piece shares (there radius_at's walk gives start + u·0, its
+  // radius exactly).
+  for (const ProfileSegment& piece : segments_) {
+    const double lo = piece.min_z(), hi = piece.max_z();
+    if (!piece.is_vertical() || !(piece.start.x() > 0.0) || !(lo < hi)) continue;
+    const bool alone = std::none_of(segments_.begin(), segments_.end(), [&](const auto& other) {
+      return &other != &piece && other.min_z() < hi && other.max_z() > lo;
+    });
+    if (!alone) continue;
+    cylinder_lo_ = lo, cylinder_hi_ = hi, cylinder_radius_ = piece.start.x();
+    break;
+  }
 }
 
 double Profile::max_radius() const {
@@ -219,6 +232,7 @@ double Profile::length() const {
 }
 
 double Profile::radius_at(double z) const {
+  if (z > cylinder_lo_ && z < cylinder_hi_) return cylinder_radius_;  // most asks: the flutes
   if (!(z >= 0.0 && z <= height())) return 0.0;
   double r = 0.0;
   for (const auto& s : segments_) {

@@ -113,10 +113,6 @@ class LinearSweep {
   double widest_height_ = 0.0;
   Vec2 path_start_ = Vec2::Zero(), path_along_ = Vec2::UnitX();
   double path_length_ = 0.0;
-  // A cylindrical piece of the profile (a vertical line at radius cylinder_radius_) and the open
-  // height range where it alone gives the radius: Profile::radius_at's answer there, without the
-  // walk over the pieces (level_chord asks it for every horizontal ray). Empty (lo ≥ hi) if none.
-  double cylinder_lo_ = 0.0, cylinder_hi_ = 0.0, cylinder_radius_ = 0.0;
 };
 
 }  // namespace cwe

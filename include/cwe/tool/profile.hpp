@@ -97,6 +97,9 @@ class Profile {
 
  private:
   std::vector<ProfileSegment> segments_;
+  // The open height range of the flutes' cylinder, if the profile has one, and its radius
+  // (radius_at's answer there without a walk over the pieces; lo ≥ hi when there is none).
+  double cylinder_lo_ = 0.0, cylinder_hi_ = 0.0, cylinder_radius_ = 0.0;
 };
 
 }  // namespace cwe
