@@ -206,19 +206,17 @@ std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const Removal
     const Vec3 point = centre + band.rho * radial;
     if (skip_far_cells_ && !near.contains(point)) return false;
     const Vec3 normal = band.normal.x() * radial + band.normal.y() * z;
-    TriDexel::SurfaceRay found;
-    if (!stock.surface_ray(point, normal, found)) return false;
-    const TriDexel::SurfaceRay* const ray = &found;
+    TriDexel::SurfaceRay ray;
+    if (!stock.surface_ray(point, normal, ray)) return false;
     // Most cells' rays lost nothing in the step: the divisions below wait until one did.
-    const std::span<const RemovalRecord::Stretch> stretches =
-        step.on_ray(ray->axis, ray->i, ray->j);
+    const std::span<const RemovalRecord::Stretch> stretches = step.on_ray(ray.axis, ray.i, ray.j);
     if (stretches.empty()) return false;
-    const double t = ray->meet(point, normal);
+    const double t = ray.meet(point, normal);
     // The window along the ray, in outward distance from Q: from where the surface may lie
     // inside the tangent plane (less the contact tolerance) to `contact` outside it.
-    const double along = std::abs(ray->along);
+    const double along = std::abs(ray.along);
     const double inner = -(band.departure + contact_) / along, outer = contact_ / along;
-    const double outward = ray->along > 0.0 ? 1.0 : -1.0;
+    const double outward = ray.along > 0.0 ? 1.0 : -1.0;
     bool touched = false;
     for (const RemovalRecord::Stretch& taken : stretches) {
       const double u0 = outward * (static_cast<double>(taken.lo) - t);
@@ -231,7 +229,7 @@ std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const Removal
     if (!touched) return false;
     // Q = origin + t·e_axis as one vector sum (a coordinate written into a copy of the origin
     // and the copy read back whole stalled on the store); the same values.
-    const Vec3 d = (ray->origin + t * Vec3::Unit(ray->axis)) - tcs.origin;
+    const Vec3 d = (ray.origin + t * Vec3::Unit(ray.axis)) - tcs.origin;
     const double height = d.dot(z);
     return bottom ? d.squaredNorm() - height * height <= rim * rim : height >= 0.0 && height <= top;
   };
