@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -80,7 +81,14 @@ Element ring_element(double r0, double r1) {
   return e;
 }
 
-// Accumulates the force over one revolution, sample by sample.
+// Accumulates the force over one revolution. The steps an element spends wholly inside an
+// engaged interval are summed in closed form: without runout an element's force is a sum of
+// harmonics of order 0, 1 and 2 in φ (the chip is linear in sin φ and cos φ, and the force is
+// the chip times sin φ or cos φ), so each run of whole steps adds its 5 harmonic coefficients
+// per component to a difference array over the steps, and one pass at the end sums them and
+// evaluates the revolution: O(samples + elements) instead of O(samples × elements). The steps
+// at an interval's ends, which an element spends only partly inside, and every step under
+// runout (whose chip is not linear in the feed) are evaluated one by one.
 class Revolution {
  public:
   Revolution(const CuttingCoefficients& k, const Vec3& feed, double feed_per_tooth, int flutes,
@@ -99,17 +107,18 @@ class Revolution {
         torque_(static_cast<std::size_t>(n_), 0.0) {}
 
   void add(const Element& e, const std::vector<Interval>& phi) {
+    for (const Interval& in : phi) {
+      if (!in.is_empty()) thickest_chip(e, in);
+    }
     for (int j = 0; j < flutes_; ++j) {
       const double pitch = 2.0 * kPi * j / flutes_;
       const double offset = pitch - e.lag;  // φ_j = θ + offset
-      const double so = std::sin(offset), co = std::cos(offset);
+      const Rotation at{offset, std::sin(offset), std::cos(offset)};
       for (const Interval& in : phi) {
         if (in.is_empty()) continue;
-        thickest_chip(e, j, in);
-        if (in.hi - in.lo >= 2.0 * kPi * (1.0 - tol::kRelative)) {  // a full ring: every step, whole
-          for (int k = 0; k < n_; ++k) {
-            accumulate(e, j, sin_[k] * co + cos_[k] * so, cos_[k] * co - sin_[k] * so, 1.0, k);
-          }
+        // A full ring: every step, whole.
+        if (in.hi - in.lo >= 2.0 * kPi * (1.0 - tol::kRelative)) {
+          whole_steps(e, j, at, 0, n_ - 1);
           continue;
         }
         // The interval in spindle angle θ, started within [−Δ/2, 2π − Δ/2).
@@ -119,25 +128,48 @@ class Revolution {
         const double b = a + (in.hi - in.lo);
         const long k0 = std::lround(std::floor((a + 0.5 * step_) / step_));
         const long k1 = std::lround(std::floor((b + 0.5 * step_) / step_));
-        for (long k = k0; k <= k1; ++k) {
+        // Every step between k0 and k1 is whole; k0 and k1 may be whole too, or partly inside
+        // (evaluated at the middle of their part), or not reached.
+        const auto whole_end = [&](long k) {
           const double lo = std::max(a, (static_cast<double>(k) - 0.5) * step_);
           const double hi = std::min(b, (static_cast<double>(k) + 0.5) * step_);
-          if (!(hi > lo)) continue;
-          // k < 2n + 1 (a ≥ −Δ/2, b < 4π): the index without an integer division.
-          int index = static_cast<int>(k);
-          while (index >= n_) index -= n_;
-          double s, c;
-          if (hi - lo >= step_ * (1.0 - tol::kRelative)) {  // the whole step: θ = kΔ from the table
-            s = sin_[index] * co + cos_[index] * so;
-            c = cos_[index] * co - sin_[index] * so;
-          } else {
-            const double phi_mid = 0.5 * (lo + hi) + offset;
-            s = std::sin(phi_mid);
-            c = std::cos(phi_mid);
-          }
-          accumulate(e, j, s, c, (hi - lo) / step_, index);
-        }
+          if (!(hi > lo)) return false;
+          if (hi - lo >= step_ * (1.0 - tol::kRelative)) return true;
+          const double phi_mid = 0.5 * (lo + hi) + offset;
+          accumulate(e, j, std::sin(phi_mid), std::cos(phi_mid), (hi - lo) / step_, wrap(k));
+          return false;
+        };
+        const bool first_whole = whole_end(k0);
+        const bool last_whole = k1 == k0 ? first_whole : whole_end(k1);
+        const long whole0 = first_whole ? k0 : k0 + 1, whole1 = last_whole ? k1 : k1 - 1;
+        if (whole0 <= whole1) whole_steps(e, j, at, whole0, whole1);
       }
+    }
+  }
+
+  // Adds the closed-form sums of the whole steps to the revolution; call once, after every add.
+  void finish() {
+    if (changes_.empty()) return;  // no whole step cut
+    Harmonics sum{};
+    int active = 0;
+    for (int k = 0; k < n_; ++k) {
+      const Change& change = changes_[static_cast<std::size_t>(k)];
+      active += change.runs;
+      if (active == 0) {  // nothing cuts here: exactly zero, not the rounding of the sums
+        sum = Harmonics{};
+        continue;
+      }
+      for (int m = 0; m < kCoefficients; ++m) sum[m] += change.delta[m];
+      const int twice = 2 * k >= n_ ? 2 * k - n_ : 2 * k;
+      const double basis[5] = {
+          1.0, cos_[static_cast<std::size_t>(k)], sin_[static_cast<std::size_t>(k)],
+          cos_[static_cast<std::size_t>(twice)], sin_[static_cast<std::size_t>(twice)]};
+      double out[4] = {0.0, 0.0, 0.0, 0.0};
+      for (int component = 0; component < 4; ++component) {
+        for (int h = 0; h < 5; ++h) out[component] += sum[5 * component + h] * basis[h];
+      }
+      f_[static_cast<std::size_t>(k)] += Vec3(out[0], out[1], out[2]);
+      torque_[static_cast<std::size_t>(k)] += out[3];
     }
   }
 
@@ -147,8 +179,146 @@ class Revolution {
   bool cutting() const { return cutting_; }
 
  private:
-  // The largest f̂·n = (f_x sin φ + f_y cos φ) sin κ − f_z cos κ for φ in the interval: at an end
-  // or where the sinusoid peaks.
+  // The harmonic coefficients of F_x, F_y, F_z and the torque, each on 1, cos θ, sin θ, cos 2θ,
+  // sin 2θ.
+  static constexpr int kCoefficients = 20;
+  using Harmonics = std::array<double, kCoefficients>;
+  struct Change {
+    Harmonics delta{};
+    int runs = 0;  // runs starting here less runs that ended at the step before
+  };
+  struct Rotation {
+    double offset, sin, cos;  // φ = θ + offset
+  };
+
+  // Step index of k ∈ [0, 2n + 1) (a ≥ −Δ/2, b < 4π), without an integer division.
+  int wrap(long k) const {
+    int index = static_cast<int>(k);
+    while (index >= n_) index -= n_;
+    return index;
+  }
+
+  // sin φ and cos φ at step k, exactly as the table gives them to `accumulate`.
+  void at_step(const Rotation& at, long k, double& s, double& c) const {
+    const auto index = static_cast<std::size_t>(wrap(k));
+    s = sin_[index] * at.cos + cos_[index] * at.sin;
+    c = cos_[index] * at.cos - sin_[index] * at.sin;
+  }
+
+  // Whether the element cuts a chip at step k: the test of `accumulate` (the feed per tooth is
+  // positive, so without runout only the chip's sign decides).
+  bool chip_at(const Element& e, const Rotation& at, long k) const {
+    double s, c;
+    at_step(at, k, s, c);
+    const double a = feed_.x() * s + feed_.y() * c;
+    return a * e.s1 - feed_.z() * e.c1 > 0.0;
+  }
+
+  // The whole steps first..last (unwrapped, fewer than n + 1) of flute j on element e.
+  void whole_steps(const Element& e, int j, const Rotation& at, long first, long last) {
+    if (runout_.offset > 0.0) {
+      for (long k = first; k <= last; ++k) {
+        double s, c;
+        at_step(at, k, s, c);
+        accumulate(e, j, s, c, 1.0, wrap(k));
+      }
+      return;
+    }
+    // The chip is positive where A sin φ + B cos φ > T, an arc of half-width δ about φ_p.
+    const double big_a = feed_.x() * e.s1, big_b = feed_.y() * e.s1, big_t = feed_.z() * e.c1;
+    const double r = std::hypot(big_a, big_b);
+    if (!(r > 0.0)) {  // the same chip at every step
+      if (chip_at(e, at, first)) add_run(e, at, first, last);
+      return;
+    }
+    const double peak = std::atan2(big_a, big_b);
+    const double half = std::acos(std::clamp(big_t / r, -1.0, 1.0));
+    // Unwrapped step of angle φ: θ = φ − offset = kΔ.
+    const auto step_of = [&](double phi) { return (phi - at.offset) / step_; };
+    // Arcs about φ_p + 2πm that can meet the steps' span.
+    const double span_lo = static_cast<double>(first) * step_ + at.offset;
+    const double span_hi = static_cast<double>(last) * step_ + at.offset;
+    const long m0 = std::lround(std::floor((span_lo - peak - half) / (2.0 * kPi)));
+    long done = first - 1;  // the last step already given to a run
+    for (long m = m0; m <= m0 + 3; ++m) {
+      const double centre = peak + 2.0 * kPi * static_cast<double>(m);
+      if (centre - half > span_hi + step_) break;
+      long lo = std::max(first, static_cast<long>(std::ceil(step_of(centre - half))));
+      long hi = std::min(last, static_cast<long>(std::floor(step_of(centre + half))));
+      lo = std::max(lo, done + 1);
+      if (lo > hi) {  // no step inside by the closed form: rounding may still let one in
+        const long k = std::lround(step_of(centre));
+        if (k < std::max(first, done + 1) || k > last || !chip_at(e, at, k)) continue;
+        lo = hi = k;
+      }
+      // The closed form's ends agree with the test to rounding: settle them by the test.
+      while (lo <= hi && !chip_at(e, at, lo)) ++lo;
+      while (hi >= lo && !chip_at(e, at, hi)) --hi;
+      if (lo > hi) continue;
+      while (lo - 1 > done && chip_at(e, at, lo - 1)) --lo;
+      while (hi + 1 <= last && chip_at(e, at, hi + 1)) ++hi;
+      add_run(e, at, lo, hi);
+      done = hi;
+    }
+  }
+
+  // Adds the force of the element over the whole steps lo..hi, each of which cuts a chip, to the
+  // difference array.
+  void add_run(const Element& e, const Rotation& at, long lo, long hi) {
+    cutting_ = true;
+    if (changes_.empty()) changes_.resize(static_cast<std::size_t>(n_) + 1);
+    // Each output is P + Q·a with a = f_x sin φ + f_y cos φ (see `accumulate`).
+    const double fx = feed_.x(), fy = feed_.y(), b = feed_.z(), feed = c_;
+    const double kt = k_.ktc * feed, kr = k_.krc * feed, ka = k_.kac * feed;
+    const double pt = -kt * b * e.c1 + k_.kte * e.l, qt = kt * e.s1;
+    const double pq =
+        -kr * b * e.sc + k_.kre * e.s1 - ka * b * e.c2 + k_.kae * e.c1;  // q = fr_s + fa_c
+    const double qq = kr * e.s2 + ka * e.sc;
+    const double pz = -kr * b * e.c2 + k_.kre * e.c1 + ka * b * e.sc - k_.kae * e.s1;
+    const double qz = kr * e.sc - ka * e.s2;
+    const double pm = -kt * b * e.rc + k_.kte * e.r, qm = kt * e.rs;
+    // F_x = −ft·cos φ − q·sin φ, F_y = ft·sin φ − q·cos φ, F_z, torque: on 1, cos φ, sin φ,
+    // cos 2φ, sin 2φ (sin²φ = (1 − cos 2φ)/2, cos²φ = (1 + cos 2φ)/2, sin φ cos φ = sin 2φ/2).
+    const double in_phi[4][5] = {
+        {-0.5 * (qt * fy + qq * fx), -pt, -pq, 0.5 * (qq * fx - qt * fy),
+         -0.5 * (qt * fx + qq * fy)},
+        {0.5 * (qt * fx - qq * fy), -pq, pt, -0.5 * (qt * fx + qq * fy), 0.5 * (qt * fy - qq * fx)},
+        {pz, qz * fy, qz * fx, 0.0, 0.0},
+        {pm, qm * fy, qm * fx, 0.0, 0.0}};
+    // In θ = φ − offset: cos φ = cos θ cos o − sin θ sin o, sin φ = sin θ cos o + cos θ sin o,
+    // and the same for 2φ with 2o.
+    const double so = at.sin, co = at.cos;
+    const double s2o = 2.0 * so * co, c2o = co * co - so * so;
+    Harmonics run{};
+    for (int component = 0; component < 4; ++component) {
+      const double* p = in_phi[component];
+      double* h = &run[static_cast<std::size_t>(5 * component)];
+      h[0] = p[0];
+      h[1] = p[1] * co + p[2] * so;
+      h[2] = p[2] * co - p[1] * so;
+      h[3] = p[3] * c2o + p[4] * s2o;
+      h[4] = p[4] * c2o - p[3] * s2o;
+    }
+    const int first = wrap(lo), last = wrap(hi);
+    if (first <= last) {
+      mark(run, first, last);
+    } else {  // across θ = 2π
+      mark(run, first, n_ - 1);
+      mark(run, 0, last);
+    }
+  }
+
+  void mark(const Harmonics& run, int first, int last) {
+    Change& start = changes_[static_cast<std::size_t>(first)];
+    Change& end = changes_[static_cast<std::size_t>(last) + 1];
+    for (int m = 0; m < kCoefficients; ++m) {
+      start.delta[m] += run[m];
+      end.delta[m] -= run[m];
+    }
+    ++start.runs;
+    --end.runs;
+  }
+
   // The largest A(φ) = f_x sin φ + f_y cos φ for φ in the interval: at an end or where the
   // sinusoid peaks.
   double max_lateral_feed(const Interval& in) const {
@@ -163,21 +333,24 @@ class Revolution {
     return best;
   }
 
-  // The thickest chip flute j cuts on the element over the interval. f̂·n = A(φ) sin κ − f_z cos κ
-  // with sin κ ≥ 0, so φ takes A's largest value A* whatever κ; over the element's κ range the
-  // sinusoid A* sin κ − f_z cos κ peaks at an end or at κ* = atan2(A*, −f_z), where it is
-  // √(A*² + f_z²).
-  void thickest_chip(const Element& e, int j, const Interval& in) {
+  // The thickest chip any flute cuts on the element over the interval. f̂·n = A(φ) sin κ −
+  // f_z cos κ with sin κ ≥ 0, so φ takes A's largest value A* whatever κ; over the element's κ
+  // range the sinusoid A* sin κ − f_z cos κ peaks at an end or at κ* = atan2(A*, −f_z), where it
+  // is √(A*² + f_z²). Without runout every flute cuts the same chip there.
+  void thickest_chip(const Element& e, const Interval& in) {
     const double a = max_lateral_feed(in), fz = feed_.z();
-    for (int end = 0; end < 2; ++end) {
-      const double g = a * e.sin_kappa[end] - fz * e.cos_kappa[end];
-      max_chip_ = std::max(max_chip_, chip(j, g, e.sin_kappa[end], e.lag));
-    }
     const double k0 = std::atan2(e.sin_kappa[0], e.cos_kappa[0]);
     const double k1 = std::atan2(e.sin_kappa[1], e.cos_kappa[1]);
     const double peak = std::atan2(a, -fz);
-    if (peak > std::min(k0, k1) && peak < std::max(k0, k1)) {
-      max_chip_ = std::max(max_chip_, chip(j, std::hypot(a, fz), std::sin(peak), e.lag));
+    const bool inside = peak > std::min(k0, k1) && peak < std::max(k0, k1);
+    const int flutes = runout_.offset > 0.0 ? flutes_ : 1;
+    for (int j = 0; j < flutes; ++j) {
+      for (int end = 0; end < 2; ++end) {
+        const double g = a * e.sin_kappa[end] - fz * e.cos_kappa[end];
+        max_chip_ = std::max(max_chip_, chip(j, g, e.sin_kappa[end], e.lag));
+      }
+      if (inside)
+        max_chip_ = std::max(max_chip_, chip(j, std::hypot(a, fz), std::sin(peak), e.lag));
     }
   }
 
@@ -197,6 +370,7 @@ class Revolution {
     return h;
   }
 
+  // One step's force of flute j on element e, at sin φ = s, cos φ = c, times `weight`.
   void accumulate(const Element& e, int j, double s, double c, double weight, int index) {
     // The chip h = c·(A sin κ − B cos κ) integrated over the element: c·(A·∫sin κ − B·∫cos κ).
     const double a = feed_.x() * s + feed_.y() * c, b = feed_.z();
@@ -235,6 +409,7 @@ class Revolution {
   double step_;
   std::vector<Vec3> f_;
   std::vector<double> torque_;
+  std::vector<Change> changes_;  // n + 1, made by the first run of whole steps
   double max_chip_ = 0.0;
   bool cutting_ = false;
 };
@@ -249,7 +424,8 @@ double feed_per_tooth(double feed_rate, int flutes, double spindle_speed) {
 ForceModel::ForceModel(const Cutter& cutter, CuttingCoefficients coefficients,
                        ForceModelOptions options)
     : profile_(cutter.profile()), coefficients_(std::move(coefficients)), runout_(options.runout) {
-  if (!(options.angle_step >= kMinAngleStep) || options.angle_step > kPi / 2.0 * (1.0 + tol::kRelative)) {
+  if (!(options.angle_step >= kMinAngleStep) ||
+      options.angle_step > kPi / 2.0 * (1.0 + tol::kRelative)) {
     throw InputError(fmt::format("the spindle angle step must be in [0.01°, 90°], not {:g}°",
                                  options.angle_step * 180.0 / kPi));
   }
@@ -309,6 +485,7 @@ ClForces ForceModel::evaluate(const EngagementMap& map, const Vec3& feed_directi
       if (ring.phi.empty()) continue;
       revolution.add(ring_element(ring.r0, ring.r1), ring.phi);
     }
+    revolution.finish();
   }
   out.cutting = revolution.cutting();
   out.max_chip = revolution.max_chip();

@@ -38,6 +38,7 @@
 // of that step it spends inside its engaged intervals, evaluated at the middle of that part.
 // Means over the revolution are therefore the exact integrals up to a midpoint-rule error of
 // order Δ²/24 (4·10⁻⁵ relative at 1°), whatever the step; peaks are of the step-averaged force.
+// The whole steps of an element are summed in closed form (harmonics up to 2φ); see docs/forces.md.
 
 #include <vector>
 
