@@ -33,9 +33,21 @@ void TriDexel::index_tile(RemovalRecord::Tile& tile, int first_j, bool sort) {
               });
   }
   std::size_t k = 0;
+  tile.single_rows = 0;
   for (int row = 0; row <= kTile; ++row) {
     while (k < stretches.size() && stretches[k].j < first_j + row) ++k;
     tile.rows[static_cast<std::size_t>(row)] = static_cast<std::uint32_t>(k);
+    if (row == kTile) break;
+    // The row's rays: which lost something, and whether any lost more than one stretch.
+    std::uint32_t present = 0;
+    bool single = true;
+    for (std::size_t m = k; m < stretches.size() && stretches[m].j == first_j + row; ++m) {
+      const std::uint32_t bit = std::uint32_t{1} << (stretches[m].i % kTile);
+      single = single && (present & bit) == 0;
+      present |= bit;
+    }
+    tile.present[static_cast<std::size_t>(row)] = present;
+    if (single) tile.single_rows |= std::uint32_t{1} << row;
   }
 }
 

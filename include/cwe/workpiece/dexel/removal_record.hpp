@@ -6,8 +6,10 @@
 // a cutter point is engaged where the step removes material next to it.
 //
 // Storage follows the removal's parallel tiles (TriDexel::kTile × kTile rays), each tile's
-// stretches sorted by ray with the start of each row of rays, so that recording costs no sort of
-// the whole step and a look-up is a short binary search within one row of one tile. A record reused for step after step keeps its buffers.
+// stretches sorted by ray with the start of each row of rays and a mask of the row's rays that
+// lost something, so that recording costs no sort of the whole step and a look-up is a bit test,
+// then a count of the bits below (a row whose rays lost one stretch each) or a short binary
+// search within the row. A record reused for step after step keeps its buffers.
 
 #include <array>
 #include <cstddef>
@@ -33,7 +35,7 @@ class RemovalRecord {
   const Aabb& bounds() const { return bounds_; }
   // The stretches removed from ray (i, j) of family `axis` (0 x, 1 y, 2 z), ascending. Inline:
   // engagement asks it for every cell of the cutter surface that moves into material.
-  std::span<const Stretch> on_ray(int axis, int i, int j) const {
+  [[gnu::always_inline]] std::span<const Stretch> on_ray(int axis, int i, int j) const {
     const Family& family = families_[static_cast<std::size_t>(axis)];
     const int ti = i / kTileRows - family.first_i, tj = j / kTileRows - family.first_j;
     if (i < 0 || j < 0 || ti < 0 || tj < 0 || ti >= family.tiles_i || tj >= family.tiles_j) {
@@ -42,13 +44,20 @@ class RemovalRecord {
     const Tile& tile =
         family.tiles[static_cast<std::size_t>(tj) * static_cast<std::size_t>(family.tiles_i) +
                      static_cast<std::size_t>(ti)];
-    // The ray's row of the tile, then the ray within the row.
+    // The ray's row of the tile, then the ray within the row: most rays lost nothing, which the
+    // row's mask says at once; in a row where every ray lost one stretch at most, the ray's
+    // stretch is counted from the mask.
     const auto row = static_cast<std::size_t>(j - (family.first_j + tj) * kTileRows);
+    const std::uint32_t mask = tile.present[row];
+    const std::uint32_t bit = std::uint32_t{1} << (i % kTileRows);
+    if ((mask & bit) == 0) return {};
     const Stretch* first = tile.stretches.data() + tile.rows[row];
+    if ((tile.single_rows >> row & 1u) != 0) {
+      return {first + rays_below(mask & (bit - 1)), 1};
+    }
     const Stretch* const end = tile.stretches.data() + tile.rows[row + 1];
     // std::lower_bound without branches on the comparisons (they mispredicted at every step):
     // halve the range, keeping its upper half while the ray at its middle is below i.
-    if (first == end) return {};
     for (std::size_t n = static_cast<std::size_t>(end - first); n > 1;) {
       const std::size_t half = n / 2;
       first = first[half].i < i ? first + half : first;
@@ -68,12 +77,22 @@ class RemovalRecord {
   struct Tile {
     std::vector<Stretch> stretches;
     std::array<std::uint32_t, kTileRows + 1> rows{};
+    // Per row, a bit for each ray (i mod kTileRows) that lost something.
+    std::array<std::uint32_t, kTileRows> present{};
+    std::uint32_t single_rows = 0;  // a bit for each row whose rays lost one stretch at most
   };
   struct Family {
     int first_i = 0, first_j = 0;  // the first tile's indices (tile units)
     int tiles_i = 0, tiles_j = 0;  // tiles along i and j
     std::vector<Tile> tiles;
   };
+  // The bits set in `mask`, without the call std::popcount makes on the x86-64 baseline.
+  static int rays_below(std::uint32_t mask) {
+    mask -= (mask >> 1) & 0x55555555u;
+    mask = (mask & 0x33333333u) + ((mask >> 2) & 0x33333333u);
+    mask = (mask + (mask >> 4)) & 0x0f0f0f0fu;
+    return static_cast<int>((mask * 0x01010101u) >> 24);
+  }
   std::array<Family, 3> families_;
   std::size_t stretches_ = 0;
   Aabb bounds_;
