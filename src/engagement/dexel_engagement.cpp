@@ -200,7 +200,7 @@ std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const Removal
   // and an earlier one share (a wall at the tool's radius, a floor at the tip): two float
   // spacings of the stock's coordinates.
   const double rounding = 4.0 * stock.float_rounding();
-  const auto engaged = [&](double s, double c) {
+  const auto engaged = [&](double s, double c) __attribute__((always_inline)) {
     if (!(f.a * s + f.b * c + f.c > f_min)) return false;
     const Vec3 radial = s * x + c * y;
     const Vec3 point = centre + band.rho * radial;
@@ -249,8 +249,10 @@ std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const Removal
   std::vector<Interval> intervals;
   int run_start = -1;
   for (int k = 0; k <= n; ++k) {
-    const bool on =
-        k < n && engaged(sin_[static_cast<std::size_t>(k)], cos_[static_cast<std::size_t>(k)]);
+    // The front-half test first, without a call: it rejects half the cells.
+    const double s = k < n ? sin_[static_cast<std::size_t>(k)] : 0.0;
+    const double c = k < n ? cos_[static_cast<std::size_t>(k)] : 0.0;
+    const bool on = k < n && f.a * s + f.b * c + f.c > f_min && engaged(s, c);
     if (on && run_start < 0) run_start = k;
     if (on || run_start < 0) continue;
     const int last = k - 1;
