@@ -86,7 +86,7 @@ void TriDexel::check_grid(const Aabb& box, double spacing, const SourceLocation&
                where, "use a coarser resolution");
 }
 
-TriDexel TriDexel::empty_grid(const Aabb& box, double spacing) {
+TriDexel TriDexel::empty_grid(const Aabb& box, double spacing, bool filled) {
   if (box.is_empty() || !(box.size().minCoeff() > 0.0) || !box.size().allFinite()) {
     throw InputError("stock box: expected min < max on every axis");
   }
@@ -108,21 +108,16 @@ TriDexel TriDexel::empty_grid(const Aabb& box, double spacing) {
     const int nb = cells[static_cast<std::size_t>(cross_b(a))];
     const int nc = cells[static_cast<std::size_t>(cross_c(a))];
     d.grid_[static_cast<std::size_t>(a)] = {nb, nc};
-    d.rays_[static_cast<std::size_t>(a)].resize(static_cast<std::size_t>(nb) * nc);
+    // Filled: every ray of the block carries the stock between the box's faces along it, made
+    // as it is allocated (one pass over the rays, not a default one and then a copy).
+    const DexelRay ray = filled ? DexelRay(0.0f, static_cast<float>(box.size()[a])) : DexelRay();
+    d.rays_[static_cast<std::size_t>(a)].assign(static_cast<std::size_t>(nb) * nc, ray);
   }
   return d;
 }
 
 TriDexel TriDexel::from_box(const Aabb& box, double spacing) {
-  TriDexel d = empty_grid(box, spacing);
-  for (int a = 0; a < 3; ++a) {
-    // Every ray of the block carries the stock between the box's faces along it.
-    const auto lo = static_cast<float>(box.min[a] - d.domain_.min[a]);
-    const auto hi = static_cast<float>(box.max[a] - d.domain_.min[a]);
-    auto& family = d.rays_[static_cast<std::size_t>(a)];
-    std::fill(family.begin(), family.end(), DexelRay(lo, hi));
-  }
-  return d;
+  return empty_grid(box, spacing, true);
 }
 
 std::size_t TriDexel::ray_count() const {

@@ -181,8 +181,9 @@ class TriDexel {
   std::size_t count_heap_bytes() const;
 
  private:
-  // The grid for stock in `box` (whole cells that tile it), with empty rays.
-  static TriDexel empty_grid(const Aabb& box, double spacing);
+  // The grid for stock in `box` (whole cells that tile it), with empty rays, or with every ray
+  // full across the box (`filled`).
+  static TriDexel empty_grid(const Aabb& box, double spacing, bool filled = false);
   std::size_t index(int axis, int i, int j) const;
   static void index_tile(RemovalRecord::Tile& tile, int first_j, bool sort);
   // Range of ray indices along one cross axis whose lines come within [lo, hi].
