@@ -203,6 +203,33 @@ Interval LinearSweep::capsule_span(const Vec3& o, int along, double r) const {
   // Coordinates: s along the ray's axis, q across it; the ray is the line q = o_q.
   const int across = 1 - along;
   const Vec2 c0 = path_start_, c1 = path_start_ + path_length_ * path_along_;
+  // Paths along X or Y (most of a pocket's moves) in closed form, with the same numbers as the
+  // general hull below: a unit or zero component makes its products and quotients exact.
+  if (path_along_[across] == 0.0) {
+    // Along the ray (|e_s| = 1, so c1_q = c0_q): the two end discs' chords are alike, and the
+    // rectangle adds only c0_s and c1_s, which lie between them.
+    const double dq = o[across] - c0[across];
+    const double gap = r * r - dq * dq;
+    if (gap < 0.0) return Interval::empty();
+    const double half = std::sqrt(gap);
+    return {std::min(c0[along], c1[along]) - half, std::max(c0[along], c1[along]) + half};
+  }
+  if (path_along_[along] == 0.0) {
+    // Across the ray (|e_q| = 1, so c1_s = c0_s): the rectangle's chord, ±r about c0_s, holds
+    // the discs' where the ray passes beside the path; beyond its ends, the nearer disc's.
+    if (const double beside = (o[across] - c0[across]) * path_along_[across];
+        !(beside < 0.0 || beside > path_length_)) {
+      return {c0[along] - r, c0[along] + r};
+    }
+    double half = -1.0;
+    for (const double q : {c0[across], c1[across]}) {
+      const double dq = o[across] - q;
+      const double gap = r * r - dq * dq;
+      if (gap >= 0.0) half = std::max(half, std::sqrt(gap));
+    }
+    if (half < 0.0) return Interval::empty();
+    return {c0[along] - half, c0[along] + half};
+  }
   Hull hull;
   for (const Vec2& c : {c0, c1}) {
     const double dq = o[across] - c[across];
