@@ -87,7 +87,7 @@ class RemovalRecord {
     std::vector<Tile> tiles;
   };
   // The bits set in `mask`, without the call std::popcount makes on the x86-64 baseline.
-  static int rays_below(std::uint32_t mask) {
+  [[gnu::always_inline]] static int rays_below(std::uint32_t mask) {
     mask -= (mask >> 1) & 0x55555555u;
     mask = (mask & 0x33333333u) + ((mask >> 2) & 0x33333333u);
     mask = (mask + (mask >> 4)) & 0x0f0f0f0fu;
