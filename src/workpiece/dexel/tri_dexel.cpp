@@ -105,14 +105,19 @@ TriDexel TriDexel::empty_grid(const Aabb& box, double spacing, bool filled) {
   }
   d.domain_ = box;
   for (int a = 0; a < 3; ++a) {
-    const int nb = cells[static_cast<std::size_t>(cross_b(a))];
-    const int nc = cells[static_cast<std::size_t>(cross_c(a))];
-    d.grid_[static_cast<std::size_t>(a)] = {nb, nc};
+    d.grid_[static_cast<std::size_t>(a)] = {cells[static_cast<std::size_t>(cross_b(a))],
+                                            cells[static_cast<std::size_t>(cross_c(a))]};
+  }
+  // The three families at once: at the start of a job nothing else runs, and making millions of
+  // rays (and faulting in their pages) is most of it.
+  tbb::parallel_for(0, 3, [&](int a) {
+    const auto& g = d.grid_[static_cast<std::size_t>(a)];
     // Filled: every ray of the block carries the stock between the box's faces along it, made
     // as it is allocated (one pass over the rays, not a default one and then a copy).
     const DexelRay ray = filled ? DexelRay(0.0f, static_cast<float>(box.size()[a])) : DexelRay();
-    d.rays_[static_cast<std::size_t>(a)].assign(static_cast<std::size_t>(nb) * nc, ray);
-  }
+    d.rays_[static_cast<std::size_t>(a)].assign(
+        static_cast<std::size_t>(g[0]) * static_cast<std::size_t>(g[1]), ray);
+  });
   return d;
 }
 
