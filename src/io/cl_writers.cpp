@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <system_error>
 #include <utility>
 
@@ -16,6 +17,13 @@ namespace cwe {
 namespace {
 
 double degrees(double radians) { return radians * 180.0 / kPi; }
+
+// A value that rounds to zero at `decimals` places, without its sign: "0.000", never "-0.000"
+// (the sign of a rounding residue, such as the mean lateral force of a symmetric slot, says
+// nothing and would differ between runs that agree).
+double unsigned_zero(double value, int decimals) {
+  return std::abs(value) < 0.5 * std::pow(10.0, -decimals) ? 0.0 : value;
+}
 
 }  // namespace
 
@@ -69,12 +77,14 @@ std::string forces_csv_row(std::size_t k, const ClPoint& cl, std::size_t operati
   return fmt::format(
       "{},{},{:.{}f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.5f},{:.5f},{:.3f},{},{},"
       "{:.{}f},{:.1f},{:.{}f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{}\n",
-      k, cl.move + 1, unit.length(f.feed_per_tooth), 6 + e, f.mean_force.x(), f.mean_force.y(),
-      f.mean_force.z(), f.peak_force.x(), f.peak_force.y(), f.peak_force.z(), f.peak_resultant,
-      f.mean_torque, f.peak_torque, f.mean_power, cl.line, operation, unit.length(feed_rate), 3 + e,
-      f.spindle_speed, unit.length(f.max_chip), 6 + e, f.mean_force_world.x(),
-      f.mean_force_world.y(), f.mean_force_world.z(), f.peak_force_world.x(),
-      f.peak_force_world.y(), f.peak_force_world.z(), tool);
+      k, cl.move + 1, unit.length(f.feed_per_tooth), 6 + e, unsigned_zero(f.mean_force.x(), 3),
+      unsigned_zero(f.mean_force.y(), 3), unsigned_zero(f.mean_force.z(), 3), f.peak_force.x(),
+      f.peak_force.y(), f.peak_force.z(), f.peak_resultant, unsigned_zero(f.mean_torque, 5),
+      f.peak_torque, unsigned_zero(f.mean_power, 3), cl.line, operation, unit.length(feed_rate),
+      3 + e, f.spindle_speed, unit.length(f.max_chip), 6 + e,
+      unsigned_zero(f.mean_force_world.x(), 3), unsigned_zero(f.mean_force_world.y(), 3),
+      unsigned_zero(f.mean_force_world.z(), 3), f.peak_force_world.x(), f.peak_force_world.y(),
+      f.peak_force_world.z(), tool);
 }
 
 // One engagement.jsonl line: the engaged discs and rings, angles in degrees, heights and radii in
@@ -117,11 +127,13 @@ std::string engagement_csv_row(std::size_t k, const ClPoint& cl, const ToolState
                                const ReportUnit& unit) {
   const int p = 4 + unit.extra_decimals;
   const Vec3 at = cl.position / unit.mm;
+  const auto unit6 = [](double value) { return unsigned_zero(value, 6); };
   return fmt::format(
       "{},{},{},{:.{}f},{:.{}f},{:.{}f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{},"
       "{:.3f},{:.3f},{:.{}f},{:.{}f},{:.6f},{:.{}f},{},{},{}\n",
-      k, cl.move + 1, cl.line, at.x(), p, at.y(), p, at.z(), p, cl.axis.x(), cl.axis.y(),
-      cl.axis.z(), cl.feed_direction.x(), cl.feed_direction.y(), cl.feed_direction.z(),
+      k, cl.move + 1, cl.line, unsigned_zero(at.x(), p), p, unsigned_zero(at.y(), p), p,
+      unsigned_zero(at.z(), p), p, unit6(cl.axis.x()), unit6(cl.axis.y()), unit6(cl.axis.z()),
+      unit6(cl.feed_direction.x()), unit6(cl.feed_direction.y()), unit6(cl.feed_direction.z()),
       map.engaged ? 1 : 0, degrees(map.phi_entry), degrees(map.phi_exit),
       unit.length(map.axial_depth), p, unit.area(map.area), p + unit.extra_decimals, cl.u,
       unit.length(cl.path_length), p, to_string(state.motion), operation, tool);
