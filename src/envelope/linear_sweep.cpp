@@ -173,6 +173,17 @@ LinearSweep::LinearSweep(const Cutter& cutter, const Vec3& start, const Vec3& en
         if (r > widest) widest = r, widest_height_ = h;
       }
     }
+    // A ball end with its whole ball inside the tool (the cylinder reaches 2R above the tip).
+    const double r = cutter.profile().max_radius();
+    if (mode_ == Mode::kGeneric && segments.size() == 2 &&
+        segments[0].kind == ProfileSegment::Kind::kArc && segments[0].center == Vec2(0.0, r) &&
+        segments[0].radius == r && segments[0].start == Vec2(0.0, 0.0) &&
+        segments[0].end == Vec2(r, r) && segments[1].kind == ProfileSegment::Kind::kLine &&
+        segments[1].start == Vec2(r, r) && segments[1].end.x() == r &&
+        segments[1].end.y() >= 2.0 * r) {
+      ball_radius_ = r;
+      ball_top_ = segments[1].end.y();
+    }
     if (mode_ == Mode::kLevel) {
       path_start_ = start.head<2>();
       const Vec2 along = end.head<2>() - path_start_;
@@ -280,6 +291,78 @@ Interval LinearSweep::level_chord(const Ray& ray) const {
   return {std::min(a, b), std::max(a, b)};
 }
 
+Interval LinearSweep::ball_chord(const Ray& ray) const {
+  const Vec3& o = ray.origin;
+  const Vec3& d = ray.direction;
+  const double r = ball_radius_, top = ball_top_;
+  const Vec3 feed = end_ - start_;
+  const double a = d.squaredNorm();
+  Hull hull;
+  // The ball's capsule: the balls at both ends, and the cylinder of radius r about the centre's
+  // path where the ray meets it between the two ends.
+  const Vec3 centre = start_ + Vec3(0.0, 0.0, r);
+  for (const Vec3& c : {centre, Vec3(centre + feed)}) {
+    const Vec3 w = o - c;
+    const double b = w.dot(d), gap = b * b - a * (w.squaredNorm() - r * r);
+    if (gap < 0.0) continue;
+    const double root = std::sqrt(gap);
+    hull.add((-b - root) / a), hull.add((-b + root) / a);
+  }
+  const double feed2 = feed.squaredNorm();
+  if (feed2 > 0.0) {
+    const Vec3 rel = o - centre;
+    const Vec3 m = d - (d.dot(feed) / feed2) * feed, w = rel - (rel.dot(feed) / feed2) * feed;
+    const double mm = m.squaredNorm();
+    if (mm > 0.0) {
+      const double b = m.dot(w), gap = b * b - mm * (w.squaredNorm() - r * r);
+      if (gap >= 0.0) {
+        const double root = std::sqrt(gap);
+        for (const double t : {(-b - root) / mm, (-b + root) / mm}) {
+          const double u = (rel + t * d).dot(feed) / feed2;
+          if (u >= 0.0 && u <= 1.0) hull.add(t);
+        }
+      }
+    }
+  }
+  // The cylinder (radius r, heights r to `top` above the tip) swept along the feed: at the path
+  // parameter u its plan disc is about start + u·feed and its heights are shifted by u·feed_z.
+  const Vec2 plan = feed.head<2>();
+  if (d.x() == 0.0 && d.y() == 0.0) {
+    // A vertical ray: the u whose disc holds the ray's plan point, then their heights' hull.
+    const Vec2 q = o.head<2>() - start_.head<2>();
+    const double p2 = plan.squaredNorm(), b = q.dot(plan), c = q.squaredNorm() - r * r;
+    double u0 = 0.0, u1 = 1.0;
+    if (p2 > 0.0) {
+      const double gap = b * b - p2 * c;
+      if (gap < 0.0) return hull.interval();
+      const double root = std::sqrt(gap);
+      u0 = std::max(0.0, (b - root) / p2);
+      u1 = std::min(1.0, (b + root) / p2);
+    } else if (c > 0.0) {
+      return hull.interval();
+    }
+    if (u0 > u1) return hull.interval();
+    const double low = start_.z() + r + std::min(u0 * feed.z(), u1 * feed.z());
+    const double high = start_.z() + top + std::max(u0 * feed.z(), u1 * feed.z());
+    hull.add((low - o.z()) / d.z()), hull.add((high - o.z()) / d.z());
+    return hull.interval();
+  }
+  // A horizontal ray: the u whose heights hold the ray's, then the plan capsule of their discs.
+  const double h = o.z() - start_.z();
+  double u0 = 0.0, u1 = 1.0;
+  if (feed.z() != 0.0) {
+    const double first = (h - top) / feed.z(), last = (h - r) / feed.z();
+    u0 = std::max(0.0, std::min(first, last));
+    u1 = std::min(1.0, std::max(first, last));
+  } else if (h < r || h > top) {
+    return hull.interval();
+  }
+  if (u0 > u1) return hull.interval();
+  hull.add(capsule_chord(o.head<2>(), d.head<2>(), start_.head<2>() + u0 * plan,
+                         start_.head<2>() + u1 * plan, r));
+  return hull.interval();
+}
+
 Interval LinearSweep::axial_chord(const Ray& ray) const {
   const Vec3& o = ray.origin;
   const Vec3& d = ray.direction;
@@ -327,6 +410,9 @@ Interval LinearSweep::chord(const Ray& ray) const {
     if (ray.origin.z() < floor - tol::kLength * (1.0 + std::abs(floor) / tol::kModelScale)) {
       return Interval::empty();
     }
+  }
+  if (ball_radius_ > 0.0 && (vertical || (horizontal && (d.x() == 0.0 || d.y() == 0.0)))) {
+    return ball_chord(ray);
   }
   return generic_chord(ray);
 }

@@ -81,6 +81,9 @@ class LinearSweep {
   Vec3 grazing_point(int segment, int branch, double u, bool& exists) const;
   Interval level_chord(const Ray& ray) const;
   Interval axial_chord(const Ray& ray) const;
+  // A ball end standing along +Z, moved in any direction, on a ray along X, Y or Z (see
+  // ball_radius_).
+  Interval ball_chord(const Ray& ray) const;
   // Plan distance from a point to the tip's path (vertical tools).
   double plan_gap(const Vec3& p) const;
   // Level mode: the extent along world axis `along` (0 or 1) of the capsule of radius r about
@@ -113,6 +116,12 @@ class LinearSweep {
   double widest_height_ = 0.0;
   Vec2 path_start_ = Vec2::Zero(), path_along_ = Vec2::UnitX();
   double path_length_ = 0.0;
+  // A ball end (a quarter circle about (0, R), then the cylinder of radius R up to the top h)
+  // standing along +Z with h ≥ 2R: the tool is the union of the whole ball and the cylinder,
+  // both convex, so the sweep is the union of the ball's capsule about the centre's path and
+  // the cylinder swept along D, and a ray's chord is the hull of its chords through the two.
+  // 0 for other tools.
+  double ball_radius_ = 0.0, ball_top_ = 0.0;
 };
 
 }  // namespace cwe
