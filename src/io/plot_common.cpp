@@ -116,6 +116,37 @@ std::string render_png(int width, int height, const DrawFigure& draw) {
                     cairo_image_surface_get_stride(surface.get()), width, height);
 }
 
+namespace {
+
+// Cairo numbers its surfaces across the process ("surface586"), so a figure's ids depended on how
+// many figures were drawn before it, and on their timing when figures are drawn on several
+// threads. Renumbered from 1 in order of appearance (references follow, being the same token),
+// the same figure gives the same bytes.
+std::string renumber_surfaces(const std::string& svg) {
+  constexpr std::string_view kToken = "surface";
+  std::vector<std::string> seen;
+  std::string out;
+  out.reserve(svg.size());
+  std::size_t at = 0;
+  for (std::size_t found = svg.find(kToken); found != std::string::npos;
+       found = svg.find(kToken, at)) {
+    std::size_t end = found + kToken.size();
+    while (end < svg.size() && svg[end] >= '0' && svg[end] <= '9') ++end;
+    out.append(svg, at, found + kToken.size() - at);
+    at = end;
+    if (end == found + kToken.size()) continue;  // the word without a number
+    const std::string number = svg.substr(found + kToken.size(), end - found - kToken.size());
+    const auto index =
+        static_cast<std::size_t>(std::find(seen.begin(), seen.end(), number) - seen.begin());
+    if (index == seen.size()) seen.push_back(number);
+    out += std::to_string(index + 1);
+  }
+  out.append(svg, at, std::string::npos);
+  return out;
+}
+
+}  // namespace
+
 std::string render_svg(int width, int height, const DrawFigure& draw) {
   std::string bytes;
   const SurfacePtr surface{
@@ -131,7 +162,7 @@ std::string render_svg(int width, int height, const DrawFigure& draw) {
   }
   cairo_surface_finish(surface.get());  // writes the document's end
   check(cairo_surface_status(surface.get()), "SVG figure");
-  return bytes;
+  return renumber_surfaces(bytes);
 }
 
 std::string with_svg_text(const std::string& svg, const std::string& title,
