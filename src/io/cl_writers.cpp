@@ -8,6 +8,7 @@
 #include <utility>
 
 #include <fmt/format.h>
+#include <tbb/task_group.h>
 
 #include "cwe/core/error.hpp"
 #include "cwe/core/text_file.hpp"
@@ -179,13 +180,26 @@ void EngagementFiles::flush(bool force) {
   forces_block_.clear();
 }
 
+struct Figures::Drawing {
+  tbb::task_group tasks;
+};
+
 Figures::Figures(const std::filesystem::path& folder, MapChoice maps, MapChoice curves, bool forces,
                  std::size_t cl_count)
     : maps_(std::move(maps)),
       curves_(std::move(curves)),
       map_folder_(folder, "maps"),
-      path_stride_(std::max<std::size_t>(1, (cl_count + kPathPoints - 1) / kPathPoints)) {
+      path_stride_(std::max<std::size_t>(1, (cl_count + kPathPoints - 1) / kPathPoints)),
+      drawing_(std::make_unique<Drawing>()) {
   if (forces) curve_folder_.emplace(folder, "force_curves");
+}
+
+Figures::~Figures() {
+  // Unwinding from an error elsewhere: the figures' own errors no longer matter.
+  try {
+    drawing_->tasks.wait();
+  } catch (...) {  // NOLINT(bugprone-empty-catch)
+  }
 }
 
 bool Figures::wants_curve(std::size_t index, bool engaged) {
@@ -208,29 +222,36 @@ void Figures::add(const ClResult& r) {
       fmt::format("CL {} · move {} ({} line {})", k, r.cl.move + 1,
                   std::filesystem::path(r.file).filename().string(), r.cl.line);
   const std::string name = fmt::format("cl_{:06d}", k);
+  // The figures are drawn from copies: the CL's data is gone once the sink returns.
   if (curve) {
     const ClForces& f = *r.forces;
-    const ForcePlotInfo info{fmt::format("{} · fz {:.4f} mm · {:.0f} rev/min", place,
-                                         f.feed_per_tooth, f.spindle_speed)};
-    curve_folder_->write(name + ".csv", force_curve_csv(f.curve));
-    curve_folder_->write(name + ".png", force_curve_png(f.curve, info));
-    curve_folder_->write(name + ".svg", force_curve_svg(f.curve, info));
+    ForcePlotInfo info{fmt::format("{} · fz {:.4f} mm · {:.0f} rev/min", place, f.feed_per_tooth,
+                                   f.spindle_speed)};
+    drawing_->tasks.run([this, name, curve = f.curve, info = std::move(info)] {
+      curve_folder_->write(name + ".csv", force_curve_csv(curve));
+      curve_folder_->write(name + ".png", force_curve_png(curve, info));
+      curve_folder_->write(name + ".svg", force_curve_svg(curve, info));
+    });
     ++curves_written_;
   }
   if (!chosen) return;
-  const MapPlotInfo info{fmt::format("{} · {}", place, r.cutter.name()), 0.5 * r.cutter.diameter(),
-                         r.cutter.flute_length()};
-  map_folder_.write(name + ".png", engagement_map_png(map, info));
-  map_folder_.write(name + ".svg", engagement_map_svg(map, info));
+  MapPlotInfo info{fmt::format("{} · {}", place, r.cutter.name()), 0.5 * r.cutter.diameter(),
+                   r.cutter.flute_length()};
+  drawing_->tasks.run([this, name, map, info = std::move(info)] {
+    map_folder_.write(name + ".png", engagement_map_png(map, info));
+    map_folder_.write(name + ".svg", engagement_map_svg(map, info));
+  });
   ++maps_written_;
 }
 
 void Figures::finish(const std::string& title) {
+  drawing_->tasks.wait();
   map_folder_.write("path.png", engagement_path_png(along_, title));
   map_folder_.write("path.svg", engagement_path_svg(along_, title));
 }
 
 void Figures::commit() {
+  drawing_->tasks.wait();
   map_folder_.commit();
   if (curve_folder_) curve_folder_->commit();
 }

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -105,12 +106,18 @@ class EngagementFiles : public ClSink {
 // force_curves/ (the chosen CLs' force-versus-angle curves) in `folder`.
 class Figures : public ClSink {
  public:
+  // A CL's figures are drawn and written on another thread while the job goes on (the sink runs
+  // in order, and a figure held the whole pipeline up while it was drawn and synced); finish()
+  // and commit() wait for them, and report the first that failed.
   // The path plot keeps at most about this many CLs (40 bytes each): of a job with more, every
   // k-th (the plot is about a thousand pixels wide).
   static constexpr std::size_t kPathPoints = 1'000'000;
   // `cl_count`: the job's CLs, for the path plot's stride.
   Figures(const std::filesystem::path& folder, MapChoice maps, MapChoice curves, bool forces,
           std::size_t cl_count);
+  ~Figures() override;
+  Figures(const Figures&) = delete;
+  Figures& operator=(const Figures&) = delete;
   bool wants_curve(std::size_t index, bool engaged) override;
   void add(const ClResult& r) override;
   void finish(const std::string& title);  // draws the path plot
@@ -126,6 +133,8 @@ class Figures : public ClSink {
   std::size_t path_stride_ = 1;  // every path_stride_-th CL in along_
   bool curve_ = false;           // the CL being added asked for its curve
   std::size_t maps_written_ = 0, curves_written_ = 0;
+  struct Drawing;                    // the figures being drawn
+  std::unique_ptr<Drawing> drawing_;
 };
 
 }  // namespace cwe
