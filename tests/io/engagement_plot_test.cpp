@@ -100,6 +100,15 @@ TEST(EngagementPlot, MapSvgIsAWholeDocument) {
   EXPECT_NE(svg.find("height=\"600"), std::string::npos);
 }
 
+// The same map gives the same SVG bytes whatever was drawn before it (cairo numbers its
+// surfaces across the process; figures are drawn on several threads in any order).
+TEST(EngagementPlot, MapSvgBytesDoNotDependOnEarlierFigures) {
+  const std::string first = engagement_map_svg(sample_map(true), kInfo);
+  engagement_map_svg(sample_map(false), kInfo);
+  engagement_map_png(sample_map(true), kInfo);
+  EXPECT_EQ(engagement_map_svg(sample_map(true), kInfo), first);
+}
+
 TEST(EngagementPlot, EmptyMapAndMapWithoutEngagementDraw) {
   const EngagementMap empty;
   EXPECT_DOUBLE_EQ(layout::depth_axis_top(empty, kInfo), 5.0);
