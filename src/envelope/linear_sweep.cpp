@@ -88,6 +88,27 @@ Interval capsule_chord(const Vec2& o, const Vec2& d, const Vec2& c0, const Vec2&
   return hull.interval();
 }
 
+// A ball of radius r swept along D from the centre c: where the ray o + t·d (rel = o - c)
+// crosses the cylinder of radius r about the centre's path with its foot on the path between
+// the two end balls, at path fraction λ ∈ [0, 1]: visit(t, λ) for each (at most two).
+template <class Visit>
+void swept_ball_side(const Vec3& rel, const Vec3& d, const Vec3& feed, double r, Visit&& visit) {
+  const double feed2 = feed.squaredNorm();
+  if (!(feed2 > 0.0)) return;
+  const Vec3 p0 = rel - (rel.dot(feed) / feed2) * feed;
+  const Vec3 m = d - (d.dot(feed) / feed2) * feed;
+  const double a = m.squaredNorm();
+  if (!(a > 0.0)) return;
+  const double b = p0.dot(m);
+  const double disc = b * b - a * (p0.squaredNorm() - r * r);
+  if (disc < 0.0) return;
+  const double root = std::sqrt(disc);
+  for (const double t : {(-b - root) / a, (-b + root) / a}) {
+    const double lambda = (rel + t * d).dot(feed) / feed2;
+    if (lambda >= 0.0 && lambda <= 1.0) visit(t, lambda);
+  }
+}
+
 }  // namespace
 
 LinearSweep::LinearSweep(const Cutter& cutter, const Vec3& start, const Vec3& end, const Vec3& axis)
@@ -296,11 +317,14 @@ Interval LinearSweep::ball_chord(const Ray& ray) const {
   const Vec3& d = ray.direction;
   const double r = ball_radius_, top = ball_top_;
   const Vec3 feed = end_ - start_;
-  const double a = d.squaredNorm();
   Hull hull;
   // The ball's capsule: the balls at both ends, and the cylinder of radius r about the centre's
   // path where the ray meets it between the two ends.
   const Vec3 centre = start_ + Vec3(0.0, 0.0, r);
+  // The end balls by their quadratic: intersect(Ray, Sphere) gives the same chords with a
+  // tangency allowance removal has no use for (a touching ray removes nothing), and cost a
+  // quarter of a ball raster's removal time here.
+  const double a = d.squaredNorm();
   for (const Vec3& c : {centre, Vec3(centre + feed)}) {
     const Vec3 w = o - c;
     const double b = w.dot(d), gap = b * b - a * (w.squaredNorm() - r * r);
@@ -308,22 +332,7 @@ Interval LinearSweep::ball_chord(const Ray& ray) const {
     const double root = std::sqrt(gap);
     hull.add((-b - root) / a), hull.add((-b + root) / a);
   }
-  const double feed2 = feed.squaredNorm();
-  if (feed2 > 0.0) {
-    const Vec3 rel = o - centre;
-    const Vec3 m = d - (d.dot(feed) / feed2) * feed, w = rel - (rel.dot(feed) / feed2) * feed;
-    const double mm = m.squaredNorm();
-    if (mm > 0.0) {
-      const double b = m.dot(w), gap = b * b - mm * (w.squaredNorm() - r * r);
-      if (gap >= 0.0) {
-        const double root = std::sqrt(gap);
-        for (const double t : {(-b - root) / mm, (-b + root) / mm}) {
-          const double u = (rel + t * d).dot(feed) / feed2;
-          if (u >= 0.0 && u <= 1.0) hull.add(t);
-        }
-      }
-    }
-  }
+  swept_ball_side(o - centre, d, feed, r, [&](double t, double) { hull.add(t); });
   // The cylinder (radius r, heights r to `top` above the tip) swept along the feed: at the path
   // parameter u its plan disc is about start + u·feed and its heights are shifted by u·feed_z.
   const Vec2 plan = feed.head<2>();
@@ -495,27 +504,14 @@ Interval LinearSweep::generic_chord(const Ray& ray) const {
     const double u = std::clamp(g0 == g1 ? 0.0 : g0 / (g0 - g1), 0.0, 1.0);
     add_point(generator.a + u * (generator.b - generator.a));
   }
-  // Swept great circles of spheres: the cylinder of radius r about the centre's path.
-  const double feed2 = delta_.squaredNorm();
+  // Swept great circles of spheres: the cylinder of radius r about the centre's path, where the
+  // grazing point lies on the sphere's piece of the profile.
   for (const SpherePiece& sphere : spheres_) {
-    const Vec3 c(0.0, 0.0, sphere.center_z);
-    const Vec3 rel = o - c;
-    const Vec3 p0 = rel - (rel.dot(delta_) / feed2) * delta_;
-    const Vec3 m = d - (d.dot(delta_) / feed2) * delta_;
-    const double a = m.squaredNorm();
-    if (!(a > 0.0)) continue;
-    const double b = p0.dot(m);
-    const double disc = b * b - a * (p0.squaredNorm() - sphere.radius * sphere.radius);
-    if (disc < 0.0) continue;
-    const double root = std::sqrt(disc);
-    for (const double t : {(-b - root) / a, (-b + root) / a}) {
-      const Vec3 x = rel + t * d;  // relative to the centre at the start
-      const double lambda = x.dot(delta_) / feed2;
-      if (lambda < 0.0 || lambda > 1.0) continue;
-      const double height = sphere.center_z + (x - lambda * delta_).z();  // of the grazing point
-      if (height < sphere.z0 || height > sphere.z1) continue;
-      hull.add(t);
-    }
+    const Vec3 rel = o - Vec3(0.0, 0.0, sphere.center_z);
+    swept_ball_side(rel, d, delta_, sphere.radius, [&](double t, double lambda) {
+      const double height = sphere.center_z + (rel + t * d - lambda * delta_).z();
+      if (height >= sphere.z0 && height <= sphere.z1) hull.add(t);
+    });
   }
   // Swept grazing curves of arcs: sign changes of the crossing function between samples,
   // refined by Brent's method; a root counts only where the grazing angle exists.
