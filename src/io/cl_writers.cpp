@@ -23,7 +23,11 @@ double degrees(double radians) { return radians * 180.0 / kPi; }
 // (the sign of a rounding residue, such as the mean lateral force of a symmetric slot, says
 // nothing and would differ between runs that agree).
 double unsigned_zero(double value, int decimals) {
-  return std::abs(value) < 0.5 * std::pow(10.0, -decimals) ? 0.0 : value;
+  // Half a unit of the last decimal, for the columns' 0 to 9 decimals (no pow per value).
+  static constexpr double kHalfUnit[] = {0.5,  0.05, 5e-3, 5e-4, 5e-5,
+                                         5e-6, 5e-7, 5e-8, 5e-9, 5e-10};
+  const double half = kHalfUnit[std::clamp(decimals, 0, 9)];
+  return std::abs(value) < half ? 0.0 : value;
 }
 
 }  // namespace
