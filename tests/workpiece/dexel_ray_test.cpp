@@ -81,9 +81,32 @@ TEST(DexelRay, RandomCutsMatchTheReference) {
       const double a = random.uniform(-5, 105);
       const double b = a + random.uniform(0, 8);
       const double before = r.length();
-      r.subtract(a, b);
+      const std::vector<Interval> was = r.intervals();
+      std::vector<Interval> taken;
+      const double removed = r.subtract(a, b, &taken);
       reference = subtract_reference(reference, a, b);
       ASSERT_LE(r.length(), before);
+      // What it reports taking: the stretches it lost, in order, whose lengths sum to the
+      // returned length (the same float differences summed the same way); > 0 when the ray
+      // changed (also, by design, for a cut that changed it by less than float rounding).
+      if (r.intervals() != was) {
+        ASSERT_GT(removed, 0.0);
+      }
+      double sum = 0.0;
+      for (std::size_t i = 0; i < taken.size(); ++i) {
+        ASSERT_LT(taken[i].lo, taken[i].hi);
+        if (i > 0) {
+          ASSERT_LT(taken[i - 1].hi, taken[i].lo);
+        }
+        ASSERT_GE(taken[i].lo, std::max(a, was.front().lo) - 1e-5);
+        ASSERT_LE(taken[i].hi, std::min(b, was.back().hi) + 1e-5);
+        sum += taken[i].hi - taken[i].lo;
+      }
+      if (!taken.empty()) {
+        ASSERT_EQ(removed, sum);
+      }
+      ASSERT_NEAR(before - r.length(), removed, 1e-4);
+      ASSERT_NEAR(before - r.length(), sum, 1e-4);
       const auto got = r.intervals();
       ASSERT_EQ(got.size(), reference.size());
       // The extent spans the first to the last interval, in every storage layout.
