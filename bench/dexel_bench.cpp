@@ -15,6 +15,7 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <span>
 #include <vector>
 
 #include "cwe/envelope/linear_sweep.hpp"
@@ -101,8 +102,14 @@ void BM_PocketOneByOne(benchmark::State& state) {
     state.ResumeTiming();
     for (const cwe::Move& move : path.moves) {
       const cwe::LinearSweep sweep(cutter, move.start, move.end, move.start_axis);
-      benchmark::DoNotOptimize(
-          stock.remove(sweep.bounds(), [&sweep](const cwe::Ray& ray) { return sweep.chord(ray); }));
+      // As the engagement's removal makes it: chords a row of rays at a time.
+      const cwe::TriDexel::Cut cut{
+          sweep.bounds(),
+          [&sweep](const cwe::Ray& ray) { return sweep.chord(ray); },
+          {},
+          [&sweep](const cwe::Ray& ray, int across, std::span<const double> at,
+                   std::span<cwe::Interval> chords) { sweep.chords(ray, across, at, chords); }};
+      benchmark::DoNotOptimize(stock.remove({cut}));
     }
   }
   report(state, stock, path.moves.size());

@@ -8,9 +8,16 @@
 namespace cwe {
 namespace {
 
-// A linear sweep as a dexel cut: its box, its chords and, where it has one, its cheap reach.
+// A linear sweep as a dexel cut: its box, its chords (ray by ray and row by row) and, where it
+// has one, its cheap reach.
 TriDexel::Cut cut_of(const LinearSweep& piece) {
-  TriDexel::Cut cut{piece.bounds(), [&piece](const Ray& ray) { return piece.chord(ray); }, {}};
+  TriDexel::Cut cut{
+      piece.bounds(),
+      [&piece](const Ray& ray) { return piece.chord(ray); },
+      {},
+      [&piece](const Ray& ray, int across, std::span<const double> at, std::span<Interval> chords) {
+        piece.chords(ray, across, at, chords);
+      }};
   if (piece.has_reach()) cut.reach = [&piece](const Ray& ray) { return piece.reach(ray); };
   return cut;
 }

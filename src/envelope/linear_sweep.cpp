@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "cwe/core/assert.hpp"
 #include "cwe/core/error.hpp"
 #include "cwe/envelope/swept_volume.hpp"
 #include "cwe/geometry/intersect.hpp"
@@ -282,6 +283,14 @@ Interval LinearSweep::capsule_span(const Vec3& o, int along, double r) const {
   return hull.interval();
 }
 
+Interval LinearSweep::level_axis_chord(const Vec3& o, int along, double sign, double r) const {
+  // The capsule's extent on the ray's line, then t = ±(x - o_x).
+  const Interval span = capsule_span(o, along, r);
+  if (span.is_empty()) return span;
+  const double a = sign * (span.lo - o[along]), b = sign * (span.hi - o[along]);
+  return {std::min(a, b), std::max(a, b)};
+}
+
 Interval LinearSweep::level_chord(const Ray& ray) const {
   const Vec3& o = ray.origin;
   const Vec3& d = ray.direction;
@@ -291,13 +300,9 @@ Interval LinearSweep::level_chord(const Ray& ray) const {
     if (!(h >= 0.0 && h <= profile.height())) return Interval::empty();
     const double r = profile.radius_at(h);
     const int along = d.y() == 0.0 ? 0 : 1;
+    // Along world X or Y: in closed form.
     if (d.squaredNorm() == 1.0 && d[1 - along] == 0.0) {
-      // Along world X or Y: the capsule's extent on the ray's line, then t = ±(x - o_x).
-      const Interval span = capsule_span(o, along, r);
-      if (span.is_empty()) return span;
-      const double sign = d[along];
-      const double a = sign * (span.lo - o[along]), b = sign * (span.hi - o[along]);
-      return {std::min(a, b), std::max(a, b)};
+      return level_axis_chord(o, along, d[along], r);
     }
     return capsule_chord(o.head<2>(), d.head<2>(), start_.head<2>(), end_.head<2>(), r);
   }
@@ -424,6 +429,39 @@ Interval LinearSweep::chord(const Ray& ray) const {
     return ball_chord(ray);
   }
   return generic_chord(ray);
+}
+
+void LinearSweep::chords(Ray ray, int across, std::span<const double> at,
+                         std::span<Interval> chords) const {
+  CWE_ASSERT(at.size() == chords.size(), "one chord per ray");
+  const Vec3& d = ray.direction;
+  Vec3& o = ray.origin;
+  const int along = d.y() == 0.0 ? 0 : 1;
+  if (mode_ == Mode::kLevel && d.z() == 0.0 && d.squaredNorm() == 1.0 && d[1 - along] == 0.0) {
+    // Level rays along world X or Y: level_chord's steps without its tests, and where the rays
+    // share their height (a row across them in plan), one radius for the row.
+    const Profile& profile = cutter_->profile();
+    const auto radius = [&](double z, double& r) {
+      const double h = z - start_.z();
+      if (!(h >= 0.0 && h <= profile.height())) return false;
+      r = profile.radius_at(h);
+      return true;
+    };
+    double r = 0.0;
+    const bool level_row = across != 2;
+    const bool reached = level_row && radius(o.z(), r);
+    for (std::size_t k = 0; k < at.size(); ++k) {
+      o[across] = at[k];
+      chords[k] = (level_row ? reached : radius(o.z(), r)) ? level_axis_chord(o, along, d[along], r)
+                                                           : Interval::empty();
+    }
+    return;
+  }
+  const bool vertical = d.x() == 0.0 && d.y() == 0.0 && d.z() != 0.0;
+  for (std::size_t k = 0; k < at.size(); ++k) {
+    o[across] = at[k];
+    chords[k] = mode_ == Mode::kLevel && vertical ? level_chord(ray) : chord(ray);
+  }
 }
 
 double LinearSweep::plan_gap(const Vec3& p) const {

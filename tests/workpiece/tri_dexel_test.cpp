@@ -132,14 +132,17 @@ TEST(TriDexel, RemovalNeverAddsMaterial) {
 }
 
 // Removing several solids in one call is removing them one after the other: the same rays, bit
-// for bit, and the same per-solid removals (each solid's tallies summed in the same tile order).
+// for bit, and the same per-solid removals (each solid's tallies summed in the same tile order),
+// also when the batch takes its chords a row of rays at a time.
 TEST(TriDexel, BatchedRemovalEqualsOneByOne) {
   test::Random random(53);
   const Cutter bull = cutter_from_spec("bull:4,1,12");
   std::vector<LinearSweep> sweeps;
   Vec3 at(2, 2, 5);
   for (int k = 0; k < 30; ++k) {
-    const Vec3 to(random.uniform(-2, 42), random.uniform(-2, 42), random.uniform(3, 9));
+    Vec3 to(random.uniform(-2, 42), random.uniform(-2, 42), random.uniform(3, 9));
+    if (k % 3 == 0) to.z() = at.z();  // level moves: their chords come in closed form
+    if (k % 6 == 0) to.y() = at.y();  // along X
     sweeps.emplace_back(bull, at, to, Vec3::UnitZ());
     at = to;
   }
@@ -150,7 +153,13 @@ TEST(TriDexel, BatchedRemovalEqualsOneByOne) {
   for (const LinearSweep& sweep : sweeps) {
     const auto chord = [&sweep](const Ray& ray) { return sweep.chord(ray); };
     singles.push_back(one.remove(sweep.bounds(), chord));
-    cuts.push_back({sweep.bounds(), chord, {}});
+    // The batch takes the chords a row at a time (as the engagement's removal does).
+    cuts.push_back(
+        {sweep.bounds(),
+         chord,
+         {},
+         [&sweep](const Ray& ray, int across, std::span<const double> along,
+                  std::span<Interval> chords) { sweep.chords(ray, across, along, chords); }});
   }
   const std::vector<TriDexel::Removal> batched = batch.remove(cuts);
   ASSERT_EQ(batched.size(), singles.size());
@@ -211,8 +220,9 @@ TEST(TriDexel, RemovalRecordIsWhatTheRaysLost) {
   const LinearSweep step(ball, {-4, 10, 3}, {34, 12, 5}, Vec3::UnitZ());
   RemovalRecord record;
   const double volume =
-      after.remove({{step.bounds(), [&step](const Ray& ray) { return step.chord(ray); }, {}}},
-                   &record)
+      after
+          .remove({{step.bounds(), [&step](const Ray& ray) { return step.chord(ray); }, {}, {}}},
+                  &record)
           .front()
           .volume;
   ASSERT_FALSE(record.empty());

@@ -30,6 +30,7 @@
 // `generic_chord` always takes the general route; tests hold the closed forms to it.
 
 #include <array>
+#include <span>
 #include <vector>
 
 #include "cwe/geometry/aabb.hpp"
@@ -49,6 +50,10 @@ class LinearSweep {
 
   // The interval of ray parameters inside the swept volume (empty if the ray misses it).
   Interval chord(const Ray& ray) const;
+  // The chords of rays that differ only in their origin's coordinate along world axis `across`:
+  // chords[k] = chord(ray with origin[across] = at[k]), the same numbers, with what the rays share
+  // (the case, and for a row of horizontal rays at one height the tool's radius) found once.
+  void chords(Ray ray, int across, std::span<const double> at, std::span<Interval> chords) const;
   // The same chord by the general construction only (no closed-form shortcut).
   Interval generic_chord(const Ray& ray) const;
 
@@ -80,6 +85,9 @@ class LinearSweep {
 
   Vec3 grazing_point(int segment, int branch, double u, bool& exists) const;
   Interval level_chord(const Ray& ray) const;
+  // Level mode: a ray along world axis `along` (0 or 1; `sign` its direction's component) at a
+  // height where the tool's radius is r.
+  Interval level_axis_chord(const Vec3& o, int along, double sign, double r) const;
   Interval axial_chord(const Ray& ray) const;
   // A ball end standing along +Z, moved in any direction, on a ray along X, Y or Z (see
   // ball_radius_).

@@ -156,7 +156,7 @@ std::array<int, 2> TriDexel::index_range(int axis, int cross, double lo, double 
 }
 
 TriDexel::Removal TriDexel::remove(const Aabb& bounds, const ChordFunction& chord) {
-  return remove(std::vector<Cut>{{bounds, chord, {}}}).front();
+  return remove(std::vector<Cut>{{bounds, chord, {}, {}}}).front();
 }
 
 std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
@@ -225,41 +225,59 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
                     j1 = std::min(r.js[1], tj * kTile + kTile - 1);
           if (i0 > i1 || j0 > j1) continue;
           Tally sum;
+          // Takes `chord` from ray (i, j).
+          const auto take = [&](DexelRay& material, int i, int j, const Interval& chord) {
+            if (chord.is_empty()) return;
+            const auto before = static_cast<std::ptrdiff_t>(material.heap_bytes());
+            double removed = 0.0;
+            if (taken == nullptr) {
+              removed = material.subtract(chord.lo, chord.hi);
+            } else {
+              stretches.clear();
+              removed = material.subtract(chord.lo, chord.hi, &stretches);
+              for (const Interval& s : stretches) {
+                taken->tiles[t].stretches.push_back(
+                    {i, j, static_cast<float>(s.lo), static_cast<float>(s.hi)});
+              }
+            }
+            if (removed == 0.0) return;
+            ++sum.changed;
+            sum.length += removed;
+            sum.heap += static_cast<std::ptrdiff_t>(material.heap_bytes()) - before;
+          };
+          const Cut& cut = cuts[k];
           for (int j = j0; j <= j1; ++j) {
             DexelRay* row = &family[index(a, 0, j)];
             // The ray as ray(a, i, j) makes it, without the index checks: one per row, its origin
             // moved in place (a ray built afresh from a just-written origin stalled on the store).
             Ray ray{domain_.min, Vec3::Unit(a)};
             ray.origin[c] += (j + 0.5) * spacing_[c];
+            // The rays whose material the cut's box (and its reach) holds: with `rows`, gathered
+            // for one call; without, each ray's chord at once.
+            std::array<int, kTile> at_i;
+            std::array<double, kTile> at;
+            std::size_t n = 0;
             for (int i = i0; i <= i1; ++i) {
               DexelRay& material = row[i];
               if (!material.overlaps(r.low, r.high)) continue;
               ray.origin[b] = domain_.min[b] + (i + 0.5) * spacing_[b];
-              if (cuts[k].reach) {
-                const Interval w = cuts[k].reach(ray);
+              if (cut.reach) {
+                const Interval w = cut.reach(ray);
                 if (!material.overlaps(std::max(r.low, w.lo), std::min(r.high, w.hi))) {
                   continue;
                 }
               }
-              const Interval cut = cuts[k].chord(ray);
-              if (cut.is_empty()) continue;
-              const auto before = static_cast<std::ptrdiff_t>(material.heap_bytes());
-              double removed = 0.0;
-              if (taken == nullptr) {
-                removed = material.subtract(cut.lo, cut.hi);
+              if (cut.rows) {
+                at_i[n] = i;
+                at[n++] = ray.origin[b];
               } else {
-                stretches.clear();
-                removed = material.subtract(cut.lo, cut.hi, &stretches);
-                for (const Interval& s : stretches) {
-                  taken->tiles[t].stretches.push_back(
-                      {i, j, static_cast<float>(s.lo), static_cast<float>(s.hi)});
-                }
+                take(material, i, j, cut.chord(ray));
               }
-              if (removed == 0.0) continue;
-              ++sum.changed;
-              sum.length += removed;
-              sum.heap += static_cast<std::ptrdiff_t>(material.heap_bytes()) - before;
             }
+            if (n == 0) continue;
+            std::array<Interval, kTile> chords;
+            cut.rows(ray, b, {at.data(), n}, {chords.data(), n});
+            for (std::size_t m = 0; m < n; ++m) take(row[at_i[m]], at_i[m], j, chords[m]);
           }
           if (sum.changed > 0) tallies[t].emplace_back(k, sum);
         }

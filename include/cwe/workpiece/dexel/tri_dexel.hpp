@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstddef>
 #include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -99,6 +100,12 @@ class TriDexel {
     // Optional: an interval of the ray's parameter that holds the chord, cheaper than the chord
     // itself; a ray whose material misses it is skipped without calling `chord`.
     ChordFunction reach;
+    // Optional: `chord` for a row of rays at once, which removal then calls instead, once per
+    // row of a tile. The rays differ only in their origin's coordinate along world axis
+    // `across`: ray k has origin[across] = at[k], and its chord goes to chords[k].
+    std::function<void(const Ray& ray, int across, std::span<const double> at,
+                       std::span<Interval> chords)>
+        rows;
   };
   std::vector<Removal> remove(const std::vector<Cut>& cuts, RemovalRecord* record = nullptr);
 
