@@ -306,14 +306,18 @@ Interval LinearSweep::level_chord(const Ray& ray) const {
     }
     return capsule_chord(o.head<2>(), d.head<2>(), start_.head<2>(), end_.head<2>(), r);
   }
-  // Vertical ray: its distance from the tip's path decides the heights it meets.
+  return level_vertical_chord(o, d.z());
+}
+
+Interval LinearSweep::level_vertical_chord(const Vec3& o, double dz) const {
+  // Its distance from the tip's path decides the heights it meets.
   const Vec2 q = o.head<2>(), c0 = start_.head<2>(), c1 = end_.head<2>();
   const Vec2 along = c1 - c0;
   const double length2 = along.squaredNorm();
   const double u = length2 > 0.0 ? std::clamp((q - c0).dot(along) / length2, 0.0, 1.0) : 0.0;
   const Interval h = cutter_->profile().heights_reaching((q - c0 - u * along).norm());
   if (h.is_empty()) return h;
-  const double a = (start_.z() + h.lo - o.z()) / d.z(), b = (start_.z() + h.hi - o.z()) / d.z();
+  const double a = (start_.z() + h.lo - o.z()) / dz, b = (start_.z() + h.hi - o.z()) / dz;
   return {std::min(a, b), std::max(a, b)};
 }
 
@@ -457,10 +461,16 @@ void LinearSweep::chords(Ray ray, int across, std::span<const double> at,
     }
     return;
   }
-  const bool vertical = d.x() == 0.0 && d.y() == 0.0 && d.z() != 0.0;
+  if (mode_ == Mode::kLevel && d.x() == 0.0 && d.y() == 0.0 && d.z() != 0.0) {
+    for (std::size_t k = 0; k < at.size(); ++k) {
+      o[across] = at[k];
+      chords[k] = level_vertical_chord(o, d.z());
+    }
+    return;
+  }
   for (std::size_t k = 0; k < at.size(); ++k) {
     o[across] = at[k];
-    chords[k] = mode_ == Mode::kLevel && vertical ? level_chord(ray) : chord(ray);
+    chords[k] = chord(ray);
   }
 }
 
