@@ -177,6 +177,7 @@ class LatticeMesher {
   TriangleMesh run() {
     const auto& cases = cube_cases();
     collect_z_events();
+    reserve();
     Layer lower(layer_size_), upper(layer_size_);  // lower starts as the empty layer -1
     for (int k = -1; k < nz_; ++k) {               // the slab between layers k and k + 1
       fill_layer(k + 1, upper);
@@ -314,6 +315,23 @@ class LatticeMesher {
     std::vector<std::size_t> fill(z_event_start_.begin(), z_event_start_.end() - 1);
     for_each_flip(
         [&](int k, std::size_t p) { z_events_[fill[static_cast<std::size_t>(k)]++] = p; });
+  }
+
+  // Room for the whole mesh at once: grown by doubling, it was copied and its pages faulted in
+  // again. Each crossing of a lattice ray with the surface (an interval end) crosses a lattice
+  // cell, which gives about two triangles, and a closed mesh has about half as many vertices as
+  // triangles; the cells along edges and corners of the surface give more (2.1 triangles per
+  // crossing on a pocketed block), so a quarter is added. Where rays of two or three families
+  // cross the surface this asks for more than is used, which costs address space only: pages
+  // never written are never mapped.
+  void reserve() {
+    std::size_t ends = z_events_.size();
+    for (int k = 0; k < nz_; ++k) {
+      for (int j = 0; j < ny_; ++j) ends += 2 * stock_.at(0, fine(1, j), fine(2, k)).count();
+      for (int i = 0; i < nx_; ++i) ends += 2 * stock_.at(1, fine(2, k), fine(0, i)).count();
+    }
+    mesh_.triangles.reserve(ends / 2 * 5);
+    mesh_.vertices.reserve(ends / 4 * 5);
   }
 
   // The bits of layer k: the two-of-three vote of the rays through each point, padding empty.

@@ -36,7 +36,8 @@
 // and the features lost grow to about k·s, and the triangle count falls as 1/k².
 //
 // Memory: bits and vertex indices for two lattice layers at a time (a few bytes per point of a
-// layer) plus one cursor per ray along the slab axis; the output mesh is the only full-size data.
+// layer) plus one cursor per ray along the slab axis; the output mesh is the only full-size data
+// (reserved at once, from the lattice rays' interval ends, rather than grown by doubling).
 // Cost: linear in the lattice points, (nx + 2)(ny + 2)(nz + 2).
 
 #include "cwe/geometry/triangle_mesh.hpp"
