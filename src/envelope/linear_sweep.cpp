@@ -306,18 +306,18 @@ Interval LinearSweep::level_chord(const Ray& ray) const {
     }
     return capsule_chord(o.head<2>(), d.head<2>(), start_.head<2>(), end_.head<2>(), r);
   }
-  return level_vertical_chord(o, d.z());
+  return level_vertical_chord(o.head<2>(), o.z(), d.z());
 }
 
-Interval LinearSweep::level_vertical_chord(const Vec3& o, double dz) const {
+Interval LinearSweep::level_vertical_chord(const Vec2& q, double oz, double dz) const {
   // Its distance from the tip's path decides the heights it meets.
-  const Vec2 q = o.head<2>(), c0 = start_.head<2>(), c1 = end_.head<2>();
+  const Vec2 c0 = start_.head<2>(), c1 = end_.head<2>();
   const Vec2 along = c1 - c0;
   const double length2 = along.squaredNorm();
   const double u = length2 > 0.0 ? std::clamp((q - c0).dot(along) / length2, 0.0, 1.0) : 0.0;
   const Interval h = cutter_->profile().heights_reaching((q - c0 - u * along).norm());
   if (h.is_empty()) return h;
-  const double a = (start_.z() + h.lo - o.z()) / dz, b = (start_.z() + h.hi - o.z()) / dz;
+  const double a = (start_.z() + h.lo - oz) / dz, b = (start_.z() + h.hi - oz) / dz;
   return {std::min(a, b), std::max(a, b)};
 }
 
@@ -461,16 +461,21 @@ void LinearSweep::chords(Ray ray, int across, std::span<const double> at,
     }
     return;
   }
-  if (mode_ == Mode::kLevel && d.x() == 0.0 && d.y() == 0.0 && d.z() != 0.0) {
+  if (mode_ == Mode::kLevel && d.x() == 0.0 && d.y() == 0.0 && d.z() != 0.0 && across != 2) {
+    // The plan point made whole, not written into the origin and read back as a pair (which
+    // stalled on the store).
     for (std::size_t k = 0; k < at.size(); ++k) {
-      o[across] = at[k];
-      chords[k] = level_vertical_chord(o, d.z());
+      const Vec2 q = across == 0 ? Vec2(at[k], o.y()) : Vec2(o.x(), at[k]);
+      chords[k] = level_vertical_chord(q, o.z(), d.z());
     }
     return;
   }
   for (std::size_t k = 0; k < at.size(); ++k) {
-    o[across] = at[k];
-    chords[k] = chord(ray);
+    // Each ray made whole (see above).
+    const Ray each{
+        Vec3(across == 0 ? at[k] : o.x(), across == 1 ? at[k] : o.y(), across == 2 ? at[k] : o.z()),
+        d};
+    chords[k] = chord(each);
   }
 }
 

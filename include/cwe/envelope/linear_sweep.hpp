@@ -88,8 +88,9 @@ class LinearSweep {
   // Level mode: a ray along world axis `along` (0 or 1; `sign` its direction's component) at a
   // height where the tool's radius is r.
   Interval level_axis_chord(const Vec3& o, int along, double sign, double r) const;
-  // Level mode: a vertical ray through o, its direction's z component dz.
-  Interval level_vertical_chord(const Vec3& o, double dz) const;
+  // Level mode: a vertical ray through plan point q and height oz, its direction's z component
+  // dz.
+  Interval level_vertical_chord(const Vec2& q, double oz, double dz) const;
   Interval axial_chord(const Ray& ray) const;
   // A ball end standing along +Z, moved in any direction, on a ray along X, Y or Z (see
   // ball_radius_).
