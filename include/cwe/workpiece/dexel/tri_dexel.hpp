@@ -152,9 +152,13 @@ class TriDexel {
     ray.axis = a;
     ray.i = static_cast<int>(fi);
     ray.j = static_cast<int>(fj);
-    ray.origin = domain_.min;
-    ray.origin[b] += (fi + 0.5) * spacing_[b];
-    ray.origin[c] += (fj + 0.5) * spacing_[c];
+    // The origin made whole from registers, not written coordinate by coordinate into memory
+    // (the vector loads that read it soon after stalled on those stores).
+    const double ob = domain_.min[b] + (fi + 0.5) * spacing_[b];
+    const double oc = domain_.min[c] + (fj + 0.5) * spacing_[c];
+    ray.origin = Vec3(a == 0 ? domain_.min.x() : (b == 0 ? ob : oc),
+                      a == 1 ? domain_.min.y() : (b == 1 ? ob : oc),
+                      a == 2 ? domain_.min.z() : (b == 2 ? ob : oc));
     ray.along = normal[a];
     return true;
   }
