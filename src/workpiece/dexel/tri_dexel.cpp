@@ -248,10 +248,19 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
           const Cut& cut = cuts[k];
           for (int j = j0; j <= j1; ++j) {
             DexelRay* row = &family[index(a, 0, j)];
-            // The ray as ray(a, i, j) makes it, without the index checks: one per row, its origin
-            // moved in place (a ray built afresh from a just-written origin stalled on the store).
-            Ray ray{domain_.min, Vec3::Unit(a)};
-            ray.origin[c] += (j + 0.5) * spacing_[c];
+            // The row's rays as ray(a, i, j) makes them, without the index checks: the row's
+            // origin, and each ray's origin made whole from registers where it is passed on (an
+            // origin written coordinate by coordinate and read back at once as a vector stalled
+            // on the stores).
+            Ray row_ray{domain_.min, Vec3::Unit(a)};
+            row_ray.origin[c] += (j + 0.5) * spacing_[c];
+            const double oc = domain_.min[c] + (j + 0.5) * spacing_[c];
+            const auto ray_at = [&](double ob) {
+              return Ray{Vec3(a == 0 ? domain_.min.x() : (b == 0 ? ob : oc),
+                              a == 1 ? domain_.min.y() : (b == 1 ? ob : oc),
+                              a == 2 ? domain_.min.z() : (b == 2 ? ob : oc)),
+                         row_ray.direction};
+            };
             // The rays whose material the cut's box (and its reach) holds: with `rows`, gathered
             // for one call; without, each ray's chord at once.
             std::array<int, kTile> at_i;
@@ -260,23 +269,23 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
             for (int i = i0; i <= i1; ++i) {
               DexelRay& material = row[i];
               if (!material.overlaps(r.low, r.high)) continue;
-              ray.origin[b] = domain_.min[b] + (i + 0.5) * spacing_[b];
+              const double ob = domain_.min[b] + (i + 0.5) * spacing_[b];
               if (cut.reach) {
-                const Interval w = cut.reach(ray);
+                const Interval w = cut.reach(ray_at(ob));
                 if (!material.overlaps(std::max(r.low, w.lo), std::min(r.high, w.hi))) {
                   continue;
                 }
               }
               if (cut.rows) {
                 at_i[n] = i;
-                at[n++] = ray.origin[b];
+                at[n++] = ob;
               } else {
-                take(material, i, j, cut.chord(ray));
+                take(material, i, j, cut.chord(ray_at(ob)));
               }
             }
             if (n == 0) continue;
             std::array<Interval, kTile> chords;
-            cut.rows(ray, b, {at.data(), n}, {chords.data(), n});
+            cut.rows(row_ray, b, {at.data(), n}, {chords.data(), n});
             for (std::size_t m = 0; m < n; ++m) take(row[at_i[m]], at_i[m], j, chords[m]);
           }
           if (sum.changed > 0) tallies[t].emplace_back(k, sum);
