@@ -423,7 +423,8 @@ Interval LinearSweep::chord(const Ray& ray) const {
     const double o = ray.origin[across];
     const double gap = o < a0 ? a0 - o : (o > a1 ? o - a1 : 0.0);
     if (gap > plan_radius_ * (1.0 + tol::kRelative) + tol::kLength) return Interval::empty();
-    const double floor = std::min(start_.z(), end_.z()) + lowest_reaching(gap);
+    const double floor =
+        std::min(start_.z(), end_.z()) + cutter_->profile().lowest_reaching(gap);
     if (ray.origin.z() < floor - tol::kLength * (1.0 + std::abs(floor) / tol::kModelScale)) {
       return Interval::empty();
     }
@@ -485,28 +486,13 @@ double LinearSweep::plan_gap(const Vec3& p) const {
   return (q - u * along).norm();
 }
 
-double LinearSweep::lowest_reaching(double r) const {
-  if (ball_radius_ > 0.0) {
-    // Profile::heights_reaching's steps for the ball end's two pieces, without its walk: the
-    // quarter circle about (0, R) reaches r from R - √(R² - r²) (from its foot for r ≤ 0), the
-    // cylinder from R; r beyond R reaches neither.
-    const double big = ball_radius_;
-    if (!(r > 0.0)) return 0.0;
-    const double w2 = big * big - r * r;
-    if (!(w2 >= 0.0)) return 0.0;
-    return std::max(big - std::sqrt(w2), 0.0);
-  }
-  const Interval heights = cutter_->profile().heights_reaching(r);
-  return heights.is_empty() ? 0.0 : heights.lo;
-}
-
 Interval LinearSweep::reach(const Ray& ray) const {
   const Vec3& d = ray.direction;
   if (!has_reach() || d.x() != 0.0 || d.y() != 0.0 || d.z() == 0.0) return Interval::full();
   // Every tool point over plan point q stands at least h_lo(gap) above its tip (see chord()).
   const double gap = plan_gap(ray.origin);
   if (gap > plan_radius_ * (1.0 + tol::kRelative) + tol::kLength) return Interval::empty();
-  const double floor = std::min(start_.z(), end_.z()) + lowest_reaching(gap);
+  const double floor = std::min(start_.z(), end_.z()) + cutter_->profile().lowest_reaching(gap);
   const double margin = tol::kLength * (1.0 + std::abs(floor) / tol::kModelScale);
   const double t = (floor - margin - ray.origin.z()) / d.z();
   return d.z() > 0.0 ? Interval{t, Interval::full().hi} : Interval{Interval::full().lo, t};

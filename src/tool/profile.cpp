@@ -217,6 +217,13 @@ Profile::Profile(std::vector<ProfileSegment> segments, const std::string& source
     cylinder_lo_ = lo, cylinder_hi_ = hi, cylinder_radius_ = piece.start.x();
     break;
   }
+  // A quarter ball at the foot: lowest_reaching needs no walk over the pieces up to its radius.
+  const ProfileSegment& foot = segments_.front();
+  if (foot.kind == ProfileSegment::Kind::kArc && foot.counterclockwise && foot.radius > 0.0 &&
+      foot.center == Vec2(0.0, foot.radius) && foot.start == Vec2::Zero() &&
+      foot.end == Vec2(foot.radius, foot.radius)) {
+    foot_ball_radius_ = foot.radius;
+  }
 }
 
 double Profile::max_radius() const {
@@ -280,6 +287,17 @@ Interval Profile::heights_reaching(double r) const {
     heights = hull(heights, intersect(Interval{z0, z1}, {s.center.y() + w, z1}));
   }
   return heights;
+}
+
+double Profile::lowest_reaching(double r) const {
+  if (const double big = foot_ball_radius_; big > 0.0 && r <= big) {
+    // heights_reaching's steps on the foot's arc (centre (0, R), heights 0 to R), which holds
+    // the lowest answer: every other piece lies at R or above. r ≤ 0 reaches from the tip.
+    if (!(r > 0.0)) return 0.0;
+    return std::max(big - std::sqrt(big * big - r * r), 0.0);
+  }
+  const Interval heights = heights_reaching(r);
+  return heights.is_empty() ? 0.0 : heights.lo;
 }
 
 bool Profile::contains(double rho, double z) const {

@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
+#include "cwe/tool/tool_spec.hpp"
 #include "tool_testing.hpp"
 
 namespace cwe {
@@ -73,6 +75,26 @@ TEST(Profile, BallRadiusAndMembership) {
   EXPECT_TRUE(p.contains(0.0, 0.0));
   EXPECT_FALSE(p.contains(0.1, 0.0));
   EXPECT_NEAR(p.length(), 5.0 * kPi / 2.0 + 15.0, 1e-12);
+}
+
+// lowest_reaching is heights_reaching's lower end, to the last bit, on profiles with and without
+// a quarter ball at the foot (whose radii up to the ball's it answers in closed form), for radii
+// below the tip, across the ball, at its rim, beyond it and beyond the tool.
+TEST(Profile, LowestReachingIsTheHeightsLowerEnd) {
+  for (const char* spec : {"ball:6,20", "ball:10,8", "taper-ball:4,3,20", "bull:10,2,20",
+                           "flat:10,20", "taper-flat:6,5,20", "chamfer:12,90,15"}) {
+    SCOPED_TRACE(spec);
+    const Cutter cutter = cutter_from_spec(spec);
+    const Profile& p = cutter.profile();
+    const double big = p.max_radius();
+    std::vector<double> radii{-1.0, 0.0, big, std::nextafter(big, 0.0), std::nextafter(big, 9e9),
+                              big + 1.0};
+    for (int k = 1; k < 400; ++k) radii.push_back(big * k / 397.0);
+    for (const double r : radii) {
+      const Interval heights = p.heights_reaching(r);
+      EXPECT_EQ(p.lowest_reaching(r), heights.is_empty() ? 0.0 : heights.lo) << "r = " << r;
+    }
+  }
 }
 
 TEST(Profile, SnapsEndPointsWithinInputTolerance) {

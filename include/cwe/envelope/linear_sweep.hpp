@@ -95,9 +95,6 @@ class LinearSweep {
   // A ball end standing along +Z, moved in any direction, on a ray along X, Y or Z (see
   // ball_radius_).
   Interval ball_chord(const Ray& ray) const;
-  // The lowest height above the tip where the tool is r wide (Profile::heights_reaching(r).lo),
-  // 0 where it never is; for ball ends in closed form, with the same numbers.
-  double lowest_reaching(double r) const;
   // Plan distance from a point to the tip's path (vertical tools).
   double plan_gap(const Vec3& p) const;
   // Level mode: the extent along world axis `along` (0 or 1) of the capsule of radius r about

@@ -84,6 +84,10 @@ class Profile {
   // The heights where the solid is at least r wide: one interval for a convex profile (the
   // radius is then concave in z), the hull of them otherwise; empty if none.
   Interval heights_reaching(double r) const;
+  // The lowest of those heights (heights_reaching(r).lo), 0 if there are none. Sweeps ask it
+  // for every ray they cull; a profile that starts with a quarter ball answers it for r up to
+  // the ball's radius in closed form, with the same numbers.
+  double lowest_reaching(double r) const;
   // Closed membership of a point (ρ, z) in the revolved solid.
   bool contains(double rho, double z) const;
 
@@ -100,6 +104,9 @@ class Profile {
   // The open height range of the flutes' cylinder, if the profile has one, and its radius
   // (radius_at's answer there without a walk over the pieces; lo ≥ hi when there is none).
   double cylinder_lo_ = 0.0, cylinder_hi_ = 0.0, cylinder_radius_ = 0.0;
+  // The radius R of a first piece that is the quarter circle about (0, R) from the tip to
+  // (R, R) (a ball end's), 0 otherwise.
+  double foot_ball_radius_ = 0.0;
 };
 
 }  // namespace cwe
