@@ -87,8 +87,8 @@ TEST(Profile, LowestReachingIsTheHeightsLowerEnd) {
     const Cutter cutter = cutter_from_spec(spec);
     const Profile& p = cutter.profile();
     const double big = p.max_radius();
-    std::vector<double> radii{-1.0, 0.0, big, std::nextafter(big, 0.0), std::nextafter(big, 9e9),
-                              big + 1.0};
+    std::vector<double> radii{
+        -1.0, 0.0, big, std::nextafter(big, 0.0), std::nextafter(big, 9e9), big + 1.0};
     for (int k = 1; k < 400; ++k) radii.push_back(big * k / 397.0);
     for (const double r : radii) {
       const Interval heights = p.heights_reaching(r);

@@ -136,10 +136,10 @@ std::size_t TriDexel::index(int axis, int i, int j) const {
 }
 
 Ray TriDexel::ray(int axis, int i, int j) const {
-  Vec3 origin = domain_.min;
-  origin[cross_b(axis)] += (i + 0.5) * spacing_[cross_b(axis)];
-  origin[cross_c(axis)] += (j + 0.5) * spacing_[cross_c(axis)];
-  return {origin, Vec3::Unit(axis)};
+  const int b = cross_b(axis), c = cross_c(axis);
+  return {ray_origin(axis, domain_.min[b] + (i + 0.5) * spacing_[b],
+                     domain_.min[c] + (j + 0.5) * spacing_[c]),
+          Vec3::Unit(axis)};
 }
 
 const DexelRay& TriDexel::at(int axis, int i, int j) const {
@@ -248,19 +248,12 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
           const Cut& cut = cuts[k];
           for (int j = j0; j <= j1; ++j) {
             DexelRay* row = &family[index(a, 0, j)];
-            // The row's rays as ray(a, i, j) makes them, without the index checks: the row's
-            // origin, and each ray's origin made whole from registers where it is passed on (an
-            // origin written coordinate by coordinate and read back at once as a vector stalled
-            // on the stores).
-            Ray row_ray{domain_.min, Vec3::Unit(a)};
-            row_ray.origin[c] += (j + 0.5) * spacing_[c];
+            // The row's rays as ray(a, i, j) makes them, without the index checks.
             const double oc = domain_.min[c] + (j + 0.5) * spacing_[c];
             const auto ray_at = [&](double ob) {
-              return Ray{Vec3(a == 0 ? domain_.min.x() : (b == 0 ? ob : oc),
-                              a == 1 ? domain_.min.y() : (b == 1 ? ob : oc),
-                              a == 2 ? domain_.min.z() : (b == 2 ? ob : oc)),
-                         row_ray.direction};
+              return Ray{ray_origin(a, ob, oc), Vec3::Unit(a)};
             };
+            const Ray row_ray = ray_at(domain_.min[b]);  // for `rows`, which set each ray's b
             // The rays whose material the cut's box (and its reach) holds: with `rows`, gathered
             // for one call; without, each ray's chord at once.
             std::array<int, kTile> at_i;

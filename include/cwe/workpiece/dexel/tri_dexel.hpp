@@ -152,13 +152,8 @@ class TriDexel {
     ray.axis = a;
     ray.i = static_cast<int>(fi);
     ray.j = static_cast<int>(fj);
-    // The origin made whole from registers, not written coordinate by coordinate into memory
-    // (the vector loads that read it soon after stalled on those stores).
-    const double ob = domain_.min[b] + (fi + 0.5) * spacing_[b];
-    const double oc = domain_.min[c] + (fj + 0.5) * spacing_[c];
-    ray.origin = Vec3(a == 0 ? domain_.min.x() : (b == 0 ? ob : oc),
-                      a == 1 ? domain_.min.y() : (b == 1 ? ob : oc),
-                      a == 2 ? domain_.min.z() : (b == 2 ? ob : oc));
+    ray.origin = ray_origin(a, domain_.min[b] + (fi + 0.5) * spacing_[b],
+                            domain_.min[c] + (fj + 0.5) * spacing_[c]);
     ray.along = normal[a];
     return true;
   }
@@ -192,6 +187,15 @@ class TriDexel {
   std::size_t count_heap_bytes() const;
 
  private:
+  // The origin of a family-`a` ray at cross coordinates ob (along b = a + 1) and oc (along
+  // c = a + 2), made whole from registers: an origin written coordinate by coordinate and read
+  // back at once as a vector (as Eigen's arithmetic reads it) stalls the load on the stores.
+  [[gnu::always_inline]] Vec3 ray_origin(int a, double ob, double oc) const {
+    const int b = (a + 1) % 3;
+    return {a == 0 ? domain_.min.x() : (b == 0 ? ob : oc),
+            a == 1 ? domain_.min.y() : (b == 1 ? ob : oc),
+            a == 2 ? domain_.min.z() : (b == 2 ? ob : oc)};
+  }
   // The grid for stock in `box` (whole cells that tile it), with empty rays, or with every ray
   // full across the box (`filled`).
   static TriDexel empty_grid(const Aabb& box, double spacing, bool filled = false);
