@@ -37,6 +37,7 @@
 // removal box are scanned; f is evaluated for every cell of those, the removal record (a binary
 // search per ray) only where f > 0 and the cell's point is within that reach.
 
+#include "cwe/engagement/engagement_grid.hpp"
 #include "cwe/engagement/engagement_map.hpp"
 #include "cwe/kinematics/tool_state.hpp"
 #include "cwe/tool/cutter.hpp"
@@ -56,35 +57,22 @@ class DexelEngagement {
   // (TriDexel::remove with a record; the stock may be read before or after that removal).
   EngagementMap at(const TriDexel& stock, const RemovalRecord& step, const ToolState& state) const;
 
-  double disc_height() const { return disc_height_; }
+  double disc_height() const { return grid_.disc_height(); }
   double contact() const { return contact_; }
-  double phi_step() const { return 2.0 * kPi / phi_cells_; }
-  int phi_cells() const { return phi_cells_; }
+  double phi_step() const { return grid_.phi_step(); }
+  int phi_cells() const { return grid_.phi_cells(); }
 
  private:
-  // A line of cells round the cutter: a side disc or a bottom ring.
-  struct Band {
-    double lo = 0.0, hi = 0.0;   // heights (disc) or radii (ring) it spans
-    double rho = 0.0, z = 0.0;   // the sampled circle: radius and height above the tip
-    Vec2 normal = Vec2::Zero();  // outward profile normal (n_ρ, n_z) there
-    int patch = 0;
-    double area_per_radian = 0.0;  // surface area of the band per radian of φ, mm²
-    double departure = 0.0;        // how far the surface falls inside its tangent plane, mm
-    bool ring = false;             // a ring of the flat bottom (else a side disc)
-  };
+  using Band = EngagementGrid::Band;
   // Engaged φ intervals of one band.
   std::vector<Interval> scan(const TriDexel& stock, const RemovalRecord& step,
                              const ToolState& state, const Band& band, const Vec3& v_tcs,
                              const Vec3& w_tcs) const;
 
-  const Cutter* cutter_;
+  EngagementGrid grid_;
   double spacing_;
-  double disc_height_;
   double contact_;
   bool skip_far_cells_;
-  int phi_cells_;
-  std::vector<double> sin_, cos_;  // of the cell centres
-  std::vector<Band> discs_, rings_;
 };
 
 }  // namespace cwe
