@@ -99,20 +99,24 @@ SweptVolume swept_volume(const Cutter& cutter, const Move& move,
   SweptVolume result;
   const bool curved = pieces > 1 || move.is_arc() || turn > tol::kAngle;
   result.deviation_bound = curved ? 2.0 * options.tolerance : options.tolerance;
-  std::vector<Vec3> points;
-  points.reserve(2 * tool.size());
   for (int k = 0; k < pieces; ++k) {
     const double u0 = static_cast<double>(k) / pieces;
     const double u1 = static_cast<double>(k + 1) / pieces;
-    const Vec3 axis = move.axis(0.5 * (u0 + u1));
-    points.clear();
-    for (const double u : {u0, u1}) {
-      const Frame frame = frame_at(move.position(u), axis);
-      for (const Vec3& p : tool) points.push_back(frame.to_world(p));
-    }
-    result.pieces.push_back(convex_hull(points));
+    result.pieces.push_back(
+        linear_piece_mesh(tool, move.position(u0), move.position(u1), move.axis(0.5 * (u0 + u1))));
   }
   return result;
+}
+
+TriangleMesh linear_piece_mesh(const std::vector<Vec3>& tool, const Vec3& start, const Vec3& end,
+                               const Vec3& axis) {
+  std::vector<Vec3> points;
+  points.reserve(2 * tool.size());
+  for (const Vec3& tip : {start, end}) {
+    const Frame frame = frame_at(tip, axis);
+    for (const Vec3& p : tool) points.push_back(frame.to_world(p));
+  }
+  return convex_hull(points);
 }
 
 }  // namespace cwe

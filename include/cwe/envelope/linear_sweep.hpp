@@ -59,6 +59,11 @@ class LinearSweep {
 
   // A box containing the swept volume.
   const Aabb& bounds() const { return bounds_; }
+  // What the sweep was made of.
+  const Cutter& cutter() const { return *cutter_; }
+  const Vec3& start() const { return start_; }
+  const Vec3& end() const { return end_; }
+  Vec3 axis() const { return tcs_.z(); }
 
   // An interval of ray parameters holding the chord, far cheaper than chord() where has_reach():
   // for a tool standing along +Z on a climbing or descending move, a vertical ray's chord starts

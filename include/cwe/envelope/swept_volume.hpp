@@ -39,6 +39,12 @@ struct SweptVolume {
 // Points of the tool surface in the TCS whose convex hull is within `tolerance` of the tool.
 std::vector<Vec3> tool_surface_points(const Cutter& cutter, double tolerance);
 
+// The closed mesh of one linear piece: the convex hull of `tool` (tool_surface_points, TCS) placed
+// at tip `start` and at tip `end` with unit `axis` (the tool frame's x as close to world X as the
+// axis allows, so that pieces of one tool share their faceting).
+TriangleMesh linear_piece_mesh(const std::vector<Vec3>& tool, const Vec3& start, const Vec3& end,
+                               const Vec3& axis);
+
 // Is the cutter's solid convex (radius a concave function of height)?
 bool is_convex(const Cutter& cutter);
 
