@@ -1,0 +1,79 @@
+#pragma once
+// The in-process workpiece as a closed triangle mesh, the polyhedral method of the thesis
+// (Aras 2008 §6.2; docs/engagement.md): removal by CGAL's corefinement booleans on exact
+// coordinates. CGAL stays behind this header (src/workpiece/mesh/mesh_stock.cpp).
+//
+// The solid is a Surface_mesh over CGAL's exact-construction kernel, so a boolean is decided
+// exactly on the coordinates it is given, coplanar and coincident faces included (a pass along a
+// wall that an earlier pass left, a floor at the same depth).
+// Exact coordinates grow in size from boolean to boolean (a crossing of faces that are
+// themselves cut by crossings), so after each boolean the new vertices are rounded to doubles,
+// unless that makes a face near the cut cross another (then they stay exact).
+//
+// What a boolean removed comes back as triangles (rounded), for a MeshRegion.
+
+#include <memory>
+#include <string>
+
+#include "cwe/geometry/aabb.hpp"
+#include "cwe/geometry/triangle_mesh.hpp"
+
+namespace cwe {
+
+// A closed solid as triangles with a search tree over them, for point-inside queries (a removal
+// volume RV = W ∩ SV, read by the polyhedral engagement).
+class MeshRegion {
+ public:
+  MeshRegion();
+  // `mesh` must be closed and outward-facing (as MeshStock::subtract returns it); it may be
+  // empty.
+  explicit MeshRegion(const TriangleMesh& mesh);
+  ~MeshRegion();
+  MeshRegion(MeshRegion&&) noexcept;
+  MeshRegion& operator=(MeshRegion&&) noexcept;
+
+  bool empty() const { return solid_ == nullptr; }
+  const Aabb& bounds() const { return bounds_; }
+  double volume() const { return volume_; }
+  // Is `point` strictly inside? Safe to call concurrently.
+  bool contains(const Vec3& point) const;
+
+ private:
+  struct Solid;
+  Aabb bounds_;
+  double volume_ = 0.0;
+  std::unique_ptr<Solid> solid_;
+};
+
+class MeshStock {
+ public:
+  // A box (InputError when it is empty or not finite).
+  static MeshStock from_box(const Aabb& box);
+  // A closed, outward-facing, self-intersection-free mesh; `source` names it in errors
+  // (InputError naming the first open, non-manifold or crossing place).
+  static MeshStock from_mesh(const TriangleMesh& mesh, const std::string& source);
+
+  ~MeshStock();
+  MeshStock(MeshStock&&) noexcept;
+  MeshStock& operator=(MeshStock&&) noexcept;
+
+  // Subtracts the closed convex solid `tool` (a swept-volume piece); the volume removed, mm³.
+  // With `removed`, what was removed (stock ∩ tool) is appended to it. Throws ComputationError
+  // when CGAL cannot compute the result or the result is not a closed solid whose volume fell
+  // by between 0 and the tool's volume; the stock must not be used after that.
+  double subtract(const TriangleMesh& tool, TriangleMesh* removed = nullptr);
+
+  double volume() const;  // mm³
+  Aabb bounds() const;
+  std::size_t triangles() const;
+  // The stock's triangles, vertices rounded to doubles.
+  TriangleMesh mesh() const;
+
+ private:
+  struct Solid;
+  explicit MeshStock(std::unique_ptr<Solid> solid);
+  std::unique_ptr<Solid> solid_;
+  double volume_ = 0.0;
+};
+
+}  // namespace cwe

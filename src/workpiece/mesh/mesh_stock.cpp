@@ -1,0 +1,293 @@
+// CGAL is used here only, behind MeshStock and MeshRegion: it stays out of every public header.
+// GCC 12 sees uninitialised kernel functors in CGAL's self-intersection test with the exact
+// kernel (a false alarm in CGAL's templates): not this file's code.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/bbox.h>
+#include <CGAL/Polygon_mesh_processing/corefinement.h>
+#include <CGAL/Polygon_mesh_processing/orientation.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Side_of_triangle_mesh.h>
+#include <CGAL/Surface_mesh.h>
+
+#include <array>
+#include <cmath>
+#include <unordered_map>
+#include <vector>
+
+#include <fmt/format.h>
+#include <boost/optional.hpp>
+
+#include "cwe/core/computation_error.hpp"
+#include "cwe/core/error.hpp"
+#include "cwe/workpiece/mesh/mesh_stock.hpp"
+
+namespace cwe {
+namespace {
+
+namespace PMP = CGAL::Polygon_mesh_processing;
+using Exact = CGAL::Exact_predicates_exact_constructions_kernel;
+using Point = Exact::Point_3;
+using Mesh = CGAL::Surface_mesh<Point>;
+
+using Inexact = CGAL::Exact_predicates_inexact_constructions_kernel;
+using InexactMesh = CGAL::Surface_mesh<Inexact::Point_3>;
+
+// A point's coordinates as doubles, from their exact values (to_double of a lazy number may
+// return the middle of its interval, which is not always the double the exact value gives: a
+// face then leaves its plane by an ulp and the next boolean meets a sliver).
+Vec3 rounded(const Point& p) {
+  return {CGAL::to_double(CGAL::exact(p.x())), CGAL::to_double(CGAL::exact(p.y())),
+          CGAL::to_double(CGAL::exact(p.z()))};
+}
+
+// The mesh's triangles with vertices rounded to doubles (indices renumbered densely).
+TriangleMesh to_triangles(const Mesh& mesh) {
+  TriangleMesh out;
+  std::unordered_map<std::uint32_t, int> index;
+  index.reserve(mesh.number_of_vertices());
+  for (const Mesh::Vertex_index v : mesh.vertices()) {
+    index[static_cast<std::uint32_t>(v)] = static_cast<int>(out.vertices.size());
+    out.vertices.push_back(rounded(mesh.point(v)));
+  }
+  out.triangles.reserve(mesh.number_of_faces());
+  for (const Mesh::Face_index f : mesh.faces()) {
+    std::array<int, 3> t{};
+    int k = 0;
+    for (const Mesh::Vertex_index v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) {
+      if (k < 3) t[static_cast<std::size_t>(k)] = index[static_cast<std::uint32_t>(v)];
+      ++k;
+    }
+    if (k == 3) out.triangles.push_back(t);
+  }
+  return out;
+}
+
+// A TriangleMesh as an exact Surface_mesh; false when a triangle cannot be added (an edge used
+// by a third triangle or twice in one direction), with that triangle's index.
+bool to_exact(const TriangleMesh& in, Mesh& out, std::size_t& bad) {
+  std::vector<Mesh::Vertex_index> v;
+  v.reserve(in.vertices.size());
+  for (const Vec3& p : in.vertices) v.push_back(out.add_vertex(Point(p.x(), p.y(), p.z())));
+  for (std::size_t k = 0; k < in.triangles.size(); ++k) {
+    const auto& t = in.triangles[k];
+    const Mesh::Face_index f =
+        out.add_face(v[static_cast<std::size_t>(t[0])], v[static_cast<std::size_t>(t[1])],
+                     v[static_cast<std::size_t>(t[2])]);
+    if (f == Mesh::null_face()) {
+      bad = k;
+      return false;
+    }
+  }
+  return true;
+}
+
+// Enclosed volume from the rounded vertices (divergence theorem about the box's centre, which
+// keeps the terms small): within ~1e-12 of the exact volume relative to the box.
+double volume_of(const Mesh& mesh) {
+  const CGAL::Bbox_3 box = PMP::bbox(mesh);
+  const Vec3 c(0.5 * (box.xmin() + box.xmax()), 0.5 * (box.ymin() + box.ymax()),
+               0.5 * (box.zmin() + box.zmax()));
+  double six = 0.0;
+  for (const Mesh::Face_index f : mesh.faces()) {
+    const Mesh::Halfedge_index h = mesh.halfedge(f);
+    const Vec3 a = rounded(mesh.point(mesh.source(h))) - c;
+    const Vec3 b = rounded(mesh.point(mesh.target(h))) - c;
+    const Vec3 d = rounded(mesh.point(mesh.target(mesh.next(h)))) - c;
+    six += a.dot(b.cross(d));
+  }
+  return six / 6.0;
+}
+
+// Rounds the vertices that the last boolean made (those not already doubles) unless a face
+// near `cut` (the tool's box, where they all lie) would then cross another; in that case the
+// mesh keeps its exact coordinates. A vertex moves by less than an ulp either way.
+void round_near(Mesh& mesh, const Aabb& cut) {
+  std::vector<std::pair<Mesh::Vertex_index, Point>> moved;
+  for (const Mesh::Vertex_index v : mesh.vertices()) {
+    const Point& p = mesh.point(v);
+    const Vec3 r = rounded(p);
+    const Point q(r.x(), r.y(), r.z());
+    if (q != p) moved.emplace_back(v, q);
+  }
+  if (moved.empty()) return;
+  std::vector<std::pair<Mesh::Vertex_index, Point>> exact;
+  exact.reserve(moved.size());
+  for (auto& [v, q] : moved) {
+    exact.emplace_back(v, mesh.point(v));
+    mesh.point(v) = q;
+  }
+  // Faces whose box meets the cut's (grown by a margin far above an ulp).
+  Aabb near = cut;
+  near.inflate(1e-6 * std::max(1.0, cut.size().maxCoeff()));
+  std::vector<Mesh::Face_index> faces;
+  for (const Mesh::Face_index f : mesh.faces()) {
+    const CGAL::Bbox_3 b = PMP::face_bbox(f, mesh);
+    if (b.xmax() >= near.min.x() && b.xmin() <= near.max.x() && b.ymax() >= near.min.y() &&
+        b.ymin() <= near.max.y() && b.zmax() >= near.min.z() && b.zmin() <= near.max.z()) {
+      faces.push_back(f);
+    }
+  }
+  if (PMP::does_self_intersect(faces, mesh)) {
+    for (const auto& [v, p] : exact) mesh.point(v) = p;
+  }
+}
+
+}  // namespace
+
+struct MeshRegion::Solid {
+  InexactMesh mesh;
+  std::unique_ptr<CGAL::Side_of_triangle_mesh<InexactMesh, Inexact>> inside;
+};
+
+MeshRegion::MeshRegion() = default;
+MeshRegion::~MeshRegion() = default;
+MeshRegion::MeshRegion(MeshRegion&&) noexcept = default;
+MeshRegion& MeshRegion::operator=(MeshRegion&&) noexcept = default;
+
+MeshRegion::MeshRegion(const TriangleMesh& mesh) {
+  if (mesh.empty()) return;
+  bounds_ = mesh.bounds();
+  volume_ = mesh.volume();
+  solid_ = std::make_unique<Solid>();
+  std::vector<InexactMesh::Vertex_index> v;
+  v.reserve(mesh.vertices.size());
+  for (const Vec3& p : mesh.vertices) {
+    v.push_back(solid_->mesh.add_vertex(Inexact::Point_3(p.x(), p.y(), p.z())));
+  }
+  for (const auto& t : mesh.triangles) {
+    solid_->mesh.add_face(v[static_cast<std::size_t>(t[0])], v[static_cast<std::size_t>(t[1])],
+                          v[static_cast<std::size_t>(t[2])]);
+  }
+  solid_->inside =
+      std::make_unique<CGAL::Side_of_triangle_mesh<InexactMesh, Inexact>>(solid_->mesh);
+  // The search tree is built at the first query: one now, so that later ones only read it.
+  (*solid_->inside)(Inexact::Point_3(bounds_.min.x(), bounds_.min.y(), bounds_.min.z()));
+}
+
+bool MeshRegion::contains(const Vec3& point) const {
+  if (!solid_) return false;
+  for (int a = 0; a < 3; ++a) {
+    if (!(point[a] > bounds_.min[a] && point[a] < bounds_.max[a])) return false;
+  }
+  return (*solid_->inside)(Inexact::Point_3(point.x(), point.y(), point.z())) ==
+         CGAL::ON_BOUNDED_SIDE;
+}
+
+struct MeshStock::Solid {
+  Mesh mesh;
+};
+
+MeshStock::MeshStock(std::unique_ptr<Solid> solid) : solid_(std::move(solid)) {
+  volume_ = volume_of(solid_->mesh);
+}
+MeshStock::~MeshStock() = default;
+MeshStock::MeshStock(MeshStock&&) noexcept = default;
+MeshStock& MeshStock::operator=(MeshStock&&) noexcept = default;
+
+MeshStock MeshStock::from_box(const Aabb& box) {
+  if (box.is_empty() || !box.min.allFinite() || !box.max.allFinite() ||
+      !((box.max - box.min).minCoeff() > 0.0)) {
+    throw InputError("mesh stock: the box must have a positive size along x, y and z");
+  }
+  TriangleMesh m;
+  for (int k = 0; k < 8; ++k) {
+    m.vertices.emplace_back((k & 1) ? box.max.x() : box.min.x(),
+                            (k & 2) ? box.max.y() : box.min.y(),
+                            (k & 4) ? box.max.z() : box.min.z());
+  }
+  // Two triangles per face, counter-clockwise seen from outside.
+  m.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                 {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return from_mesh(m, "stock box");
+}
+
+MeshStock MeshStock::from_mesh(const TriangleMesh& mesh, const std::string& source) {
+  auto solid = std::make_unique<Solid>();
+  std::size_t bad = 0;
+  if (!to_exact(mesh, solid->mesh, bad)) {
+    const auto& t = mesh.triangles[bad];
+    const Vec3& p = mesh.vertices[static_cast<std::size_t>(t[0])];
+    throw InputError(SourceLocation{source},
+                     fmt::format("triangle {} (at {:g}, {:g}, {:g}) shares an edge with two other "
+                                 "triangles or runs an edge the same way as its neighbour: "
+                                 "expected a closed, consistently oriented surface",
+                                 bad + 1, p.x(), p.y(), p.z()));
+  }
+  if (!CGAL::is_closed(solid->mesh)) {
+    throw InputError(SourceLocation{source},
+                     "the surface is not closed (some edges have one triangle): expected the "
+                     "closed surface of a solid");
+  }
+  if (PMP::does_self_intersect(solid->mesh)) {
+    throw InputError(SourceLocation{source},
+                     "the surface crosses itself: expected the surface of a solid");
+  }
+  if (!PMP::is_outward_oriented(solid->mesh)) {
+    throw InputError(SourceLocation{source},
+                     "the triangles face inwards: expected outward normals (counter-clockwise "
+                     "seen from outside)");
+  }
+  return MeshStock(std::move(solid));
+}
+
+double MeshStock::subtract(const TriangleMesh& tool, TriangleMesh* removed) {
+  if (tool.empty() || !tool.bounds().intersects(bounds())) return 0.0;
+  Mesh cutter;
+  std::size_t bad = 0;
+  if (!to_exact(tool, cutter, bad) || !CGAL::is_closed(cutter)) {
+    throw ComputationError("mesh removal: the swept volume's mesh is not a closed surface");
+  }
+  Mesh common;
+  std::array<boost::optional<Mesh*>, 4> output;
+  output[PMP::Corefinement::TM1_MINUS_TM2] = &solid_->mesh;
+  if (removed != nullptr) output[PMP::Corefinement::INTERSECTION] = &common;
+  std::array<bool, 4> done{};
+  try {
+    done = PMP::corefine_and_compute_boolean_operations(solid_->mesh, cutter, output);
+  } catch (const std::exception& e) {
+    throw ComputationError(fmt::format("mesh removal: CGAL's corefinement failed ({})", e.what()));
+  }
+  if (!done[PMP::Corefinement::TM1_MINUS_TM2] ||
+      (removed != nullptr && !done[PMP::Corefinement::INTERSECTION])) {
+    throw ComputationError(
+        "mesh removal: CGAL's corefinement could not build the difference (the result would "
+        "not be a 2-manifold)");
+  }
+  round_near(solid_->mesh, tool.bounds());
+  if (!solid_->mesh.is_empty() && !CGAL::is_closed(solid_->mesh)) {
+    throw ComputationError("mesh removal: the difference is not a closed surface");
+  }
+  const double before = volume_;
+  volume_ = solid_->mesh.is_empty() ? 0.0 : volume_of(solid_->mesh);
+  const double taken = before - volume_;
+  // Rounding of the volume sums: a relative 1e-9 of the stock's volume is far above it.
+  const double slack = 1e-9 * std::max(before, 1.0);
+  const double tool_volume = tool.volume();
+  if (taken < -slack || taken > tool_volume + slack) {
+    throw ComputationError(
+        fmt::format("mesh removal: the stock's volume changed by {:g} mm³, outside [0, {:g}] mm³ "
+                    "(the swept piece's volume)",
+                    -taken, tool_volume));
+  }
+  if (removed != nullptr) removed->append(to_triangles(common));
+  return std::max(0.0, taken);
+}
+
+double MeshStock::volume() const { return volume_; }
+
+Aabb MeshStock::bounds() const {
+  Aabb box;
+  if (solid_->mesh.is_empty()) return box;
+  const CGAL::Bbox_3 b = PMP::bbox(solid_->mesh);
+  box.extend(Vec3(b.xmin(), b.ymin(), b.zmin()));
+  box.extend(Vec3(b.xmax(), b.ymax(), b.zmax()));
+  return box;
+}
+
+std::size_t MeshStock::triangles() const { return solid_->mesh.number_of_faces(); }
+
+TriangleMesh MeshStock::mesh() const { return to_triangles(solid_->mesh); }
+
+}  // namespace cwe
