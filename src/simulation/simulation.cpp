@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 #include <fmt/format.h>
 #include <tbb/parallel_pipeline.h>
@@ -258,11 +259,24 @@ void EngagementRun::flush() {
   std::size_t started = 0;      // steps with a location started
   int pieces = 0;
   double deviation = 0.0, volume = 0.0;
+  bool whole = false;  // the move being removed went in one piece (remove_move)
   const auto remove_part = [&](const Move& move, double u0, double u1, StepEngagement::Step* step) {
     const MoveSweep sweep(parts_, u0 == 0.0 && u1 == 1.0 ? move : move.part(u0, u1));
-    pieces += static_cast<int>(sweep.pieces().size());
-    deviation = std::max(deviation, sweep.deviation_bound());
+    if (!whole) {
+      pieces += static_cast<int>(sweep.pieces().size());
+      deviation = std::max(deviation, sweep.deviation_bound());
+    }
     volume += engage_->remove(sweep, step);
+  };
+  // A backend that removes moves whole does so before their parts are recorded.
+  const auto begin_move = [&](const Move& move) {
+    const MoveSweep sweep(parts_, move);
+    if (const std::optional<double> removed = engage_->remove_move(sweep)) {
+      whole = true;
+      pieces += static_cast<int>(sweep.pieces().size());
+      deviation = std::max(deviation, sweep.deviation_bound());
+      volume += *removed;
+    }
   };
   const auto move_done = [&] {
     const PendingMove& done = moves_[m];
@@ -272,6 +286,7 @@ void EngagementRun::flush() {
                 pieces, deviation, volume, cell_, removed_);
     pieces = 0;
     deviation = volume = 0.0;
+    whole = false;
     ++m;
     next = 0;
   };
@@ -281,6 +296,7 @@ void EngagementRun::flush() {
   const auto remove_next = [&](tbb::flow_control& control) -> Slot* {
     while (m < moves_.size()) {
       const PendingMove& pending = moves_[m];
+      if (next == 0) begin_move(pending.move);
       if (pending.cl_count == 0) {
         remove_part(pending.move, 0.0, 1.0, nullptr);
         move_done();

@@ -1,0 +1,206 @@
+#include "cwe/engagement/mesh_workpiece.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <optional>
+
+#include <fmt/format.h>
+
+#include "cwe/core/error.hpp"
+#include "cwe/engagement/engagement_grid.hpp"
+#include "cwe/envelope/swept_volume.hpp"
+#include "cwe/envelope/tangency.hpp"
+#include "cwe/geometry/triangle_mesh.hpp"
+
+namespace cwe {
+namespace {
+
+// |f| below this fraction of |a| + |b| + |c| is f = 0 (grazing, not engaged), as for the dexel
+// test (dexel_engagement.cpp).
+constexpr double kGrazingRelative = 1e-9;
+
+// The faceted tool the sweeps are made of (linear_piece_mesh), read along the engagement grid's
+// circles: a cell is tested on the faceted surface, whose own sweep made the walls the move
+// leaves, so that a grazing line (the side of a slot) is found where the faceted tool grazes
+// its own wall, not half a facet angle inside it where the true circle leaves the faceted wall.
+class FacetedTool {
+ public:
+  FacetedTool(const Cutter& cutter, double facet_depth, const EngagementGrid& grid) {
+    if (!is_convex(cutter)) return;  // not a hull: read on the true surface
+    const TriangleMesh hull = convex_hull(tool_surface_points(cutter, 2.0 * facet_depth));
+    for (std::size_t k = 0; k < grid.discs().size(); ++k) {
+      const double z = grid.discs()[k].z;
+      std::vector<Plane> planes;
+      for (const auto& t : hull.triangles) {
+        const Vec3& a = hull.vertices[static_cast<std::size_t>(t[0])];
+        const Vec3& b = hull.vertices[static_cast<std::size_t>(t[1])];
+        const Vec3& c = hull.vertices[static_cast<std::size_t>(t[2])];
+        if (std::min({a.z(), b.z(), c.z()}) > z || std::max({a.z(), b.z(), c.z()}) < z) continue;
+        const Vec3 n = (b - a).cross(c - a);
+        if (!(n.norm() > 0.0)) continue;
+        planes.push_back({n.normalized(), n.normalized().dot(a)});
+      }
+      discs_.push_back(std::move(planes));
+    }
+  }
+  bool empty() const { return discs_.empty(); }
+  // The distance from the axis to the faceted surface at disc `disc`'s height, along the
+  // horizontal unit direction `along` of the facets' frame.
+  double radius(std::size_t disc, double z, const Vec3& along) const {
+    double best = std::numeric_limits<double>::infinity();
+    for (const Plane& p : discs_[disc]) {
+      const double towards = p.normal.dot(along);
+      if (towards > 0.0) best = std::min(best, (p.offset - p.normal.z() * z) / towards);
+    }
+    return best;
+  }
+
+ private:
+  struct Plane {
+    Vec3 normal;    // outward unit normal
+    double offset;  // normal · point
+  };
+  std::vector<std::vector<Plane>> discs_;  // the hull's faces spanning each disc's height
+};
+
+// A step's record: the removal volume of the move it lies on (shared by the move's steps).
+struct MeshStep : StepEngagement::Step {
+  std::shared_ptr<const MeshRegion> removed;
+};
+
+class MeshStepEngagement : public StepEngagement {
+ public:
+  MeshStepEngagement(MeshWorkpiece& workpiece, const Cutter& cutter, double spacing,
+                     const EngagementOptions& options)
+      : workpiece_(workpiece),
+        grid_(cutter, spacing, options),
+        faceted_(cutter, MeshWorkpiece::facet_depth(cutter, workpiece.facet()), grid_) {
+    const double contact = options.contact > 0.0 ? options.contact : spacing / 10.0;
+    offset_ = contact / 1000.0;
+  }
+
+  std::unique_ptr<Step> new_step() const override { return std::make_unique<MeshStep>(); }
+
+  std::optional<double> remove_move(const MoveSweep& sweep) override {
+    TriangleMesh removed;
+    const double volume = workpiece_.remove(sweep, &removed);
+    move_removed_ = std::make_shared<const MeshRegion>(removed);
+    return volume;
+  }
+
+  // The move's parts were removed with it (remove_move): a step only records its move's RV.
+  double remove(const MoveSweep& /*sweep*/, Step* step) override {
+    if (step != nullptr) static_cast<MeshStep*>(step)->removed = move_removed_;
+    return 0.0;
+  }
+
+  EngagementMap at(const ToolState& state, const Step& step) const override {
+    const std::shared_ptr<const MeshRegion>& removed = static_cast<const MeshStep&>(step).removed;
+    std::vector<std::vector<Interval>> found(grid_.bands());
+    if (removed && !removed->empty()) {
+      const Vec3 v = state.tip_velocity_tcs(), w = state.angular_velocity_tcs();
+      // The facets' frame at this location (linear_piece_mesh's: x as close to world X as the
+      // axis allows).
+      const Frame facets = Frame::from_z(state.tcs.origin, state.tcs.z(), Vec3::UnitX());
+      for (std::size_t k = 0; k < found.size(); ++k) {
+        found[k] = scan(*removed, state, facets, k, v, w);
+      }
+    }
+    return grid_.map(std::move(found));
+  }
+
+ private:
+  // A cell P (f > 0) is engaged when the point Q a hair outside it along its normal lies in
+  // the move's removal volume: Q is outside every earlier position of the tool on the move
+  // (the tool is convex and P's side moves into the material), so material the move removes
+  // there is still to be cut.
+  std::vector<Interval> scan(const MeshRegion& removed, const ToolState& state, const Frame& facets,
+                             std::size_t index, const Vec3& v_tcs, const Vec3& w_tcs) const {
+    const EngagementGrid::Band& band = grid_.band(index);
+    const bool on_facets = !band.ring && !faceted_.empty();
+    const Frame& tcs = state.tcs;
+    const Vec3 x = tcs.x(), y = tcs.y(), z = tcs.z();
+    const Vec3 centre = tcs.origin + band.z * z;
+    Aabb circle;
+    for (int a = 0; a < 3; ++a) {
+      const double e = band.rho * std::sqrt(std::max(0.0, 1.0 - z[a] * z[a])) + offset_;
+      circle.min[a] = centre[a] - e;
+      circle.max[a] = centre[a] + e;
+    }
+    if (!circle.intersects(removed.bounds())) return {};
+    const TangencyCoefficients f =
+        tangency_coefficients(Vec2(band.rho, band.z), band.normal, v_tcs, w_tcs);
+    const double scale = std::abs(f.a) + std::abs(f.b) + std::abs(f.c);
+    if (!(scale > 0.0)) return {};
+    const double f_min = kGrazingRelative * scale;
+    const auto front = [&](double s, double c) { return f.a * s + f.b * c + f.c > f_min; };
+    const auto engaged = [&](double s, double c) {
+      if (!front(s, c)) return false;
+      const Vec3 radial = s * x + c * y;
+      const Vec3 normal = band.normal.x() * radial + band.normal.y() * z;
+      const double rho =
+          on_facets ? faceted_.radius(index, band.z, facets.direction_to_local(radial)) : band.rho;
+      return removed.contains(centre + rho * radial + offset_ * normal);
+    };
+    return grid_.intervals(front, engaged);
+  }
+
+  MeshWorkpiece& workpiece_;
+  EngagementGrid grid_;
+  FacetedTool faceted_;
+  double offset_ = 0.0;  // how far outside the cutter surface Q lies, mm
+  std::shared_ptr<const MeshRegion> move_removed_;
+};
+
+}  // namespace
+
+MeshWorkpiece::MeshWorkpiece(MeshStock& stock, double facet, double spacing)
+    : stock_(stock), facet_(facet), spacing_(spacing) {
+  if (!(facet > 0.0) || !std::isfinite(facet)) {
+    throw InputError(
+        fmt::format("mesh workpiece: facet size {} mm, expected a positive length", facet));
+  }
+  if (!(spacing > 0.0) || !std::isfinite(spacing)) {
+    throw InputError(
+        fmt::format("mesh workpiece: resolution {} mm, expected a positive length", spacing));
+  }
+}
+
+double MeshWorkpiece::facet_depth(const Cutter& cutter, double facet) {
+  const double r = cutter.profile().max_radius();
+  const double half = 0.5 * facet;
+  return half >= r ? r : r - std::sqrt(r * r - half * half);
+}
+
+double MeshWorkpiece::cell_volume() const { return std::pow(spacing_, 3); }
+
+TriangleMesh MeshWorkpiece::piece_mesh(const LinearSweep& piece) const {
+  // tool_surface_points keeps its chords within half the tolerance it is given.
+  const std::vector<Vec3> tool =
+      tool_surface_points(piece.cutter(), 2.0 * facet_depth(piece.cutter(), facet_));
+  return linear_piece_mesh(tool, piece.start(), piece.end(), piece.axis());
+}
+
+double MeshWorkpiece::remove(const MoveSweep& sweep, TriangleMesh* removed) {
+  double volume = 0.0;
+  for (const LinearSweep& piece : sweep.pieces()) {
+    volume += stock_.subtract(piece_mesh(piece), removed);
+  }
+  return volume;
+}
+
+std::vector<double> MeshWorkpiece::remove(std::span<const MoveSweep> sweeps) {
+  std::vector<double> volumes;
+  volumes.reserve(sweeps.size());
+  for (const MoveSweep& sweep : sweeps) volumes.push_back(remove(sweep, nullptr));
+  return volumes;
+}
+
+std::unique_ptr<StepEngagement> MeshWorkpiece::engagement(const Cutter& cutter,
+                                                          const EngagementOptions& options) {
+  return std::make_unique<MeshStepEngagement>(*this, cutter, spacing_, options);
+}
+
+}  // namespace cwe
