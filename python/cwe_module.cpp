@@ -11,6 +11,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -108,7 +109,13 @@ py::list intervals(const std::vector<Interval>& phi) {
 // GIL, each time another percent of the moves is done.
 Run run(Job job, bool engagement, const py::object& progress) {
   PreparedJob prepared = prepare_job(job);
-  TriDexel stock = make_stock(prepared.stock, prepared.simulation);
+  std::optional<TriDexel> rays;
+  std::optional<MeshStock> mesh;
+  if (prepared.workpiece == WorkpieceKind::kMesh) {
+    mesh.emplace(make_mesh_stock(prepared.stock));
+  } else {
+    rays.emplace(make_stock(prepared.stock, prepared.simulation));
+  }
   auto columns = std::make_shared<Columns>();
   ClSink* const sinks[] = {columns.get()};
   std::shared_ptr<JobResult> result;
@@ -124,7 +131,8 @@ Run run(Job job, bool engagement, const py::object& progress) {
   {
     py::gil_scoped_release release;
     result = std::make_shared<JobResult>(
-        run_job(prepared, std::move(stock), RunOptions{engagement}, sinks, report));
+        mesh ? run_job(prepared, std::move(*mesh), RunOptions{engagement}, sinks, report)
+             : run_job(prepared, std::move(*rays), RunOptions{engagement}, sinks, report));
   }
   JobSummary extras;
   extras.stock = job.stock;
@@ -181,7 +189,9 @@ PYBIND11_MODULE(_cwe, m) {
       .def_readwrite("subroutine_path", &Job::subroutine_path)
       .def_readwrite("machine", &Job::machine)
       .def_readwrite("units", &Job::units)
+      .def_readwrite("workpiece", &Job::workpiece)
       .def_readwrite("resolution", &Job::resolution)
+      .def_readwrite("facet", &Job::facet)
       .def_readwrite("tolerance", &Job::tolerance)
       .def_readwrite("threads", &Job::threads)
       .def_readwrite("cl_step", &Job::cl_step)
@@ -223,7 +233,9 @@ PYBIND11_MODULE(_cwe, m) {
       .def(
           "stock_mesh",
           [](const Run& r, int stride) {
-            const TriangleMesh mesh = dexel_mesh(r.result->stock, stride);
+            // The rays contoured at `stride`, or the mesh workpiece itself.
+            const TriangleMesh mesh =
+                r.result->stock ? dexel_mesh(*r.result->stock, stride) : r.result->mesh->mesh();
             py::array_t<double> v({static_cast<py::ssize_t>(mesh.vertices.size()),
                                    static_cast<py::ssize_t>(3)});
             py::array_t<int> f({static_cast<py::ssize_t>(mesh.triangles.size()),

@@ -26,7 +26,8 @@ __all__ = ["Job", "Operation", "Run", "Tool", "InputError", "run"]
 
 _JOB_SETTINGS = [
     "stock", "tool", "path", "operations", "tools", "tool_for_all", "tool_units", "start",
-    "tool_change", "subroutine_path", "machine", "units", "resolution", "tolerance", "threads",
+    "tool_change", "subroutine_path", "machine", "units", "workpiece", "resolution", "facet",
+    "tolerance", "threads",
     "cl_step", "forces", "spindle", "feed", "flutes", "helix", "force_step", "runout",
 ]
 

@@ -10,6 +10,7 @@
 
 #include "cli_checks.hpp"
 #include "cwe/core/assert.hpp"
+#include "cwe/core/computation_error.hpp"
 #include "cwe/core/error.hpp"
 #include "cwe/process/cutting_coefficients.hpp"
 #include "envelope_command.hpp"
@@ -83,6 +84,9 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   } catch (const InputError& e) {
     err << e.what() << '\n';
     return 2;
+  } catch (const ComputationError& e) {
+    err << "cwe: error: " << e.what() << '\n';
+    return 3;
   } catch (const InternalError& e) {
     err << e.what() << "\n(this is a bug in cwe)\n";
     return 1;

@@ -69,7 +69,9 @@ const JobKey kJobKeys[] = {
     {"subroutine_path", Kind::kFolders, &Options::subroutine_path},
     {"machine", Kind::kMachine, {}},
     {"operations", Kind::kOperations, {}},
+    {"workpiece", Kind::kText, &Options::workpiece},
     {"resolution", Kind::kNumber, &Options::resolution},
+    {"facet", Kind::kNumber, &Options::facet},
     {"tolerance", Kind::kNumber, &Options::tolerance},
     {"threads", Kind::kCount, &Options::threads},
     {"mesh_stride", Kind::kCount, &Options::mesh_stride},
@@ -312,7 +314,14 @@ void add_job_options(CLI::App* cmd, SimulateCommandOptions& options) {
                 "Cut every move of a program that changes tools with the one --tool");
   cmd->add_option("--path", options.path, "Toolpath file (G-code or APT CLDATA)");
   const CLI::Validator length = positive("a positive length in mm");
-  cmd->add_option("--resolution", options.resolution, "Ray spacing s, mm (default 0.1)")
+  cmd->add_option("--workpiece", options.workpiece,
+                  "The in-process workpiece: dexel (tri-dexel rays, default) or mesh (a closed "
+                  "triangle mesh cut by CGAL's booleans, the polyhedral method)");
+  cmd->add_option("--resolution", options.resolution,
+                  "Ray spacing s, and the engagement maps' disc height, mm (default 0.1)")
+      ->check(length);
+  cmd->add_option("--facet", options.facet,
+                  "Mesh workpiece: edge of the faceted tool at its largest radius, mm (default 1)")
       ->check(length);
   cmd->add_option("--tolerance", options.tolerance,
                   "Subdivision tolerance of arcs, helices and 5-axis moves, mm (default s/10)")

@@ -111,7 +111,10 @@ namespace {
 void print_outputs(std::ostream& out, const SimulateCommandOptions& options, bool forces,
                    const nlohmann::json& summary) {
   const std::size_t triangles = summary["stock_mesh"]["triangles"].get<std::size_t>();
-  const double lattice = summary["stock_mesh"]["lattice_mm"].get<double>();
+  const std::string made =
+      summary["stock_mesh"].contains("lattice_mm")
+          ? fmt::format("on a {:g} mm lattice", summary["stock_mesh"]["lattice_mm"].get<double>())
+          : "of the mesh workpiece";
   const std::size_t maps_written =
       summary.contains("engagement") ? summary["engagement"]["maps"].get<std::size_t>() : 0;
   const std::size_t curves_written =
@@ -132,9 +135,9 @@ void print_outputs(std::ostream& out, const SimulateCommandOptions& options, boo
     }
   }
   fmt::print(out,
-             "  {}{}/stock.stl (machined stock, {} triangles on a {:g} mm lattice){}, "
+             "  {}{}/stock.stl (machined stock, {} triangles {}){}, "
              "{}/summary.json\n",
-             options.stock_only ? "outputs     " : "            ", options.out, triangles, lattice,
+             options.stock_only ? "outputs     " : "            ", options.out, triangles, made,
              options.ply ? fmt::format(", {}/stock.ply", options.out) : std::string(), options.out);
 }
 
@@ -144,12 +147,10 @@ void print_report(std::ostream& out, const SimulateCommandOptions& options, cons
                   const JobResult& run, const nlohmann::json& summary, const ReportUnit& unit) {
   const std::vector<PreparedOperation>& operations = job.operations;
   const SimulationOptions& simulation = job.simulation;
-  const TriDexel& stock = run.stock;
   const TriDexel::Volume& initial = run.initial_volume;
   const TriDexel::Volume& final_volume = run.final_volume;
   const RemovalSummary& removal = run.removal;
   const ForceExtremes& extremes = run.extremes;
-  const TriDexel::Memory memory = stock.memory();
   const std::size_t cl_points = run.cl_points, engaged_cls = run.engaged_cl_points;
   const double deepest = run.deepest, largest_area = run.largest_area;
   const double seconds = summary["seconds"].get<double>();
@@ -160,17 +161,29 @@ void print_report(std::ostream& out, const SimulateCommandOptions& options, cons
     fmt::print(out, "cwe simulate: {} moves of {} with {}\n", op.moves.size(),
                op.path, op.cutter.name());
   }
-  fmt::print(out, "  stock       {} at s = {:g} mm: {} rays, peak {:.1f} MiB ({:.2f} bytes/ray)\n",
-             options.stock, simulation.resolution, stock.ray_count(),
-             static_cast<double>(memory.peak()) / (1024.0 * 1024.0),
-             summary["bytes_per_ray"].get<double>());
   const double cubed = unit.mm * unit.mm * unit.mm;
-  fmt::print(out,
-             "  removed     {:.{}f} {}³ of {:.{}f} {}³ ({} moves cut material; family spread "
-             "{:.{}f} {}³)\n",
-             (initial.mean() - final_volume.mean()) / cubed, 1 + 2 * unit.extra_decimals, unit.name,
-             initial.mean() / cubed, 1 + 2 * unit.extra_decimals, unit.name, removal.cutting_moves,
-             final_volume.spread() / cubed, 2 + 2 * unit.extra_decimals, unit.name);
+  if (run.stock) {
+    const TriDexel::Memory memory = run.stock->memory();
+    fmt::print(out,
+               "  stock       {} at s = {:g} mm: {} rays, peak {:.1f} MiB ({:.2f} bytes/ray)\n",
+               options.stock, simulation.resolution, run.stock->ray_count(),
+               static_cast<double>(memory.peak()) / (1024.0 * 1024.0),
+               summary["bytes_per_ray"].get<double>());
+    fmt::print(out,
+               "  removed     {:.{}f} {}³ of {:.{}f} {}³ ({} moves cut material; family spread "
+               "{:.{}f} {}³)\n",
+               (initial.mean() - final_volume.mean()) / cubed, 1 + 2 * unit.extra_decimals,
+               unit.name, initial.mean() / cubed, 1 + 2 * unit.extra_decimals, unit.name,
+               removal.cutting_moves, final_volume.spread() / cubed, 2 + 2 * unit.extra_decimals,
+               unit.name);
+  } else {
+    fmt::print(out, "  stock       {} as a triangle mesh, {:g} mm facets: {} triangles\n",
+               options.stock, job.facet, run.mesh->triangles());
+    fmt::print(out, "  removed     {:.{}f} {}³ of {:.{}f} {}³ ({} moves cut material)\n",
+               (initial.mean() - final_volume.mean()) / cubed, 1 + 2 * unit.extra_decimals,
+               unit.name, initial.mean() / cubed, 1 + 2 * unit.extra_decimals, unit.name,
+               removal.cutting_moves);
+  }
   if (!options.stock_only) {
     fmt::print(out,
                "  engagement  {} cutter locations, {} engaged; deepest {:.{}f} {}, largest "
@@ -186,10 +199,17 @@ void print_report(std::ostream& out, const SimulateCommandOptions& options, cons
                std::filesystem::path(extremes.force.file).filename().string(), extremes.force.line,
                extremes.torque.value, extremes.power.value / 1000.0);
   }
-  fmt::print(out,
-             "  accuracy    exact sweeps for linear moves; arcs, helices, 5-axis within "
-             "{:g} mm\n",
-             removal.deviation_bound);
+  if (run.stock) {
+    fmt::print(out,
+               "  accuracy    exact sweeps for linear moves; arcs, helices, 5-axis within "
+               "{:g} mm\n",
+               removal.deviation_bound);
+  } else {
+    fmt::print(out,
+               "  accuracy    faceted sweeps ({:g} mm facets at the tool's largest radius); arcs, "
+               "helices, 5-axis pieces within {:g} mm\n",
+               job.facet, removal.deviation_bound);
+  }
   fmt::print(out, "  time        {:.2f} s on {} threads\n", seconds, threads);
   if (!removal.rapid_cuts.empty()) {
     const RapidCut& first = removal.rapid_cuts.front();
@@ -275,7 +295,14 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   }
   MapChoice curves =
       parse_maps(job.forces ? options.force_curves : "none", cl_count, options, "force_curves");
-  TriDexel initial_stock = make_stock(job.stock, simulation);  // before any output is opened
+  // The stock before any output is opened.
+  std::optional<TriDexel> initial_rays;
+  std::optional<MeshStock> initial_mesh;
+  if (job.workpiece == WorkpieceKind::kMesh) {
+    initial_mesh.emplace(make_mesh_stock(job.stock));
+  } else {
+    initial_rays.emplace(make_stock(job.stock, simulation));
+  }
   const ReportUnit unit = ReportUnit::of(options.report_units);
   check_output_folder(options.out, options, job);
   OutputSet outputs(options.out, kSimulateOutputs, options.origin("out"));
@@ -290,11 +317,14 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
     figures.emplace(folder, maps, curves, job.forces.has_value(), cl_count);
     sinks = {&*files, &*figures};
   }
-  JobResult run = run_job(job, std::move(initial_stock), RunOptions{!options.stock_only}, sinks,
-                          [&](std::size_t done, std::size_t total) { bar(done, total); });
-  TriDexel& stock = run.stock;
-  const int stride =
-      options.mesh_stride ? *options.mesh_stride : dexel_mesh_stride(stock, kStockMeshTriangles);
+  const auto progress_bar = [&](std::size_t done, std::size_t total) { bar(done, total); };
+  JobResult run = initial_mesh ? run_job(job, std::move(*initial_mesh),
+                                         RunOptions{!options.stock_only}, sinks, progress_bar)
+                               : run_job(job, std::move(*initial_rays),
+                                         RunOptions{!options.stock_only}, sinks, progress_bar);
+  const int stride = !run.stock            ? 1
+                     : options.mesh_stride ? *options.mesh_stride
+                                           : dexel_mesh_stride(*run.stock, kStockMeshTriangles);
   TriangleMesh mesh;
   // The stock's contouring beside the last figures and files (they never read the stock): on
   // one thread they were a serial fifth of a job's time after the parallel engagement.
@@ -310,7 +340,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
                 : fmt::format("Engagement along {} operations", operations.size());
         figures->finish(title);
       },
-      [&] { mesh = dexel_mesh(stock, stride); });
+      [&] { mesh = run.stock ? dexel_mesh(*run.stock, stride) : run.mesh->mesh(); });
   const std::size_t maps_written = figures ? figures->maps_written() : 0;
   const std::size_t curves_written = figures ? figures->curves_written() : 0;
   const double seconds =

@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "cwe/core/computation_error.hpp"
 #include "cwe/core/error.hpp"
 #include "cwe/engagement/engagement_grid.hpp"
 #include "cwe/envelope/swept_volume.hpp"
@@ -194,7 +195,13 @@ double MeshWorkpiece::remove(const MoveSweep& sweep, TriangleMesh* removed) {
 std::vector<double> MeshWorkpiece::remove(std::span<const MoveSweep> sweeps) {
   std::vector<double> volumes;
   volumes.reserve(sweeps.size());
-  for (const MoveSweep& sweep : sweeps) volumes.push_back(remove(sweep, nullptr));
+  for (std::size_t k = 0; k < sweeps.size(); ++k) {
+    try {
+      volumes.push_back(remove(sweeps[k], nullptr));
+    } catch (const ComputationError& e) {
+      throw ComputationError(k, e.what());
+    }
+  }
   return volumes;
 }
 

@@ -82,6 +82,7 @@ void check_numbers(const Job& job) {
   // Below 1e-6 mm a tolerance only multiplies the pieces of arcs, helices and 5-axis moves.
   check_number(job, "tolerance", job.tolerance, 1e-6, !kOpen, 1e4,
                "a length in mm from 1e-6 to 10000");
+  check_number(job, "facet", job.facet, 0.0, kOpen, 1e3, "a positive length in mm, at most 1000");
   check_number(job, "threads", job.threads, 1.0, !kOpen, 4096.0,
                "a whole number of threads, 1 to 4096");
   check_number(job, "cl_step", job.cl_step, 0.0, kOpen, 1e6,
@@ -157,8 +158,17 @@ PreparedJob prepare_job(Job& options) {
 
   // Everything the job needs is read and checked before the long part starts.
   job.stock = read_stock_spec(options.stock, options.origin("stock"));
-  // The rays are the run's big allocation: checked here, where the resolution's origin is known.
-  TriDexel::check_grid(stock_box(job.stock), simulation.resolution, options.origin("resolution"));
+  if (options.workpiece.empty() || options.workpiece == "dexel") {
+    // The rays are the run's big allocation: checked here, where the resolution's origin is
+    // known.
+    TriDexel::check_grid(stock_box(job.stock), simulation.resolution, options.origin("resolution"));
+  } else if (options.workpiece == "mesh") {
+    job.workpiece = WorkpieceKind::kMesh;
+    job.facet = options.facet.value_or(1.0);
+  } else {
+    throw options.error("workpiece",
+                        fmt::format("\"{}\": expected \"dexel\" or \"mesh\"", options.workpiece));
+  }
   const EntryRules entries = entry_rules(options, stock_top(job.stock));
   std::vector<std::pair<std::size_t, ToolRun>> runs;  // with their operation
   for (std::size_t o = 0; o < options.operations.size(); ++o) {

@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "cwe/engagement/dexel_workpiece.hpp"
+#include "cwe/engagement/mesh_workpiece.hpp"
 
 namespace cwe {
 namespace {
@@ -29,25 +30,11 @@ void merge(RemovalSummary& job, const RemovalSummary& op, int move_offset) {
   job.rapid_cut_count += op.rapid_cut_count;
 }
 
-}  // namespace
-
-void ForceExtremes::add(const ClForces& f, std::size_t cl, const std::string& file, int line) {
-  if (f.cutting) ++cutting;
-  const auto update = [&](Extreme& e, double value) {
-    if (value > e.value) e = {value, cl, file, line};
-  };
-  update(force, f.peak_resultant);
-  update(torque, f.peak_torque);
-  update(power, f.mean_power);
-  update(chip, f.max_chip);
-}
-
-JobResult run_job(const PreparedJob& job, TriDexel stock, const RunOptions& options,
-                  std::span<ClSink* const> sinks, const Progress& progress) {
+// Runs the job on `workpiece` (the seam, cwe/engagement/workpiece.hpp), filling `result`'s
+// figures but for its volumes.
+void run_on(const PreparedJob& job, Workpiece& workpiece, const RunOptions& options,
+            std::span<ClSink* const> sinks, const Progress& progress, JobResult& result) {
   const SimulationOptions& simulation = job.simulation;
-  JobResult result(std::move(stock));
-  result.initial_volume = result.stock.volume();
-  DexelWorkpiece workpiece(result.stock);  // the workpiece seam (cwe/engagement/workpiece.hpp)
   const std::size_t all_moves = move_count(job);
   std::size_t moves_before = 0, cls_before = 0, done = 0;
   // The operation running (its CLs all come to `sink` before its run's finish() returns).
@@ -138,7 +125,45 @@ JobResult run_job(const PreparedJob& job, TriDexel stock, const RunOptions& opti
     if (options.engagement) cls_before += op->cl_points;
   };
   for_each_move(job, visitor);
-  result.final_volume = result.stock.volume();
+}
+
+// A mesh's volume as the rays' three figures.
+TriDexel::Volume volume_of(const MeshStock& stock) {
+  TriDexel::Volume v;
+  v.by_family.fill(stock.volume());
+  return v;
+}
+
+}  // namespace
+
+void ForceExtremes::add(const ClForces& f, std::size_t cl, const std::string& file, int line) {
+  if (f.cutting) ++cutting;
+  const auto update = [&](Extreme& e, double value) {
+    if (value > e.value) e = {value, cl, file, line};
+  };
+  update(force, f.peak_resultant);
+  update(torque, f.peak_torque);
+  update(power, f.mean_power);
+  update(chip, f.max_chip);
+}
+
+JobResult run_job(const PreparedJob& job, TriDexel stock, const RunOptions& options,
+                  std::span<ClSink* const> sinks, const Progress& progress) {
+  JobResult result(std::move(stock));
+  result.initial_volume = result.stock->volume();
+  DexelWorkpiece workpiece(*result.stock);
+  run_on(job, workpiece, options, sinks, progress, result);
+  result.final_volume = result.stock->volume();
+  return result;
+}
+
+JobResult run_job(const PreparedJob& job, MeshStock stock, const RunOptions& options,
+                  std::span<ClSink* const> sinks, const Progress& progress) {
+  JobResult result(std::move(stock));
+  result.initial_volume = volume_of(*result.mesh);
+  MeshWorkpiece workpiece(*result.mesh, job.facet, job.simulation.resolution);
+  run_on(job, workpiece, options, sinks, progress, result);
+  result.final_volume = volume_of(*result.mesh);
   return result;
 }
 

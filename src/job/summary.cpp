@@ -103,8 +103,6 @@ std::string job_summary(const PreparedJob& job, const JobResult& run, const JobS
   const RemovalSummary& removal = run.removal;
   const TriDexel::Volume& initial = run.initial_volume;
   const TriDexel::Volume& final_volume = run.final_volume;
-  const TriDexel& stock = run.stock;
-  const TriDexel::Memory memory = stock.memory();
   std::vector<std::string> tool_names, paths;
   for (const PreparedOperation& op : job.operations) {
     tool_names.push_back(op.cutter.name());
@@ -116,8 +114,20 @@ std::string job_summary(const PreparedJob& job, const JobResult& run, const JobS
   summary["initial_volume_mm3"] = initial.mean();
   summary["final_volume_mm3"] = final_volume.mean();
   summary["removed_volume_mm3"] = initial.mean() - final_volume.mean();
-  summary["rays"] = stock.ray_count();
-  summary["peak_memory_bytes"] = memory.peak();
+  if (run.stock) {
+    const TriDexel::Memory memory = run.stock->memory();
+    summary["workpiece"] = "dexel";
+    summary["rays"] = run.stock->ray_count();
+    summary["peak_memory_bytes"] = memory.peak();
+    summary["final_volume_by_family_mm3"] = final_volume.by_family;
+    summary["volume_spread_mm3"] = final_volume.spread();
+    summary["bytes_per_ray"] =
+        static_cast<double>(memory.total()) / static_cast<double>(run.stock->ray_count());
+  } else {
+    summary["workpiece"] = "mesh";
+    summary["facet_mm"] = job.facet;
+    summary["triangles"] = run.mesh->triangles();
+  }
   summary["seconds"] = extras.seconds;
   summary["tool"] = fmt::format("{}", fmt::join(tool_names, ", "));
   summary["path"] = fmt::format("{}", fmt::join(paths, ", "));
@@ -131,16 +141,14 @@ std::string job_summary(const PreparedJob& job, const JobResult& run, const JobS
   summary["linear_sweeps"] = removal.linear_pieces;
   summary["tolerance_mm"] = simulation.effective_tolerance();
   summary["deviation_bound_mm"] = removal.deviation_bound;
-  summary["final_volume_by_family_mm3"] = final_volume.by_family;
-  summary["volume_spread_mm3"] = final_volume.spread();
-  summary["bytes_per_ray"] =
-      static_cast<double>(memory.total()) / static_cast<double>(stock.ray_count());
   if (extras.mesh != nullptr) {
     summary["stock_mesh"] = {{"file", "stock.stl"},
-                             {"stride", extras.mesh_stride},
-                             {"lattice_mm", extras.mesh_stride * simulation.resolution},
                              {"triangles", extras.mesh->triangles.size()},
                              {"volume_mm3", extras.mesh->volume()}};
+    if (run.stock) {  // contoured from the rays
+      summary["stock_mesh"]["stride"] = extras.mesh_stride;
+      summary["stock_mesh"]["lattice_mm"] = extras.mesh_stride * simulation.resolution;
+    }
     if (extras.ply) summary["stock_mesh"]["ply"] = "stock.ply";
   }
   if (extras.engagement) summary["engagement"] = engagement_json(job, run, extras);

@@ -11,6 +11,7 @@
 #include <tbb/task_arena.h>
 
 #include "cwe/core/assert.hpp"
+#include "cwe/core/computation_error.hpp"
 #include "cwe/core/numbers.hpp"
 #include "cwe/engagement/dexel_workpiece.hpp"
 #include "cwe/io/mesh_io.hpp"
@@ -90,6 +91,12 @@ TriDexel make_stock(const StockSpec& spec, const SimulationOptions& options) {
   return TriDexel::from_mesh(read_stl(spec.path).mesh, options.resolution, spec.path);
 }
 
+MeshStock make_mesh_stock(const StockSpec& spec) {
+  if (spec.is_box) return MeshStock::from_box(spec.box);
+  if (spec.mesh) return MeshStock::from_mesh(*spec.mesh, spec.path);
+  return MeshStock::from_mesh(read_stl(spec.path).mesh, spec.path);
+}
+
 namespace {
 
 // The file of a move whose source names none.
@@ -125,6 +132,11 @@ void record_move(RemovalSummary& summary, std::size_t index, bool rapid,
   }
 }
 
+// A failed computation's message, prefixed with the move's place ("file:line: ").
+std::string at_move(const SourceLocation& at, const char* what) {
+  return fmt::format("{}:{}: {}", at.source.empty() ? "toolpath" : at.source, at.line, what);
+}
+
 // A MoveRemoved that also keeps the volumes in `summary.removed_by_move` (the Toolpath
 // functions).
 MoveRemoved keeping(std::vector<double>& volumes) {
@@ -142,14 +154,21 @@ RemovalRun::RemovalRun(Workpiece& stock, const Cutter& cutter, const SimulationO
 
 void RemovalRun::add(const Move& move, const std::vector<std::string>& sources) {
   sweeps_.emplace_back(parts_, move);
-  pending_.push_back({move.is_rapid(), rapid_location(move, sources)});
+  pending_.push_back({move.is_rapid(), rapid_location(move, sources),
+                      SourceLocation{source_file(move, sources, kNoFile), move.line}});
   pieces_ += sweeps_.back().pieces().size();
   if (pieces_ >= kBatchPieces) flush();
 }
 
 void RemovalRun::flush() {
   if (sweeps_.empty()) return;
-  const std::vector<double> volume = stock_.remove(sweeps_);
+  std::vector<double> volume;
+  try {
+    volume = stock_.remove(sweeps_);
+  } catch (const ComputationError& e) {
+    const std::size_t k = std::min(e.item().value_or(0), pending_.size() - 1);
+    throw ComputationError(at_move(pending_[k].at, e.what()));
+  }
   for (std::size_t m = 0; m < sweeps_.size(); ++m) {
     record_move(summary_, static_cast<std::size_t>(summary_.moves), pending_[m].rapid,
                 pending_[m].location, static_cast<int>(sweeps_[m].pieces().size()),
@@ -296,7 +315,14 @@ void EngagementRun::flush() {
   const auto remove_next = [&](tbb::flow_control& control) -> Slot* {
     while (m < moves_.size()) {
       const PendingMove& pending = moves_[m];
-      if (next == 0) begin_move(pending.move);
+      if (next == 0) {
+        try {
+          begin_move(pending.move);
+        } catch (const ComputationError& e) {
+          throw ComputationError(
+              at_move(SourceLocation{files_[pending.file], pending.move.line}, e.what()));
+        }
+      }
       if (pending.cl_count == 0) {
         remove_part(pending.move, 0.0, 1.0, nullptr);
         move_done();

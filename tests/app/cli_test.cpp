@@ -501,6 +501,60 @@ const char* const kForceProgram =
     "G21 G90\nS10000 M3\nG0 X-10 Y10 Z1\nG1 Z-3 F200\nG1 X60 F600\nG0 Z5\nG0 X-10 Y-3\n"
     "G1 Z-1 F200\nG1 X60 F900\nG0 Z5\nM2\n";
 
+// The mesh workpiece (--workpiece mesh): a slot through the block removes the faceted sweep's
+// volume, which for a feed along X is exactly the slot's (the rings' polygons have a vertex on
+// each side of the feed), stock.stl is the mesh itself, and the engagement is the slot's.
+TEST(CliSimulate, MeshWorkpiece) {
+  const auto dir = scratch_dir("simulate-mesh");
+  std::filesystem::create_directories(dir);
+  const auto program = dir / "slot.ngc";
+  std::ofstream(program) << "G21 G90\nG0 X-10 Y10 Z1\nG1 Z-3 F100\nG1 X40 F600\nG0 Z5\nM2\n";
+  const std::vector<std::string> args = {"simulate",       "--stock",    "box:0,0,-10,30,20,0",
+                                         "--tool",         "flat:10,20", "--path",
+                                         program.string(), "--out",      (dir / "out").string(),
+                                         "--resolution",   "0.25",       "--workpiece",
+                                         "mesh",           "--facet",    "1"};
+  const Result r = run_cwe(args);
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::ifstream in(dir / "out" / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  EXPECT_EQ(summary["workpiece"], "mesh");
+  EXPECT_EQ(summary["facet_mm"], 1.0);
+  EXPECT_NEAR(summary["removed_volume_mm3"].get<double>(), 900.0, 1e-6);
+  EXPECT_FALSE(summary.contains("rays"));
+  EXPECT_EQ(summary["stock_mesh"]["triangles"], summary["triangles"]);
+  EXPECT_NEAR(summary["stock_mesh"]["volume_mm3"].get<double>(), 6000.0 - 900.0, 1e-6);
+  EXPECT_EQ(std::filesystem::file_size(dir / "out" / "stock.stl"),
+            84u + 50u * summary["triangles"].get<std::size_t>());
+  EXPECT_NE(r.out.find("as a triangle mesh, 1 mm facets"), std::string::npos) << r.out;
+  // The CL in the middle of the block: a full slot 3 mm deep.
+  std::ifstream csv(dir / "out" / "engagement.csv");
+  std::string line;
+  std::getline(csv, line);
+  bool seen = false;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    if (std::abs(std::stod(cells[3]) - 15.0) > 0.26 || std::stod(cells[5]) > -2.9) continue;
+    seen = true;
+    EXPECT_EQ(cells[12], "1") << line;
+    EXPECT_NEAR(std::stod(cells[13]), 0.0, 1.0) << line;    // entry, degrees
+    EXPECT_NEAR(std::stod(cells[14]), 180.0, 1.0) << line;  // exit
+    EXPECT_NEAR(std::stod(cells[15]), 3.0, 0.25) << line;   // axial depth, mm
+  }
+  EXPECT_TRUE(seen);
+  // Not a representation cwe has: exit 2 naming the option, nothing written.
+  std::vector<std::string> bad = args;
+  bad[bad.size() - 3] = "cube";
+  bad[8] = (dir / "bad").string();
+  const Result refused = run_cwe(bad);
+  EXPECT_EQ(refused.status, 2);
+  EXPECT_NE(refused.err.find("expected \"dexel\" or \"mesh\""), std::string::npos) << refused.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "bad"));
+  std::filesystem::remove_all(dir);
+}
+
 TEST(CliForces, SlotForcesMatchTheClosedForm) {
   const auto dir = scratch_dir("forces");
   std::filesystem::create_directories(dir);

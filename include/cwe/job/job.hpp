@@ -60,8 +60,12 @@ struct Job {
   // "mm" (default) or "in": the unit of the lengths given without one (stock box, tool
   // specifications and tables, start and tool-change points).
   std::string units;
+  // The in-process workpiece: "dexel" (default: tri-dexel rays) or "mesh" (a closed triangle
+  // mesh cut by CGAL's booleans, the thesis's polyhedral method; docs/engagement.md).
+  std::string workpiece;
   // Numbers: absent means the default in the comment.
-  std::optional<double> resolution;  // ray spacing, mm; 0.1
+  std::optional<double> resolution;  // ray spacing (dexel), engagement grid (both), mm; 0.1
+  std::optional<double> facet;       // mesh: the faceted tool's edge at its largest radius, mm; 1
   std::optional<double> tolerance;   // mm; resolution / 10
   std::optional<int> threads;        // all cores
   std::optional<double> cl_step;     // mm; min(0.5, D/20)
@@ -125,8 +129,13 @@ struct PreparedOperation {
 // A cutter narrower than this many ray spacings gets a warning (prepare_job).
 inline constexpr double kFewestRaysAcross = 4.0;
 
+// The in-process workpiece's representation (Job::workpiece).
+enum class WorkpieceKind { kDexel, kMesh };
+
 struct PreparedJob {
   StockSpec stock;  // an STL stock read
+  WorkpieceKind workpiece = WorkpieceKind::kDexel;
+  double facet = 1.0;  // mm, the mesh workpiece's facet size
   // What the job's settings make doubtful (a cutter too small for the resolution), in the
   // summary and the terminal report.
   std::vector<Diagnostic> warnings;

@@ -3,6 +3,7 @@
 // (and forces) at each cutter location handed to sinks, and the figures a report needs.
 
 #include <cstddef>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
@@ -12,6 +13,7 @@
 #include "cwe/job/job.hpp"
 #include "cwe/simulation/simulation.hpp"
 #include "cwe/workpiece/dexel/tri_dexel.hpp"
+#include "cwe/workpiece/mesh/mesh_stock.hpp"
 
 namespace cwe {
 
@@ -30,7 +32,11 @@ struct ForceExtremes {
 
 struct JobResult {
   explicit JobResult(TriDexel workpiece) : stock(std::move(workpiece)) {}
-  TriDexel stock;  // the in-process workpiece after the job
+  explicit JobResult(MeshStock workpiece) : mesh(std::move(workpiece)) {}
+  // The in-process workpiece after the job: the rays, or the mesh (PreparedJob::workpiece).
+  std::optional<TriDexel> stock;
+  std::optional<MeshStock> mesh;
+  // Volumes before and after, mm³: the rays' by family; the mesh's one figure in all three.
   TriDexel::Volume initial_volume, final_volume;
   RemovalSummary removal;  // of the whole job (move indices over all operations)
   std::vector<RemovalSummary> per_operation;
@@ -50,6 +56,11 @@ struct RunOptions {
 // order, with engagement through simulate_engagement, each CL's engagement (and forces) handed to
 // every sink in turn. `progress` gets (moves done, moves of the job).
 JobResult run_job(const PreparedJob& job, TriDexel stock, const RunOptions& options,
+                  std::span<ClSink* const> sinks, const Progress& progress = {});
+// The same on the mesh workpiece (MeshWorkpiece at the job's facet size), for a job whose
+// workpiece is "mesh". Throws ComputationError naming the move's file and line when a boolean
+// fails.
+JobResult run_job(const PreparedJob& job, MeshStock stock, const RunOptions& options,
                   std::span<ClSink* const> sinks, const Progress& progress = {});
 
 }  // namespace cwe

@@ -21,6 +21,7 @@
 #include "cwe/toolpath/cl_sampling.hpp"
 #include "cwe/toolpath/toolpath.hpp"
 #include "cwe/workpiece/dexel/tri_dexel.hpp"
+#include "cwe/workpiece/mesh/mesh_stock.hpp"
 
 namespace cwe {
 
@@ -53,6 +54,9 @@ struct SimulationOptions {
 // The stock as a tri-dexel workpiece. Throws InputError for a bad box, an unreadable or open
 // STL, or a resolution the stock cannot take.
 TriDexel make_stock(const StockSpec& spec, const SimulationOptions& options);
+// The stock as a closed triangle mesh (the mesh workpiece). Throws InputError for a bad box, or
+// an STL that is not the closed, outward surface of a solid.
+MeshStock make_mesh_stock(const StockSpec& spec);
 
 struct RapidCut {
   int move = 0;  // 0-based index into the toolpath
@@ -102,6 +106,7 @@ class RemovalRun {
   struct Pending {
     bool rapid = false;
     SourceLocation location;  // for a rapid that cuts
+    SourceLocation at;        // the move's file and line, for a computation that fails
   };
   void flush();
   Workpiece& stock_;

@@ -11,6 +11,7 @@
 #include <CGAL/Side_of_triangle_mesh.h>
 #include <CGAL/Surface_mesh.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <unordered_map>
@@ -83,8 +84,14 @@ bool to_exact(const TriangleMesh& in, Mesh& out, std::size_t& bad) {
   return true;
 }
 
-// Enclosed volume from the rounded vertices (divergence theorem about the box's centre, which
-// keeps the terms small): within ~1e-12 of the exact volume relative to the box.
+// A point's coordinates as doubles from their interval approximations (no exact evaluation):
+// within a few ulps of the exact values.
+Vec3 approximate(const Point& p) {
+  return {CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())};
+}
+
+// Enclosed volume from the vertices' approximations (divergence theorem about the box's centre,
+// which keeps the terms small): within ~1e-12 of the exact volume relative to the box.
 double volume_of(const Mesh& mesh) {
   const CGAL::Bbox_3 box = PMP::bbox(mesh);
   const Vec3 c(0.5 * (box.xmin() + box.xmax()), 0.5 * (box.ymin() + box.ymax()),
@@ -92,45 +99,25 @@ double volume_of(const Mesh& mesh) {
   double six = 0.0;
   for (const Mesh::Face_index f : mesh.faces()) {
     const Mesh::Halfedge_index h = mesh.halfedge(f);
-    const Vec3 a = rounded(mesh.point(mesh.source(h))) - c;
-    const Vec3 b = rounded(mesh.point(mesh.target(h))) - c;
-    const Vec3 d = rounded(mesh.point(mesh.target(mesh.next(h)))) - c;
+    const Vec3 a = approximate(mesh.point(mesh.source(h))) - c;
+    const Vec3 b = approximate(mesh.point(mesh.target(h))) - c;
+    const Vec3 d = approximate(mesh.point(mesh.target(mesh.next(h)))) - c;
     six += a.dot(b.cross(d));
   }
   return six / 6.0;
 }
 
-// Rounds the vertices that the last boolean made (those not already doubles) unless a face
-// near `cut` (the tool's box, where they all lie) would then cross another; in that case the
-// mesh keeps its exact coordinates. A vertex moves by less than an ulp either way.
-void round_near(Mesh& mesh, const Aabb& cut) {
-  std::vector<std::pair<Mesh::Vertex_index, Point>> moved;
-  for (const Mesh::Vertex_index v : mesh.vertices()) {
-    const Point& p = mesh.point(v);
-    const Vec3 r = rounded(p);
-    const Point q(r.x(), r.y(), r.z());
-    if (q != p) moved.emplace_back(v, q);
-  }
-  if (moved.empty()) return;
-  std::vector<std::pair<Mesh::Vertex_index, Point>> exact;
-  exact.reserve(moved.size());
-  for (auto& [v, q] : moved) {
-    exact.emplace_back(v, mesh.point(v));
-    mesh.point(v) = q;
-  }
-  // Faces whose box meets the cut's (grown by a margin far above an ulp).
+// Makes the coordinates of the vertices the last boolean made (those in the cut's box) exact
+// now: a lazy point keeps the expression that made it, and through it the points that expression
+// used, boolean after boolean; an exact point is a leaf.
+void make_exact(Mesh& mesh, const Aabb& cut) {
   Aabb near = cut;
   near.inflate(1e-6 * std::max(1.0, cut.size().maxCoeff()));
-  std::vector<Mesh::Face_index> faces;
-  for (const Mesh::Face_index f : mesh.faces()) {
-    const CGAL::Bbox_3 b = PMP::face_bbox(f, mesh);
-    if (b.xmax() >= near.min.x() && b.xmin() <= near.max.x() && b.ymax() >= near.min.y() &&
-        b.ymin() <= near.max.y() && b.zmax() >= near.min.z() && b.zmin() <= near.max.z()) {
-      faces.push_back(f);
+  for (const Mesh::Vertex_index v : mesh.vertices()) {
+    const Vec3 p = approximate(mesh.point(v));
+    if ((p.array() >= near.min.array()).all() && (p.array() <= near.max.array()).all()) {
+      CGAL::exact(mesh.point(v));
     }
-  }
-  if (PMP::does_self_intersect(faces, mesh)) {
-    for (const auto& [v, p] : exact) mesh.point(v) = p;
   }
 }
 
@@ -255,7 +242,7 @@ double MeshStock::subtract(const TriangleMesh& tool, TriangleMesh* removed) {
         "mesh removal: CGAL's corefinement could not build the difference (the result would "
         "not be a 2-manifold)");
   }
-  round_near(solid_->mesh, tool.bounds());
+  make_exact(solid_->mesh, tool.bounds());
   if (!solid_->mesh.is_empty() && !CGAL::is_closed(solid_->mesh)) {
     throw ComputationError("mesh removal: the difference is not a closed surface");
   }

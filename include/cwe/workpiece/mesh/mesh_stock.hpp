@@ -6,11 +6,12 @@
 // The solid is a Surface_mesh over CGAL's exact-construction kernel, so a boolean is decided
 // exactly on the coordinates it is given, coplanar and coincident faces included (a pass along a
 // wall that an earlier pass left, a floor at the same depth).
-// Exact coordinates grow in size from boolean to boolean (a crossing of faces that are
-// themselves cut by crossings), so after each boolean the new vertices are rounded to doubles,
-// unless that makes a face near the cut cross another (then they stay exact).
+// Coordinates stay exact from boolean to boolean: the vertices a boolean makes are evaluated
+// exactly at once (a lazy point would keep the chain of constructions behind it). Rounding them
+// to doubles instead, even where no face then crossed another, left inputs on which CGAL's next
+// boolean failed or crashed (a FreeCAD pocket program, its second move).
 //
-// What a boolean removed comes back as triangles (rounded), for a MeshRegion.
+// What a boolean removed comes back as triangles (rounded to doubles), for a MeshRegion.
 
 #include <memory>
 #include <string>
