@@ -109,13 +109,7 @@ py::list intervals(const std::vector<Interval>& phi) {
 // GIL, each time another percent of the moves is done.
 Run run(Job job, bool engagement, const py::object& progress) {
   PreparedJob prepared = prepare_job(job);
-  std::optional<TriDexel> rays;
-  std::optional<MeshStock> mesh;
-  if (prepared.workpiece == WorkpieceKind::kMesh) {
-    mesh.emplace(make_mesh_stock(prepared.stock));
-  } else {
-    rays.emplace(make_stock(prepared.stock, prepared.simulation));
-  }
+  JobStock stock = make_job_stock(prepared);
   auto columns = std::make_shared<Columns>();
   ClSink* const sinks[] = {columns.get()};
   std::shared_ptr<JobResult> result;
@@ -131,8 +125,7 @@ Run run(Job job, bool engagement, const py::object& progress) {
   {
     py::gil_scoped_release release;
     result = std::make_shared<JobResult>(
-        mesh ? run_job(prepared, std::move(*mesh), RunOptions{engagement}, sinks, report)
-             : run_job(prepared, std::move(*rays), RunOptions{engagement}, sinks, report));
+        run_job(prepared, std::move(stock), RunOptions{engagement}, sinks, report));
   }
   JobSummary extras;
   extras.stock = job.stock;

@@ -244,23 +244,13 @@ int run_schedule_command(ScheduleCommandOptions options, std::ostream& out,
   std::vector<ScheduledFile> files = scheduled_files(job, options.out, file_of);
   const tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
                                         static_cast<std::size_t>(job.threads));
-  std::optional<TriDexel> rays;
-  std::optional<MeshStock> mesh;
-  if (job.workpiece == WorkpieceKind::kMesh) {
-    mesh.emplace(make_mesh_stock(job.stock));
-  } else {
-    rays.emplace(make_stock(job.stock, job.simulation));
-  }
+  JobStock stock = make_job_stock(job);
   ProgressBar bar(sim.quiet ? nullptr : progress);
   const std::size_t all_moves = move_count(job);
   FeedAllowance allowance(all_moves, limit, bounds);
   ClSink* const sinks[] = {&allowance};
-  const auto progress_bar = [&](std::size_t done, std::size_t total) { bar(done, total); };
-  if (mesh) {
-    run_job(job, std::move(*mesh), RunOptions{true, false}, sinks, progress_bar);
-  } else {
-    run_job(job, std::move(*rays), RunOptions{true, false}, sinks, progress_bar);
-  }
+  run_job(job, std::move(stock), RunOptions{true, false}, sinks,
+          [&](std::size_t done, std::size_t total) { bar(done, total); });
 
   const std::vector<ScheduledProgram> programs =
       schedule_operations(job, allowance, bounds, files, file_of);

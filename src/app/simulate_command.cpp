@@ -278,7 +278,6 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
     throw options.error("mesh_stride", fmt::format("{}: expected a whole number, 1 to 1000000",
                                                    *options.mesh_stride));
   }
-  const SimulationOptions& simulation = job.simulation;
   const int threads = job.threads;
   const tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
                                         static_cast<std::size_t>(threads));
@@ -295,14 +294,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   }
   MapChoice curves =
       parse_maps(job.forces ? options.force_curves : "none", cl_count, options, "force_curves");
-  // The stock before any output is opened.
-  std::optional<TriDexel> initial_rays;
-  std::optional<MeshStock> initial_mesh;
-  if (job.workpiece == WorkpieceKind::kMesh) {
-    initial_mesh.emplace(make_mesh_stock(job.stock));
-  } else {
-    initial_rays.emplace(make_stock(job.stock, simulation));
-  }
+  JobStock initial_stock = make_job_stock(job);  // before any output is opened
   const ReportUnit unit = ReportUnit::of(options.report_units);
   check_output_folder(options.out, options, job);
   OutputSet outputs(options.out, kSimulateOutputs, options.origin("out"));
@@ -317,11 +309,8 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
     figures.emplace(folder, maps, curves, job.forces.has_value(), cl_count);
     sinks = {&*files, &*figures};
   }
-  const auto progress_bar = [&](std::size_t done, std::size_t total) { bar(done, total); };
-  JobResult run = initial_mesh ? run_job(job, std::move(*initial_mesh),
-                                         RunOptions{!options.stock_only}, sinks, progress_bar)
-                               : run_job(job, std::move(*initial_rays),
-                                         RunOptions{!options.stock_only}, sinks, progress_bar);
+  JobResult run = run_job(job, std::move(initial_stock), RunOptions{!options.stock_only}, sinks,
+                          [&](std::size_t done, std::size_t total) { bar(done, total); });
   const int stride = !run.stock            ? 1
                      : options.mesh_stride ? *options.mesh_stride
                                            : dexel_mesh_stride(*run.stock, kStockMeshTriangles);

@@ -167,4 +167,20 @@ JobResult run_job(const PreparedJob& job, MeshStock stock, const RunOptions& opt
   return result;
 }
 
+JobStock make_job_stock(const PreparedJob& job) {
+  JobStock stock;
+  if (job.workpiece == WorkpieceKind::kMesh) {
+    stock.mesh.emplace(make_mesh_stock(job.stock));
+  } else {
+    stock.rays.emplace(make_stock(job.stock, job.simulation));
+  }
+  return stock;
+}
+
+JobResult run_job(const PreparedJob& job, JobStock stock, const RunOptions& options,
+                  std::span<ClSink* const> sinks, const Progress& progress) {
+  if (stock.mesh) return run_job(job, std::move(*stock.mesh), options, sinks, progress);
+  return run_job(job, std::move(*stock.rays), options, sinks, progress);
+}
+
 }  // namespace cwe

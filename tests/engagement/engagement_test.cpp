@@ -9,6 +9,7 @@
 
 #include "cwe/simulation/simulation.hpp"
 #include "cwe/tool/tool_spec.hpp"
+#include "engagement_testing.hpp"
 
 namespace cwe {
 namespace {
@@ -54,22 +55,6 @@ Probe engagement_near(const char* tool, const Aabb& block, const std::vector<Mov
   return best;
 }
 
-// Entry and exit of the discs between heights z0 and z1: every disc there must be one interval
-// matching [entry, exit] within `tolerance`.
-void expect_discs(const EngagementMap& map, double z0, double z1, double entry, double exit,
-                  double tolerance) {
-  int checked = 0;
-  for (const DiscEngagement& disc : map.discs) {
-    if (disc.z0 < z0 || disc.z1 > z1) continue;
-    SCOPED_TRACE(testing::Message() << "disc " << disc.z0 << "–" << disc.z1);
-    ASSERT_EQ(disc.phi.size(), 1u);
-    EXPECT_NEAR(disc.phi[0].lo, entry, tolerance);
-    EXPECT_NEAR(disc.phi[0].hi, exit, tolerance);
-    ++checked;
-  }
-  EXPECT_GT(checked, 0);
-}
-
 // The angular tolerance of a boundary: the test point lies within s/√2 of the cell centre on the
 // cutter surface, s/(√2 R) at radius R, plus the bisection's cell/64; 1° is asked for.
 double angle_tolerance(double radius) { return kSpacing / (std::sqrt(2.0) * radius) + 0.1 * kDeg; }
@@ -83,7 +68,7 @@ const Vec3 kSteady(25, 20, kTop - 3);
 TEST(Engagement, FullSlot) {
   const Probe p = engagement_near("flat:10,20", {{0, 0, 0}, {60, 40, kTop}}, kPass, kSteady);
   ASSERT_TRUE(p.map.engaged);
-  expect_discs(p.map, 0.0, 2.9, 0.0, kPi, angle_tolerance(5.0));
+  test::expect_discs(p.map, 0.0, 2.9, 0.0, kPi, angle_tolerance(5.0));
   EXPECT_NEAR(p.map.phi_entry, 0.0, angle_tolerance(5.0));
   EXPECT_NEAR(p.map.phi_exit, kPi, angle_tolerance(5.0));
   EXPECT_NEAR(p.map.axial_depth, 3.0, kSpacing);
@@ -100,12 +85,12 @@ TEST(Engagement, UpAndDownMillingAndHalfImmersion) {
     SCOPED_TRACE(testing::Message() << "ae " << ae);
     const double edge = 20.0 + r - ae;
     const Probe up = engagement_near("flat:10,20", {{0, edge, 0}, {60, 40, kTop}}, kPass, kSteady);
-    expect_discs(up.map, 0.0, 2.9, 0.0, std::acos(1.0 - ae / r), angle_tolerance(r));
+    test::expect_discs(up.map, 0.0, 2.9, 0.0, std::acos(1.0 - ae / r), angle_tolerance(r));
     EXPECT_NEAR(up.map.axial_depth, 3.0, kSpacing);
     // Material right of the feed (-y) below y = 20 - R + ae: down-milling, [π - acos(1 - ae/R), π].
     const Probe down =
         engagement_near("flat:10,20", {{0, 0, 0}, {60, 20.0 - r + ae, kTop}}, kPass, kSteady);
-    expect_discs(down.map, 0.0, 2.9, kPi - std::acos(1.0 - ae / r), kPi, angle_tolerance(r));
+    test::expect_discs(down.map, 0.0, 2.9, kPi - std::acos(1.0 - ae / r), kPi, angle_tolerance(r));
     EXPECT_NEAR(down.map.phi_entry, kPi - std::acos(1.0 - ae / r), angle_tolerance(r));
     EXPECT_NEAR(down.map.phi_exit, kPi, angle_tolerance(r));
   }

@@ -1,8 +1,11 @@
 #pragma once
 // Helpers shared by the engagement tests: a whole job run through simulate_engagement, every
-// cutter location kept with its state and map.
+// cutter location kept with its state and map; the check of a run of discs against closed-form
+// entry and exit angles.
 
 #include <vector>
+
+#include <gtest/gtest.h>
 
 #include "cwe/simulation/simulation.hpp"
 #include "cwe/tool/tool_spec.hpp"
@@ -30,6 +33,22 @@ inline std::vector<Sample> simulate_samples(const Toolpath& path, const char* to
     samples.push_back({e.cl, e.state, e.map});
   });
   return samples;
+}
+
+// Entry and exit of the discs between heights z0 and z1: every disc there must be one interval
+// matching [entry, exit] within `tolerance`.
+inline void expect_discs(const EngagementMap& map, double z0, double z1, double entry, double exit,
+                         double tolerance) {
+  int checked = 0;
+  for (const DiscEngagement& disc : map.discs) {
+    if (disc.z0 < z0 || disc.z1 > z1) continue;
+    SCOPED_TRACE(testing::Message() << "disc " << disc.z0 << "–" << disc.z1);
+    ASSERT_EQ(disc.phi.size(), 1u);
+    EXPECT_NEAR(disc.phi[0].lo, entry, tolerance);
+    EXPECT_NEAR(disc.phi[0].hi, exit, tolerance);
+    ++checked;
+  }
+  EXPECT_GT(checked, 0);
 }
 
 }  // namespace cwe::test

@@ -7,12 +7,12 @@
 #include <cmath>
 #include <vector>
 
-#include "cwe/core/computation_error.hpp"
 #include "cwe/core/error.hpp"
 #include "cwe/engagement/mesh_workpiece.hpp"
 #include "cwe/simulation/simulation.hpp"
 #include "cwe/tool/tool_spec.hpp"
 #include "cwe/workpiece/mesh/mesh_stock.hpp"
+#include "engagement_testing.hpp"
 
 namespace cwe {
 namespace {
@@ -125,21 +125,6 @@ EngagementMap mesh_engagement_near(const char* tool, const Aabb& block,
   return best;
 }
 
-// Every disc between heights z0 and z1 is one interval [entry, exit] within `tolerance`.
-void expect_discs(const EngagementMap& map, double z0, double z1, double entry, double exit,
-                  double tolerance) {
-  int checked = 0;
-  for (const DiscEngagement& disc : map.discs) {
-    if (disc.z0 < z0 || disc.z1 > z1) continue;
-    SCOPED_TRACE(testing::Message() << "disc " << disc.z0 << "–" << disc.z1);
-    ASSERT_EQ(disc.phi.size(), 1u);
-    EXPECT_NEAR(disc.phi[0].lo, entry, tolerance);
-    EXPECT_NEAR(disc.phi[0].hi, exit, tolerance);
-    ++checked;
-  }
-  EXPECT_GT(checked, 0);
-}
-
 // The angular tolerance the issue asks at 1 mm facets: 1°. What it covers at R = 5: the facets
 // lie inside the circle by up to h = 0.025 mm, and a cell counts as touching within h plus the
 // contact tolerance (0.01 mm), which moves a boundary where a block face crosses the circle at
@@ -153,7 +138,7 @@ TEST(MeshEngagement, FullSlot) {
   const EngagementMap map =
       mesh_engagement_near("flat:10,20", {{0, 0, 0}, {60, 40, kTop}}, kPass, kSteady);
   ASSERT_TRUE(map.engaged);
-  expect_discs(map, 0.0, 2.9, 0.0, kPi, kAngle);
+  test::expect_discs(map, 0.0, 2.9, 0.0, kPi, kAngle);
   EXPECT_NEAR(map.axial_depth, 3.0, kSpacing);
   for (const RingEngagement& ring : map.rings) EXPECT_TRUE(ring.phi.empty());
   EXPECT_NEAR(map.area, kPi * 5.0 * 3.0, 0.02 * kPi * 5.0 * 3.0);
@@ -166,11 +151,11 @@ TEST(MeshEngagement, UpAndDownMillingAndHalfImmersion) {
     const double edge = 20.0 + r - ae;
     const EngagementMap up =
         mesh_engagement_near("flat:10,20", {{0, edge, 0}, {60, 40, kTop}}, kPass, kSteady);
-    expect_discs(up, 0.0, 2.9, 0.0, std::acos(1.0 - ae / r), kAngle);
+    test::expect_discs(up, 0.0, 2.9, 0.0, std::acos(1.0 - ae / r), kAngle);
     EXPECT_NEAR(up.axial_depth, 3.0, kSpacing);
     const EngagementMap down =
         mesh_engagement_near("flat:10,20", {{0, 0, 0}, {60, 20.0 - r + ae, kTop}}, kPass, kSteady);
-    expect_discs(down, 0.0, 2.9, kPi - std::acos(1.0 - ae / r), kPi, kAngle);
+    test::expect_discs(down, 0.0, 2.9, kPi - std::acos(1.0 - ae / r), kPi, kAngle);
     EXPECT_NEAR(down.phi_entry, kPi - std::acos(1.0 - ae / r), kAngle);
     EXPECT_NEAR(down.phi_exit, kPi, kAngle);
   }

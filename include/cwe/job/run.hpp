@@ -63,4 +63,15 @@ JobResult run_job(const PreparedJob& job, TriDexel stock, const RunOptions& opti
 JobResult run_job(const PreparedJob& job, MeshStock stock, const RunOptions& options,
                   std::span<ClSink* const> sinks, const Progress& progress = {});
 
+// The job's stock in the representation its workpiece asks (make_stock or make_mesh_stock),
+// made before a run so that a bad stock is reported before any output is opened.
+struct JobStock {
+  std::optional<TriDexel> rays;
+  std::optional<MeshStock> mesh;
+};
+JobStock make_job_stock(const PreparedJob& job);
+// run_job on whichever the stock holds.
+JobResult run_job(const PreparedJob& job, JobStock stock, const RunOptions& options,
+                  std::span<ClSink* const> sinks, const Progress& progress = {});
+
 }  // namespace cwe
