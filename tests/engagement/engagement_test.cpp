@@ -17,13 +17,7 @@ namespace {
 constexpr double kDeg = kPi / 180.0;
 constexpr double kSpacing = 0.1;
 
-Move line(const Vec3& a, const Vec3& b) {
-  Move m;
-  m.start = a;
-  m.end = b;
-  m.feed_rate = 600.0;
-  return m;
-}
+using test::line;
 
 // Runs `moves` through a box of stock and returns the map at the CL sample nearest `probe`
 // (tip position) among the samples.

@@ -1,7 +1,7 @@
 #pragma once
 // Helpers shared by the engagement tests: a whole job run through simulate_engagement, every
-// cutter location kept with its state and map; the check of a run of discs against closed-form
-// entry and exit angles.
+// cutter location kept with its state and map; a feed move; the check of a run of discs against
+// closed-form entry and exit angles.
 
 #include <vector>
 
@@ -33,6 +33,15 @@ inline std::vector<Sample> simulate_samples(const Toolpath& path, const char* to
     samples.push_back({e.cl, e.state, e.map});
   });
   return samples;
+}
+
+// A feed move (600 mm/min) from tip a to tip b with the tool along +Z.
+inline Move line(const Vec3& a, const Vec3& b) {
+  Move m;
+  m.start = a;
+  m.end = b;
+  m.feed_rate = 600.0;
+  return m;
 }
 
 // Entry and exit of the discs between heights z0 and z1: every disc there must be one interval

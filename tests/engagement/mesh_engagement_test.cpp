@@ -61,13 +61,7 @@ TEST(MeshStock, RefusesWhatIsNotASolid) {
   EXPECT_THROW(MeshStock::from_box({{0, 0, 0}, {1, 0, 1}}), InputError);
 }
 
-Move line(const Vec3& a, const Vec3& b) {
-  Move m;
-  m.start = a;
-  m.end = b;
-  m.feed_rate = 600.0;
-  return m;
-}
+using test::line;
 
 // The sides of a ring of radius ρ of the faceted tool (tool_surface_points' count for chord
 // depth h): at the largest radius, chords of the facet size.
