@@ -555,6 +555,31 @@ TEST(CliSimulate, MeshWorkpiece) {
   std::filesystem::remove_all(dir);
 }
 
+// A mesh boolean that cannot give a solid: the second slot leaves the two remaining blocks
+// touching along the line y = 10, z = 5 (the rings' vertices lie exactly on the slots' sides),
+// which no 2-manifold can hold. The run stops with exit 3 naming the move's line, in the
+// engagement run and in the removal-only run alike, and writes nothing.
+TEST(CliSimulate, MeshBooleanThatCannotBeASolidExitsThree) {
+  const auto dir = scratch_dir("simulate-mesh-fails");
+  std::filesystem::create_directories(dir);
+  const auto program = dir / "edge.ngc";
+  std::ofstream(program) << "G21 G90 F600\nG0 X-10 Y5 Z20\nG1 Z5\nG1 X40\nG0 Z40\n"
+                            "G0 X-10 Y15\nG0 Z-15\nG1 X40\nG0 Z40\nM2\n";
+  for (const bool stock_only : {false, true}) {
+    SCOPED_TRACE(stock_only ? "stock only" : "engagement");
+    std::vector<std::string> args = {
+        "simulate",       "--stock", "box:0,0,0,30,20,10",   "--tool",      "flat:10,20", "--path",
+        program.string(), "--out",   (dir / "out").string(), "--workpiece", "mesh"};
+    if (stock_only) args.push_back("--stock-only");
+    const Result r = run_cwe(args);
+    EXPECT_EQ(r.status, 3) << r.err;
+    EXPECT_NE(r.err.find("edge.ngc:8: mesh removal:"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("2-manifold"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+  }
+  std::filesystem::remove_all(dir);
+}
+
 TEST(CliForces, SlotForcesMatchTheClosedForm) {
   const auto dir = scratch_dir("forces");
   std::filesystem::create_directories(dir);
