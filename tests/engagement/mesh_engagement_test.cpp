@@ -277,6 +277,57 @@ TEST(MeshEngagement, AreaConvergesWithTheFacetSize) {
   }
 }
 
+// A 3+2 pass: a flat end mill tilted 20° sideways (axis in the XZ plane) cutting 3 mm deep
+// along Y into the block's side, against the dexel workpiece's maps at the same locations. The
+// two methods differ by their own bounds: the dexel's s/(√2ρ) + 0.1° (engagement_test.cpp) and
+// the mesh's 1° plus half a facet angle π/n where a ring grazes its own wall.
+TEST(MeshEngagement, TiltedThreePlusTwoAgreesWithTheDexelMethod) {
+  const double facet = 0.25, r = 4.0;
+  const Vec3 axis(std::sin(20 * kDeg), 0.0, std::cos(20 * kDeg));
+  Move pass = line({28, -10, kTop - 3}, {28, 50, kTop - 3});
+  pass.start_axis = pass.end_axis = axis;
+  const Aabb block{{0, 0, 0}, {30, 40, kTop}};
+  const Vec3 probe(28, 20, kTop - 3);
+  const EngagementMap mesh = mesh_engagement_near("flat:8,20", block, {pass}, probe, facet);
+  Toolpath path;
+  path.sources = {"test"};
+  path.moves = {pass};
+  const std::vector<test::Sample> samples =
+      test::simulate_samples(path, "flat:8,20", block, kSpacing, 0.5);
+  const test::Sample* nearest = nullptr;
+  for (const test::Sample& sample : samples) {
+    if (!nearest || (sample.cl.position - probe).norm() < (nearest->cl.position - probe).norm()) {
+      nearest = &sample;
+    }
+  }
+  ASSERT_NE(nearest, nullptr);
+  const EngagementMap& dexel = nearest->map;
+  ASSERT_TRUE(dexel.engaged);
+  ASSERT_EQ(mesh.discs.size(), dexel.discs.size());
+  const int n = ring_sides(r, MeshWorkpiece::facet_depth(cutter_from_spec("flat:8,20"), facet));
+  const double tolerance = kSpacing / (std::sqrt(2.0) * r) + 0.1 * kDeg + kAngle + kPi / n;
+  int compared = 0;
+  for (std::size_t k = 0; k < dexel.discs.size(); ++k) {
+    const DiscEngagement& d = dexel.discs[k];
+    const DiscEngagement& m = mesh.discs[k];
+    // The disc at the top of the cut may be engaged by one method only (depth within s).
+    if (d.phi.empty() != m.phi.empty()) {
+      EXPECT_NEAR(d.z0, dexel.axial_depth, 2 * kSpacing) << "disc " << d.z0;
+      continue;
+    }
+    if (d.phi.empty()) continue;
+    SCOPED_TRACE(testing::Message() << "disc " << d.z0);
+    ASSERT_EQ(m.phi.size(), d.phi.size());
+    for (std::size_t i = 0; i < d.phi.size(); ++i) {
+      EXPECT_NEAR(m.phi[i].lo, d.phi[i].lo, tolerance);
+      EXPECT_NEAR(m.phi[i].hi, d.phi[i].hi, tolerance);
+    }
+    ++compared;
+  }
+  EXPECT_GT(compared, 20);
+  EXPECT_NEAR(mesh.axial_depth, dexel.axial_depth, 2 * kSpacing);
+}
+
 TEST(MeshEngagement, PlungeEngagesTheWholeBottom) {
   const EngagementMap map =
       mesh_engagement_near("flat:10,20", {{0, 0, 0}, {60, 40, kTop}},
