@@ -48,14 +48,15 @@ class FacetedTool {
   }
   bool empty() const { return discs_.empty(); }
   // The distance from the axis to the faceted surface at disc `disc`'s height, along the
-  // horizontal unit direction `along` of the facets' frame.
-  double radius(std::size_t disc, double z, const Vec3& along) const {
+  // horizontal unit direction `along` of the facets' frame; `fallback` (the true radius) if no
+  // face lies that way (a disc outside the hull's heights, which the grid never samples).
+  double radius(std::size_t disc, double z, const Vec3& along, double fallback) const {
     double best = std::numeric_limits<double>::infinity();
     for (const Plane& p : discs_[disc]) {
       const double towards = p.normal.dot(along);
       if (towards > 0.0) best = std::min(best, (p.offset - p.normal.z() * z) / towards);
     }
-    return best;
+    return std::isfinite(best) ? best : fallback;
   }
 
  private:
@@ -142,7 +143,8 @@ class MeshStepEngagement : public StepEngagement {
       const Vec3 radial = s * x + c * y;
       const Vec3 normal = band.normal.x() * radial + band.normal.y() * z;
       const double rho =
-          on_facets ? faceted_.radius(index, band.z, facets.direction_to_local(radial)) : band.rho;
+          on_facets ? faceted_.radius(index, band.z, facets.direction_to_local(radial), band.rho)
+                    : band.rho;
       return removed.contains(centre + rho * radial + offset_ * normal);
     };
     return grid_.intervals(front, engaged);
