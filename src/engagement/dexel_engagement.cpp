@@ -3,17 +3,7 @@
 #include <cmath>
 #include <span>
 
-#include "cwe/envelope/tangency.hpp"
-
 namespace cwe {
-namespace {
-
-// |f| below this fraction of |a| + |b| + |c| is f = 0 (grazing, not engaged): the coefficients
-// are sums of a few products of unit-scale terms, good to ~1e-15 relative, so 1e-9 absorbs
-// their rounding while any real motion into the surface is far above it.
-constexpr double kGrazingRelative = 1e-9;
-
-}  // namespace
 
 DexelEngagement::DexelEngagement(const Cutter& cutter, double spacing,
                                  const EngagementOptions& options)
@@ -35,19 +25,10 @@ std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const Removal
   const double margin = spacing_ * std::sqrt(1.5) + std::sqrt(3.0) * (band.departure + contact_);
   Aabb near = step.bounds();
   near.inflate(margin);
-  Aabb circle;
-  for (int a = 0; a < 3; ++a) {
-    const double e = band.rho * std::sqrt(std::max(0.0, 1.0 - z[a] * z[a]));
-    circle.min[a] = centre[a] - e;
-    circle.max[a] = centre[a] + e;
-  }
-  if (!circle.intersects(near)) return {};
+  if (!EngagementGrid::circle_bounds(band, tcs).intersects(near)) return {};
 
-  const TangencyCoefficients f =
-      tangency_coefficients(Vec2(band.rho, band.z), band.normal, v_tcs, w_tcs);
-  // Grazing points (f = 0) are not engaged; f_min absorbs rounding of the coefficients.
-  const double f_min = kGrazingRelative * (std::abs(f.a) + std::abs(f.b) + std::abs(f.c));
-  if (!(std::abs(f.a) + std::abs(f.b) + std::abs(f.c) > 0.0)) return {};
+  const EngagementGrid::Front front = EngagementGrid::front(band, v_tcs, w_tcs);
+  if (!front.moves) return {};
   // The ray read for P meets the tangent plane at Q, within s√(3/2) of P; a Q beyond the band's
   // own surface (past the bottom's rim, below the tip or above the flutes) says nothing of it.
   const bool bottom = band.ring;
@@ -58,7 +39,7 @@ std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const Removal
   // spacings of the stock's coordinates.
   const double rounding = 4.0 * stock.float_rounding();
   const auto engaged = [&](double s, double c) __attribute__((always_inline)) {
-    if (!(f.a * s + f.b * c + f.c > f_min)) return false;
+    if (!front(s, c)) return false;
     const Vec3 radial = s * x + c * y;
     const Vec3 point = centre + band.rho * radial;
     if (skip_far_cells_ && !near.contains(point)) return false;
@@ -90,10 +71,7 @@ std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const Removal
     const double height = d.dot(z);
     return bottom ? d.squaredNorm() - height * height <= rim * rim : height >= 0.0 && height <= top;
   };
-  return grid_.intervals(
-      [&](double s, double c)
-          __attribute__((always_inline)) { return f.a * s + f.b * c + f.c > f_min; },
-      engaged);
+  return grid_.intervals(front, engaged);
 }
 
 EngagementMap DexelEngagement::at(const TriDexel& stock, const RemovalRecord& step,

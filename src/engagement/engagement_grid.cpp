@@ -66,6 +66,11 @@ void entry_exit(std::vector<Interval> all, double& entry, double& exit) {
   }
 }
 
+// |f| below this fraction of |a| + |b| + |c| is f = 0 (grazing, not engaged): the coefficients
+// are sums of a few products of unit-scale terms, good to ~1e-15 relative, so 1e-9 absorbs
+// their rounding while any real motion into the surface is far above it.
+constexpr double kGrazingRelative = 1e-9;
+
 }  // namespace
 
 EngagementGrid::EngagementGrid(const Cutter& cutter, double spacing,
@@ -180,6 +185,29 @@ EngagementMap EngagementGrid::map(std::vector<std::vector<Interval>> found) cons
   map.engaged = !all.empty();
   entry_exit(std::move(all), map.phi_entry, map.phi_exit);
   return map;
+}
+
+Aabb EngagementGrid::circle_bounds(const Band& band, const Frame& tcs, double margin) {
+  const Vec3 z = tcs.z();
+  const Vec3 centre = tcs.origin + band.z * z;
+  Aabb circle;
+  for (int a = 0; a < 3; ++a) {
+    // A circle of radius ρ about unit axis z extends ρ·√(1 - z_a²) along axis a.
+    const double e = band.rho * std::sqrt(std::max(0.0, 1.0 - z[a] * z[a])) + margin;
+    circle.min[a] = centre[a] - e;
+    circle.max[a] = centre[a] + e;
+  }
+  return circle;
+}
+
+EngagementGrid::Front EngagementGrid::front(const Band& band, const Vec3& v_tcs,
+                                            const Vec3& w_tcs) {
+  Front front;
+  front.f = tangency_coefficients(Vec2(band.rho, band.z), band.normal, v_tcs, w_tcs);
+  const double scale = std::abs(front.f.a) + std::abs(front.f.b) + std::abs(front.f.c);
+  front.f_min = kGrazingRelative * scale;
+  front.moves = scale > 0.0;
+  return front;
 }
 
 }  // namespace cwe

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 #include <memory>
-#include <optional>
 
 #include <fmt/format.h>
 
@@ -12,15 +11,10 @@
 #include "cwe/core/error.hpp"
 #include "cwe/engagement/engagement_grid.hpp"
 #include "cwe/envelope/swept_volume.hpp"
-#include "cwe/envelope/tangency.hpp"
 #include "cwe/geometry/triangle_mesh.hpp"
 
 namespace cwe {
 namespace {
-
-// |f| below this fraction of |a| + |b| + |c| is f = 0 (grazing, not engaged), as for the dexel
-// test (dexel_engagement.cpp).
-constexpr double kGrazingRelative = 1e-9;
 
 // The faceted tool the sweeps are made of (linear_piece_mesh), read along the engagement grid's
 // circles: a cell is tested on the faceted surface, whose own sweep made the walls the move
@@ -85,7 +79,9 @@ class MeshStepEngagement : public StepEngagement {
 
   std::unique_ptr<Step> new_step() const override { return std::make_unique<MeshStep>(); }
 
-  std::optional<double> remove_move(const MoveSweep& sweep) override {
+  bool removes_whole_moves() const override { return true; }
+
+  double remove_move(const MoveSweep& sweep) override {
     TriangleMesh removed;
     const double volume = workpiece_.remove(sweep, &removed);
     move_removed_ = std::make_shared<const MeshRegion>(removed);
@@ -125,19 +121,9 @@ class MeshStepEngagement : public StepEngagement {
     const Frame& tcs = state.tcs;
     const Vec3 x = tcs.x(), y = tcs.y(), z = tcs.z();
     const Vec3 centre = tcs.origin + band.z * z;
-    Aabb circle;
-    for (int a = 0; a < 3; ++a) {
-      const double e = band.rho * std::sqrt(std::max(0.0, 1.0 - z[a] * z[a])) + offset_;
-      circle.min[a] = centre[a] - e;
-      circle.max[a] = centre[a] + e;
-    }
-    if (!circle.intersects(removed.bounds())) return {};
-    const TangencyCoefficients f =
-        tangency_coefficients(Vec2(band.rho, band.z), band.normal, v_tcs, w_tcs);
-    const double scale = std::abs(f.a) + std::abs(f.b) + std::abs(f.c);
-    if (!(scale > 0.0)) return {};
-    const double f_min = kGrazingRelative * scale;
-    const auto front = [&](double s, double c) { return f.a * s + f.b * c + f.c > f_min; };
+    if (!EngagementGrid::circle_bounds(band, tcs, offset_).intersects(removed.bounds())) return {};
+    const EngagementGrid::Front front = EngagementGrid::front(band, v_tcs, w_tcs);
+    if (!front.moves) return {};
     const auto engaged = [&](double s, double c) {
       if (!front(s, c)) return false;
       const Vec3 radial = s * x + c * y;

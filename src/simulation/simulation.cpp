@@ -4,7 +4,6 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
-#include <optional>
 
 #include <fmt/format.h>
 #include <tbb/parallel_pipeline.h>
@@ -102,13 +101,6 @@ namespace {
 // The file of a move whose source names none.
 const std::string kNoFile;
 
-// Where a rapid is in its file (a rapid that cuts is listed); nothing for a feed move, so that
-// the moves that are not listed cost no copy of their file's name.
-SourceLocation rapid_location(const Move& move, const std::vector<std::string>& sources) {
-  if (!move.is_rapid()) return {};
-  return SourceLocation{source_file(move, sources, kNoFile), move.line};
-}
-
 // Counts a move (index `index`, a rapid or not; a rapid at `location`) and its removal into the
 // summary.
 void record_move(RemovalSummary& summary, std::size_t index, bool rapid,
@@ -154,8 +146,8 @@ RemovalRun::RemovalRun(Workpiece& stock, const Cutter& cutter, const SimulationO
 
 void RemovalRun::add(const Move& move, const std::vector<std::string>& sources) {
   sweeps_.emplace_back(parts_, move);
-  pending_.push_back({move.is_rapid(), rapid_location(move, sources),
-                      SourceLocation{source_file(move, sources, kNoFile), move.line}});
+  pending_.push_back(
+      {move.is_rapid(), SourceLocation{source_file(move, sources, kNoFile), move.line}});
   pieces_ += sweeps_.back().pieces().size();
   if (pieces_ >= kBatchPieces) flush();
 }
@@ -171,8 +163,9 @@ void RemovalRun::flush() {
   }
   for (std::size_t m = 0; m < sweeps_.size(); ++m) {
     record_move(summary_, static_cast<std::size_t>(summary_.moves), pending_[m].rapid,
-                pending_[m].location, static_cast<int>(sweeps_[m].pieces().size()),
-                sweeps_[m].deviation_bound(), volume[m], cell_, removed_);
+                pending_[m].rapid ? pending_[m].at : SourceLocation{},
+                static_cast<int>(sweeps_[m].pieces().size()), sweeps_[m].deviation_bound(),
+                volume[m], cell_, removed_);
   }
   sweeps_.clear();
   pending_.clear();
@@ -278,7 +271,9 @@ void EngagementRun::flush() {
   std::size_t started = 0;      // steps with a location started
   int pieces = 0;
   double deviation = 0.0, volume = 0.0;
-  bool whole = false;  // the move being removed went in one piece (remove_move)
+  // A backend that removes moves whole does so before their parts are recorded; the parts'
+  // pieces are then not counted again.
+  const bool whole = engage_->removes_whole_moves();
   const auto remove_part = [&](const Move& move, double u0, double u1, StepEngagement::Step* step) {
     const MoveSweep sweep(parts_, u0 == 0.0 && u1 == 1.0 ? move : move.part(u0, u1));
     if (!whole) {
@@ -287,14 +282,15 @@ void EngagementRun::flush() {
     }
     volume += engage_->remove(sweep, step);
   };
-  // A backend that removes moves whole does so before their parts are recorded.
-  const auto begin_move = [&](const Move& move) {
-    const MoveSweep sweep(parts_, move);
-    if (const std::optional<double> removed = engage_->remove_move(sweep)) {
-      whole = true;
-      pieces += static_cast<int>(sweep.pieces().size());
-      deviation = std::max(deviation, sweep.deviation_bound());
-      volume += *removed;
+  const auto remove_whole = [&](const PendingMove& pending) {
+    const MoveSweep sweep(parts_, pending.move);
+    pieces += static_cast<int>(sweep.pieces().size());
+    deviation = std::max(deviation, sweep.deviation_bound());
+    try {
+      volume += engage_->remove_move(sweep);
+    } catch (const ComputationError& e) {
+      throw ComputationError(
+          at_move(SourceLocation{files_[pending.file], pending.move.line}, e.what()));
     }
   };
   const auto move_done = [&] {
@@ -305,7 +301,6 @@ void EngagementRun::flush() {
                 pieces, deviation, volume, cell_, removed_);
     pieces = 0;
     deviation = volume = 0.0;
-    whole = false;
     ++m;
     next = 0;
   };
@@ -315,14 +310,7 @@ void EngagementRun::flush() {
   const auto remove_next = [&](tbb::flow_control& control) -> Slot* {
     while (m < moves_.size()) {
       const PendingMove& pending = moves_[m];
-      if (next == 0) {
-        try {
-          begin_move(pending.move);
-        } catch (const ComputationError& e) {
-          throw ComputationError(
-              at_move(SourceLocation{files_[pending.file], pending.move.line}, e.what()));
-        }
-      }
+      if (whole && next == 0) remove_whole(pending);
       if (pending.cl_count == 0) {
         remove_part(pending.move, 0.0, 1.0, nullptr);
         move_done();

@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "cwe/engagement/engagement_map.hpp"
+#include "cwe/envelope/tangency.hpp"
+#include "cwe/geometry/aabb.hpp"
 #include "cwe/geometry/vec.hpp"
 #include "cwe/tool/cutter.hpp"
 
@@ -48,12 +50,28 @@ class EngagementGrid {
     return k < discs_.size() ? discs_[k] : rings_[k - discs_.size()];
   }
 
+  // The box of a band's circle with the tool frame `tcs`, grown by `margin` on every side.
+  static Aabb circle_bounds(const Band& band, const Frame& tcs, double margin = 0.0);
+
+  // Where a band's cells move into the material: f(φ) = a sin φ + b cos φ + c = N·V above
+  // f_min, which absorbs the rounding of the coefficients (grazing points, f = 0, are not
+  // engaged). `moves` is false where f vanishes on the whole circle (the flat bottom of a
+  // horizontal move).
+  struct Front {
+    TangencyCoefficients f;
+    double f_min = 0.0;
+    bool moves = false;
+    bool operator()(double s, double c) const { return f.a * s + f.b * c + f.c > f_min; }
+  };
+  // The front of `band` for tip velocity `v_tcs` and angular velocity `w_tcs` (tool frame).
+  static Front front(const Band& band, const Vec3& v_tcs, const Vec3& w_tcs);
+
   // The engaged intervals of a band: `front(s, c)` is the cheap test that the cell at
   // (sin φ, cos φ) moves into the material (f > 0), `engaged(s, c)` the whole test (front
   // included). Every cell centre is tested (front first); each run of engaged cells becomes an
   // interval whose ends are placed by bisection on `engaged` to a 64th of a cell.
-  template <class Front, class Engaged>
-  std::vector<Interval> intervals(const Front& front, const Engaged& engaged) const;
+  template <class FrontTest, class EngagedTest>
+  std::vector<Interval> intervals(const FrontTest& front, const EngagedTest& engaged) const;
 
   // The map from the intervals found on each band (indexed as band()), with its summaries.
   EngagementMap map(std::vector<std::vector<Interval>> found) const;
@@ -67,8 +85,9 @@ class EngagementGrid {
   std::vector<Band> discs_, rings_;
 };
 
-template <class Front, class Engaged>
-std::vector<Interval> EngagementGrid::intervals(const Front& front, const Engaged& engaged) const {
+template <class FrontTest, class EngagedTest>
+std::vector<Interval> EngagementGrid::intervals(const FrontTest& front,
+                                                const EngagedTest& engaged) const {
   const auto engaged_at = [&](double phi) { return engaged(std::sin(phi), std::cos(phi)); };
   // The boundary between an engaged angle and one that is not.
   const auto refine = [&](double in, double out) {

@@ -5,7 +5,6 @@
 // folder under workpiece/ for the representation plus one here for their implementation.
 
 #include <memory>
-#include <optional>
 #include <span>
 #include <vector>
 
@@ -37,11 +36,13 @@ class StepEngagement {
   // record's contents, for `at`; without, the sweep is motion between locations (a stretch
   // before a move's first location).
   virtual double remove(const MoveSweep& sweep, Step* step) = 0;
-  // For a backend that removes a move in one piece (the mesh workpiece: booleans step by step
-  // would split the cut faces at every step): removes the sweep of a whole move, before any of
-  // its parts is given to remove(), and returns the volume. remove() then only records the
-  // move's steps (and returns 0). nullopt (the default): the move is removed part by part.
-  virtual std::optional<double> remove_move(const MoveSweep& /*sweep*/) { return std::nullopt; }
+  // True for a backend that removes a move in one piece (the mesh workpiece: booleans step by
+  // step would split the cut faces at every step). The loop then gives remove_move() each
+  // move's whole sweep before any of its parts, and remove() only records the move's steps
+  // (and returns 0). False (the default): moves are removed part by part.
+  virtual bool removes_whole_moves() const { return false; }
+  // Removes the sweep of a whole move (removes_whole_moves() backends only); the volume, mm³.
+  virtual double remove_move(const MoveSweep& /*sweep*/) { return 0.0; }
   // The engagement at `state`, where `step` records the step that starts there. Safe to call
   // concurrently with other calls of `at` and with `remove` of later steps into other records.
   virtual EngagementMap at(const ToolState& state, const Step& step) const = 0;

@@ -105,8 +105,7 @@ class RemovalRun {
  private:
   struct Pending {
     bool rapid = false;
-    SourceLocation location;  // for a rapid that cuts
-    SourceLocation at;        // the move's file and line, for a computation that fails
+    SourceLocation at;  // the move's file and line (a rapid that cuts, a computation that fails)
   };
   void flush();
   Workpiece& stock_;

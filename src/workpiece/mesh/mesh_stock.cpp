@@ -36,8 +36,8 @@ using Inexact = CGAL::Exact_predicates_inexact_constructions_kernel;
 using InexactMesh = CGAL::Surface_mesh<Inexact::Point_3>;
 
 // A point's coordinates as doubles, from their exact values (to_double of a lazy number may
-// return the middle of its interval, which is not always the double the exact value gives: a
-// face then leaves its plane by an ulp and the next boolean meets a sliver).
+// return the middle of its interval instead), for the meshes handed out: stock.stl and the
+// removal volumes.
 Vec3 rounded(const Point& p) {
   return {CGAL::to_double(CGAL::exact(p.x())), CGAL::to_double(CGAL::exact(p.y())),
           CGAL::to_double(CGAL::exact(p.z()))};
@@ -65,18 +65,20 @@ TriangleMesh to_triangles(const Mesh& mesh) {
   return out;
 }
 
-// A TriangleMesh as an exact Surface_mesh; false when a triangle cannot be added (an edge used
-// by a third triangle or twice in one direction), with that triangle's index.
-bool to_exact(const TriangleMesh& in, Mesh& out, std::size_t& bad) {
-  std::vector<Mesh::Vertex_index> v;
+// A TriangleMesh as a Surface_mesh of either kernel; false when a triangle cannot be added (an
+// edge used by a third triangle or twice in one direction), with that triangle's index.
+template <class SurfaceMesh>
+bool to_surface_mesh(const TriangleMesh& in, SurfaceMesh& out, std::size_t& bad) {
+  using P = typename SurfaceMesh::Point;
+  std::vector<typename SurfaceMesh::Vertex_index> v;
   v.reserve(in.vertices.size());
-  for (const Vec3& p : in.vertices) v.push_back(out.add_vertex(Point(p.x(), p.y(), p.z())));
+  for (const Vec3& p : in.vertices) v.push_back(out.add_vertex(P(p.x(), p.y(), p.z())));
   for (std::size_t k = 0; k < in.triangles.size(); ++k) {
     const auto& t = in.triangles[k];
-    const Mesh::Face_index f =
+    const auto f =
         out.add_face(v[static_cast<std::size_t>(t[0])], v[static_cast<std::size_t>(t[1])],
                      v[static_cast<std::size_t>(t[2])]);
-    if (f == Mesh::null_face()) {
+    if (f == SurfaceMesh::null_face()) {
       bad = k;
       return false;
     }
@@ -90,12 +92,17 @@ Vec3 approximate(const Point& p) {
   return {CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())};
 }
 
-// Enclosed volume from the vertices' approximations (divergence theorem about the box's centre,
-// which keeps the terms small): within ~1e-12 of the exact volume relative to the box.
-double volume_of(const Mesh& mesh) {
+// The mesh's box and enclosed volume from the vertices' approximations (divergence theorem
+// about the box's centre, which keeps the terms small): the volume within ~1e-12 of the exact
+// one relative to the box. An empty mesh: an empty box and 0.
+void measure(const Mesh& mesh, Aabb& bounds, double& volume) {
+  bounds = Aabb();
+  volume = 0.0;
+  if (mesh.is_empty()) return;
   const CGAL::Bbox_3 box = PMP::bbox(mesh);
-  const Vec3 c(0.5 * (box.xmin() + box.xmax()), 0.5 * (box.ymin() + box.ymax()),
-               0.5 * (box.zmin() + box.zmax()));
+  bounds.extend(Vec3(box.xmin(), box.ymin(), box.zmin()));
+  bounds.extend(Vec3(box.xmax(), box.ymax(), box.zmax()));
+  const Vec3 c = 0.5 * (bounds.min + bounds.max);
   double six = 0.0;
   for (const Mesh::Face_index f : mesh.faces()) {
     const Mesh::Halfedge_index h = mesh.halfedge(f);
@@ -104,7 +111,7 @@ double volume_of(const Mesh& mesh) {
     const Vec3 d = approximate(mesh.point(mesh.target(mesh.next(h)))) - c;
     six += a.dot(b.cross(d));
   }
-  return six / 6.0;
+  volume = six / 6.0;
 }
 
 // Makes the coordinates of the vertices the last boolean made (those in the cut's box) exact
@@ -136,16 +143,10 @@ MeshRegion& MeshRegion::operator=(MeshRegion&&) noexcept = default;
 MeshRegion::MeshRegion(const TriangleMesh& mesh) {
   if (mesh.empty()) return;
   bounds_ = mesh.bounds();
-  volume_ = mesh.volume();
   solid_ = std::make_unique<Solid>();
-  std::vector<InexactMesh::Vertex_index> v;
-  v.reserve(mesh.vertices.size());
-  for (const Vec3& p : mesh.vertices) {
-    v.push_back(solid_->mesh.add_vertex(Inexact::Point_3(p.x(), p.y(), p.z())));
-  }
-  for (const auto& t : mesh.triangles) {
-    solid_->mesh.add_face(v[static_cast<std::size_t>(t[0])], v[static_cast<std::size_t>(t[1])],
-                          v[static_cast<std::size_t>(t[2])]);
+  std::size_t bad = 0;
+  if (!to_surface_mesh(mesh, solid_->mesh, bad)) {
+    throw ComputationError("mesh removal: the removed volume is not a 2-manifold");
   }
   solid_->inside =
       std::make_unique<CGAL::Side_of_triangle_mesh<InexactMesh, Inexact>>(solid_->mesh);
@@ -167,7 +168,7 @@ struct MeshStock::Solid {
 };
 
 MeshStock::MeshStock(std::unique_ptr<Solid> solid) : solid_(std::move(solid)) {
-  volume_ = volume_of(solid_->mesh);
+  measure(solid_->mesh, bounds_, volume_);
 }
 MeshStock::~MeshStock() = default;
 MeshStock::MeshStock(MeshStock&&) noexcept = default;
@@ -193,7 +194,7 @@ MeshStock MeshStock::from_box(const Aabb& box) {
 MeshStock MeshStock::from_mesh(const TriangleMesh& mesh, const std::string& source) {
   auto solid = std::make_unique<Solid>();
   std::size_t bad = 0;
-  if (!to_exact(mesh, solid->mesh, bad)) {
+  if (!to_surface_mesh(mesh, solid->mesh, bad)) {
     const auto& t = mesh.triangles[bad];
     const Vec3& p = mesh.vertices[static_cast<std::size_t>(t[0])];
     throw InputError(SourceLocation{source},
@@ -223,7 +224,7 @@ double MeshStock::subtract(const TriangleMesh& tool, TriangleMesh* removed) {
   if (tool.empty() || !tool.bounds().intersects(bounds())) return 0.0;
   Mesh cutter;
   std::size_t bad = 0;
-  if (!to_exact(tool, cutter, bad) || !CGAL::is_closed(cutter)) {
+  if (!to_surface_mesh(tool, cutter, bad) || !CGAL::is_closed(cutter)) {
     throw ComputationError("mesh removal: the swept volume's mesh is not a closed surface");
   }
   Mesh common;
@@ -247,7 +248,7 @@ double MeshStock::subtract(const TriangleMesh& tool, TriangleMesh* removed) {
     throw ComputationError("mesh removal: the difference is not a closed surface");
   }
   const double before = volume_;
-  volume_ = solid_->mesh.is_empty() ? 0.0 : volume_of(solid_->mesh);
+  measure(solid_->mesh, bounds_, volume_);
   const double taken = before - volume_;
   // Rounding of the volume sums: a relative 1e-9 of the stock's volume is far above it.
   const double slack = 1e-9 * std::max(before, 1.0);
@@ -260,17 +261,6 @@ double MeshStock::subtract(const TriangleMesh& tool, TriangleMesh* removed) {
   }
   if (removed != nullptr) removed->append(to_triangles(common));
   return std::max(0.0, taken);
-}
-
-double MeshStock::volume() const { return volume_; }
-
-Aabb MeshStock::bounds() const {
-  Aabb box;
-  if (solid_->mesh.is_empty()) return box;
-  const CGAL::Bbox_3 b = PMP::bbox(solid_->mesh);
-  box.extend(Vec3(b.xmin(), b.ymin(), b.zmin()));
-  box.extend(Vec3(b.xmax(), b.ymax(), b.zmax()));
-  return box;
 }
 
 std::size_t MeshStock::triangles() const { return solid_->mesh.number_of_faces(); }

@@ -27,7 +27,7 @@ class MeshRegion {
  public:
   MeshRegion();
   // `mesh` must be closed and outward-facing (as MeshStock::subtract returns it); it may be
-  // empty.
+  // empty. ComputationError if its triangles do not make a 2-manifold.
   explicit MeshRegion(const TriangleMesh& mesh);
   ~MeshRegion();
   MeshRegion(MeshRegion&&) noexcept;
@@ -35,14 +35,12 @@ class MeshRegion {
 
   bool empty() const { return solid_ == nullptr; }
   const Aabb& bounds() const { return bounds_; }
-  double volume() const { return volume_; }
   // Is `point` strictly inside? Safe to call concurrently.
   bool contains(const Vec3& point) const;
 
  private:
   struct Solid;
   Aabb bounds_;
-  double volume_ = 0.0;
   std::unique_ptr<Solid> solid_;
 };
 
@@ -64,8 +62,8 @@ class MeshStock {
   // by between 0 and the tool's volume; the stock must not be used after that.
   double subtract(const TriangleMesh& tool, TriangleMesh* removed = nullptr);
 
-  double volume() const;  // mm³
-  Aabb bounds() const;
+  double volume() const { return volume_; }  // mm³
+  const Aabb& bounds() const { return bounds_; }
   std::size_t triangles() const;
   // The stock's triangles, vertices rounded to doubles.
   TriangleMesh mesh() const;
@@ -74,6 +72,7 @@ class MeshStock {
   struct Solid;
   explicit MeshStock(std::unique_ptr<Solid> solid);
   std::unique_ptr<Solid> solid_;
+  Aabb bounds_;  // of the vertices, kept with the volume after each boolean
   double volume_ = 0.0;
 };
 
