@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -11,6 +12,7 @@
 #include "cwe/core/error.hpp"
 #include "cwe/engagement/engagement_grid.hpp"
 #include "cwe/envelope/swept_volume.hpp"
+#include "cwe/geometry/mesh_sections.hpp"
 #include "cwe/geometry/triangle_mesh.hpp"
 
 namespace cwe {
@@ -61,9 +63,28 @@ class FacetedTool {
   std::vector<std::vector<Plane>> discs_;  // the hull's faces spanning each disc's height
 };
 
+// A move's removal volume, with its sections by the planes normal to the tool axis when the
+// axis is the same all along the move (3-axis and 3+2 moves): there, the cells of a disc are read
+// in the disc's plane (MeshSection, 2-D), else by a point-inside query in 3-D (MeshRegion).
+struct MoveRemoval {
+  MoveRemoval(const TriangleMesh& mesh, const MoveSweep& sweep) : region(mesh) {
+    if (mesh.empty() || sweep.pieces().empty()) return;
+    const Vec3 axis = sweep.pieces().front().axis().normalized();
+    for (const LinearSweep& piece : sweep.pieces()) {
+      if (!(piece.axis().normalized().dot(axis) > kSameAxis)) return;
+    }
+    slicer.emplace(mesh, Frame::from_z(Vec3::Zero(), axis, Vec3::UnitX()));
+  }
+  // Axes closer than this (cosine) read the same sections: 1e-6 rad, under 1e-5 mm across a
+  // 10 mm cutter.
+  static constexpr double kSameAxis = 1.0 - 5e-13;
+  MeshRegion region;
+  std::optional<MeshSlicer> slicer;
+};
+
 // A step's record: the removal volume of the move it lies on (shared by the move's steps).
 struct MeshStep : StepEngagement::Step {
-  std::shared_ptr<const MeshRegion> removed;
+  std::shared_ptr<const MoveRemoval> removed;
 };
 
 class MeshStepEngagement : public StepEngagement {
@@ -84,7 +105,7 @@ class MeshStepEngagement : public StepEngagement {
   double remove_move(const MoveSweep& sweep) override {
     TriangleMesh removed;
     const double volume = workpiece_.remove(sweep, &removed);
-    move_removed_ = std::make_shared<const MeshRegion>(removed);
+    move_removed_ = std::make_shared<const MoveRemoval>(removed, sweep);
     return volume;
   }
 
@@ -95,9 +116,9 @@ class MeshStepEngagement : public StepEngagement {
   }
 
   EngagementMap at(const ToolState& state, const Step& step) const override {
-    const std::shared_ptr<const MeshRegion>& removed = static_cast<const MeshStep&>(step).removed;
+    const std::shared_ptr<const MoveRemoval>& removed = static_cast<const MeshStep&>(step).removed;
     std::vector<std::vector<Interval>> found(grid_.bands());
-    if (removed && !removed->empty()) {
+    if (removed && !removed->region.empty()) {
       const Vec3 v = state.tip_velocity_tcs(), w = state.angular_velocity_tcs();
       // The facets' frame at this location (linear_piece_mesh's: x as close to world X as the
       // axis allows).
@@ -113,25 +134,49 @@ class MeshStepEngagement : public StepEngagement {
   // A cell P (f > 0) is engaged when the point Q a hair outside it along its normal lies in
   // the move's removal volume: Q is outside every earlier position of the tool on the move
   // (the tool is convex and P's side moves into the material), so material the move removes
-  // there is still to be cut.
-  std::vector<Interval> scan(const MeshRegion& removed, const ToolState& state, const Frame& facets,
-                             std::size_t index, const Vec3& v_tcs, const Vec3& w_tcs) const {
+  // there is still to be cut. Q is read in the section of the RV by Q's plane normal to the axis
+  // when the move has sections along this axis, else in 3-D.
+  std::vector<Interval> scan(const MoveRemoval& removed, const ToolState& state,
+                             const Frame& facets, std::size_t index, const Vec3& v_tcs,
+                             const Vec3& w_tcs) const {
     const EngagementGrid::Band& band = grid_.band(index);
     const bool on_facets = !band.ring && !faceted_.empty();
     const Frame& tcs = state.tcs;
     const Vec3 x = tcs.x(), y = tcs.y(), z = tcs.z();
     const Vec3 centre = tcs.origin + band.z * z;
-    if (!EngagementGrid::circle_bounds(band, tcs, offset_).intersects(removed.bounds())) return {};
+    if (!EngagementGrid::circle_bounds(band, tcs, offset_).intersects(removed.region.bounds())) {
+      return {};
+    }
     const EngagementGrid::Front front = EngagementGrid::front(band, v_tcs, w_tcs);
     if (!front.moves) return {};
-    const auto engaged = [&](double s, double c) {
-      if (!front(s, c)) return false;
-      const Vec3 radial = s * x + c * y;
-      const Vec3 normal = band.normal.x() * radial + band.normal.y() * z;
+    // Q's distance from the axis along the radial direction whose components in the facets'
+    // frame are (ru, rv).
+    const auto reach = [&](double ru, double rv) {
       const double rho =
-          on_facets ? faceted_.radius(index, band.z, facets.direction_to_local(radial), band.rho)
-                    : band.rho;
-      return removed.contains(centre + rho * radial + offset_ * normal);
+          on_facets ? faceted_.radius(index, band.z, Vec3(ru, rv, 0.0), band.rho) : band.rho;
+      return rho + offset_ * band.normal.x();
+    };
+    if (removed.slicer && removed.slicer->frame().z().dot(z) > MoveRemoval::kSameAxis) {
+      // In the plane of Q's height, in the slicer's (u, v): the facets' frame up to the origin.
+      const Frame& plane = removed.slicer->frame();
+      const Vec3 c = plane.to_local(centre);
+      const MeshSection section = removed.slicer->section(c.z() + offset_ * band.normal.y());
+      if (section.empty()) return {};
+      const Vec2 xu(x.dot(plane.x()), x.dot(plane.y())), yu(y.dot(plane.x()), y.dot(plane.y()));
+      const auto engaged = [&](double s, double cs) {
+        if (!front(s, cs)) return false;
+        const Vec2 r = s * xu + cs * yu;
+        const double d = reach(r.x(), r.y());
+        return section.contains(c.x() + d * r.x(), c.y() + d * r.y());
+      };
+      return grid_.intervals(front, engaged);
+    }
+    const auto engaged = [&](double s, double cs) {
+      if (!front(s, cs)) return false;
+      const Vec3 radial = s * x + cs * y;
+      const Vec3 local = facets.direction_to_local(radial);
+      return removed.region.contains(centre + reach(local.x(), local.y()) * radial +
+                                     offset_ * band.normal.y() * z);
     };
     return grid_.intervals(front, engaged);
   }
@@ -140,7 +185,7 @@ class MeshStepEngagement : public StepEngagement {
   EngagementGrid grid_;
   FacetedTool faceted_;
   double offset_ = 0.0;  // how far outside the cutter surface Q lies, mm
-  std::shared_ptr<const MeshRegion> move_removed_;
+  std::shared_ptr<const MoveRemoval> move_removed_;
 };
 
 }  // namespace
