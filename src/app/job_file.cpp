@@ -76,6 +76,7 @@ const JobKey kJobKeys[] = {
     {"threads", Kind::kCount, &Options::threads},
     {"mesh_stride", Kind::kCount, &Options::mesh_stride},
     {"ply", Kind::kFlag, &Options::ply},
+    {"off", Kind::kFlag, &Options::off},
     {"stock_only", Kind::kFlag, &Options::stock_only},
     {"cl_step", Kind::kNumber, &Options::cl_step},
     {"maps", Kind::kText, &Options::maps},

@@ -95,6 +95,8 @@ void add_simulate_command(CLI::App& app, SimulateCommandOptions& options) {
       ->check(count("a whole number, at least 1"));
   cmd->add_flag("--ply", options.ply,
                 "Also write the stock as stock.ply (ASCII, double precision)");
+  cmd->add_flag("--off", options.off,
+                "Also write the stock as stock.off (ASCII OFF, double precision)");
   cmd->add_option("--maps", options.maps,
                   "Engagement-map figures: every:N, cl:i,j,… (CL indices from 0) or none "
                   "(default: the first engaged CL of each tenth of the path)");
@@ -135,10 +137,11 @@ void print_outputs(std::ostream& out, const SimulateCommandOptions& options, boo
     }
   }
   fmt::print(out,
-             "  {}{}/stock.stl (machined stock, {} triangles {}){}, "
+             "  {}{}/stock.stl (machined stock, {} triangles {}){}{}, "
              "{}/summary.json\n",
              options.stock_only ? "outputs     " : "            ", options.out, triangles, made,
-             options.ply ? fmt::format(", {}/stock.ply", options.out) : std::string(), options.out);
+             options.ply ? fmt::format(", {}/stock.ply", options.out) : std::string(),
+             options.off ? fmt::format(", {}/stock.off", options.out) : std::string(), options.out);
 }
 
 // The terminal report of a run: what ran, volumes, engagement and force extremes, accuracy,
@@ -233,8 +236,8 @@ namespace {
 
 // The names `cwe simulate` writes in its folder.
 const std::vector<std::string> kSimulateOutputs = {
-    "stock.stl",        "stock.ply",  "summary.json", "engagement.csv",
-    "engagement.jsonl", "forces.csv", "maps",         "force_curves"};
+    "stock.stl",        "stock.ply",  "stock.off", "summary.json", "engagement.csv",
+    "engagement.jsonl", "forces.csv", "maps",      "force_curves"};
 
 }  // namespace
 
@@ -342,6 +345,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   extras.mesh_stride = stride;
   extras.mesh = &mesh;
   extras.ply = options.ply;
+  extras.off = options.off;
   extras.engagement = !options.stock_only;
   extras.maps = maps_written;
   extras.curves = curves_written;
@@ -357,6 +361,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   stl_binary(mesh, title, [&stl](std::string_view piece) { stl.append(piece); });
   stl.commit();
   if (options.ply) write_file_atomically(folder / "stock.ply", ply_ascii(mesh, title));
+  if (options.off) write_file_atomically(folder / "stock.off", off_ascii(mesh, title));
   write_file_atomically(folder / "summary.json", summary_text);
   outputs.publish();
 

@@ -30,6 +30,7 @@ struct SimulateCommandOptions : Job {
   std::string out;
   std::optional<int> mesh_stride;  // absent: chosen for ≤ kStockMeshTriangles
   bool ply = false;         // also write stock.ply
+  bool off = false;         // also write stock.off
   std::string maps;         // every:N, cl:i,j,…, or none; empty: from the job, else ~10 maps
   bool stock_only = false;  // material removal only: no engagement outputs
   bool quiet = false;       // no progress bar

@@ -414,6 +414,14 @@ std::string ply_ascii(const TriangleMesh& mesh, std::string_view comment) {
   return out;
 }
 
+std::string off_ascii(const TriangleMesh& mesh, std::string_view comment) {
+  std::string out =
+      fmt::format("OFF\n# {}\n{} {} 0\n", comment, mesh.vertices.size(), mesh.triangles.size());
+  for (const Vec3& v : mesh.vertices) out += fmt::format("{} {} {}\n", v.x(), v.y(), v.z());
+  for (const auto& t : mesh.triangles) out += fmt::format("3 {} {} {}\n", t[0], t[1], t[2]);
+  return out;
+}
+
 std::string obj_polylines(const std::vector<std::vector<Vec3>>& polylines,
                           std::string_view comment) {
   std::string out = fmt::format("# {}\n", comment);

@@ -150,6 +150,7 @@ std::string job_summary(const PreparedJob& job, const JobResult& run, const JobS
       summary["stock_mesh"]["lattice_mm"] = extras.mesh_stride * simulation.resolution;
     }
     if (extras.ply) summary["stock_mesh"]["ply"] = "stock.ply";
+    if (extras.off) summary["stock_mesh"]["off"] = "stock.off";
   }
   if (extras.engagement) summary["engagement"] = engagement_json(job, run, extras);
   if (job.forces) summary["forces"] = forces_json(job, run, extras);

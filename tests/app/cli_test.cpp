@@ -16,6 +16,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "cwe/geometry/triangle_mesh.hpp"
 #include "cwe/geometry/vec.hpp"
 
 namespace cwe::app {
@@ -514,7 +515,9 @@ TEST(CliSimulate, MeshWorkpiece) {
                                          program.string(), "--out",      (dir / "out").string(),
                                          "--resolution",   "0.25",       "--workpiece",
                                          "mesh",           "--facet",    "1"};
-  const Result r = run_cwe(args);
+  std::vector<std::string> with_off = args;
+  with_off.push_back("--off");
+  const Result r = run_cwe(with_off);
   ASSERT_EQ(r.status, 0) << r.err;
   std::ifstream in(dir / "out" / "summary.json");
   const nlohmann::json summary = nlohmann::json::parse(in);
@@ -527,6 +530,32 @@ TEST(CliSimulate, MeshWorkpiece) {
   EXPECT_EQ(std::filesystem::file_size(dir / "out" / "stock.stl"),
             84u + 50u * summary["triangles"].get<std::size_t>());
   EXPECT_NE(r.out.find("as a triangle mesh, 1 mm facets"), std::string::npos) << r.out;
+  // stock.off: the workpiece's own mesh in double precision, its volume the summary's.
+  EXPECT_EQ(summary["stock_mesh"]["off"], "stock.off");
+  std::ifstream off(dir / "out" / "stock.off");
+  std::string keyword, comment;
+  std::getline(off, keyword);
+  std::getline(off, comment);
+  EXPECT_EQ(keyword, "OFF");
+  EXPECT_EQ(comment.rfind("# cwe in-process stock", 0), 0u) << comment;
+  std::size_t vertices = 0, faces = 0, edges = 0;
+  off >> vertices >> faces >> edges;
+  EXPECT_EQ(faces, summary["triangles"].get<std::size_t>());
+  TriangleMesh read;
+  for (std::size_t k = 0; k < vertices; ++k) {
+    double x = 0.0, y = 0.0, z = 0.0;
+    off >> x >> y >> z;
+    read.vertices.emplace_back(x, y, z);
+  }
+  for (std::size_t k = 0; k < faces; ++k) {
+    int n = 0, a = 0, b = 0, c = 0;
+    off >> n >> a >> b >> c;
+    EXPECT_EQ(n, 3);
+    read.triangles.push_back({a, b, c});
+  }
+  ASSERT_TRUE(off.good());
+  EXPECT_TRUE(check_closure(read).closed());
+  EXPECT_NEAR(read.volume(), 6000.0 - 900.0, 1e-9 * 6000.0);
   // The CL in the middle of the block: a full slot 3 mm deep.
   std::ifstream csv(dir / "out" / "engagement.csv");
   std::string line;

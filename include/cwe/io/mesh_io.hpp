@@ -44,6 +44,9 @@ StlMesh parse_stl(std::string_view bytes, const std::string& source);
 
 // ASCII PLY with double-precision vertices and triangular faces.
 std::string ply_ascii(const TriangleMesh& mesh, std::string_view comment);
+// OFF (Object File Format, ASCII) with double-precision vertices and triangular faces; the
+// comment as a `#` line after the OFF keyword.
+std::string off_ascii(const TriangleMesh& mesh, std::string_view comment);
 
 // Wavefront OBJ holding polylines (`v` vertices and one `l` element per polyline of ≥ 2 points).
 std::string obj_polylines(const std::vector<std::vector<Vec3>>& polylines,

@@ -20,6 +20,7 @@ struct JobSummary {
   int mesh_stride = 1;             // of stock.stl
   const TriangleMesh* mesh = nullptr;  // stock.stl's mesh; none: no stock_mesh entry
   bool ply = false;                // stock.ply written too
+  bool off = false;                // stock.off written too
   std::size_t maps = 0, curves = 0;    // figures written
 };
 
