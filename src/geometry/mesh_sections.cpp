@@ -7,8 +7,8 @@
 namespace cwe {
 namespace {
 
-// Bins of a sorted-by-position index: item k spans bins [first(k), last(k)]; fills `start`
-// (bins + 1 offsets) and `items` (the items of each bin, in item order).
+// Items binned by position: item k lies in bins span(k).first ..= span(k).second; fills `start`
+// (bins + 1 offsets) and `out` (the items of each bin, in item order).
 template <class Span>
 void fill_bins(std::size_t items, int bins, const Span& span, std::vector<std::uint32_t>& start,
                std::vector<std::uint32_t>& out) {
@@ -83,25 +83,26 @@ MeshSlicer::MeshSlicer(const TriangleMesh& mesh, const Frame& frame)
   local_.reserve(mesh.vertices.size());
   for (const Vec3& p : mesh.vertices) local_.push_back(frame.to_local(p));
   if (triangles_.empty()) return;
-  const auto w_span = [&](std::size_t k) {
-    const auto& t = triangles_[k];
+  std::vector<std::pair<double, double>> spans;  // each triangle's lowest and highest w
+  spans.reserve(triangles_.size());
+  for (const auto& t : triangles_) {
     const double a = local_[static_cast<std::size_t>(t[0])].z();
     const double b = local_[static_cast<std::size_t>(t[1])].z();
     const double c = local_[static_cast<std::size_t>(t[2])].z();
-    return std::pair{std::min({a, b, c}), std::max({a, b, c})};
-  };
-  w_min_ = w_span(0).first;
-  w_max_ = w_span(0).second;
-  for (std::size_t k = 0; k < triangles_.size(); ++k) {
-    w_min_ = std::min(w_min_, w_span(k).first);
-    w_max_ = std::max(w_max_, w_span(k).second);
+    spans.emplace_back(std::min({a, b, c}), std::max({a, b, c}));
+  }
+  w_min_ = spans.front().first;
+  w_max_ = spans.front().second;
+  for (const auto& [lo, hi] : spans) {
+    w_min_ = std::min(w_min_, lo);
+    w_max_ = std::max(w_max_, hi);
   }
   const int layers = bins_for(triangles_.size());
   per_layer_ = w_max_ > w_min_ ? layers / (w_max_ - w_min_) : 0.0;
   fill_bins(
       triangles_.size(), layers,
       [&](std::size_t k) {
-        const auto [lo, hi] = w_span(k);
+        const auto [lo, hi] = spans[k];
         return std::pair{bin_of(lo, w_min_, per_layer_, layers),
                          bin_of(hi, w_min_, per_layer_, layers)};
       },

@@ -404,21 +404,26 @@ std::string stl_binary(const TriangleMesh& mesh, std::string_view header) {
   return bytes;
 }
 
+// The vertex lines ("x y z", shortest round-trip doubles) then the face lines ("3 a b c") that
+// PLY and OFF share, appended to `out`.
+void append_vertices_and_faces(const TriangleMesh& mesh, std::string& out) {
+  for (const Vec3& v : mesh.vertices) out += fmt::format("{} {} {}\n", v.x(), v.y(), v.z());
+  for (const auto& t : mesh.triangles) out += fmt::format("3 {} {} {}\n", t[0], t[1], t[2]);
+}
+
 std::string ply_ascii(const TriangleMesh& mesh, std::string_view comment) {
   std::string out = fmt::format(
       "ply\nformat ascii 1.0\ncomment {}\nelement vertex {}\nproperty double x\nproperty double "
       "y\nproperty double z\nelement face {}\nproperty list uchar int vertex_indices\nend_header\n",
       comment, mesh.vertices.size(), mesh.triangles.size());
-  for (const Vec3& v : mesh.vertices) out += fmt::format("{} {} {}\n", v.x(), v.y(), v.z());
-  for (const auto& t : mesh.triangles) out += fmt::format("3 {} {} {}\n", t[0], t[1], t[2]);
+  append_vertices_and_faces(mesh, out);
   return out;
 }
 
 std::string off_ascii(const TriangleMesh& mesh, std::string_view comment) {
   std::string out =
       fmt::format("OFF\n# {}\n{} {} 0\n", comment, mesh.vertices.size(), mesh.triangles.size());
-  for (const Vec3& v : mesh.vertices) out += fmt::format("{} {} {}\n", v.x(), v.y(), v.z());
-  for (const auto& t : mesh.triangles) out += fmt::format("3 {} {} {}\n", t[0], t[1], t[2]);
+  append_vertices_and_faces(mesh, out);
   return out;
 }
 

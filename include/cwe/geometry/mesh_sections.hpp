@@ -12,6 +12,7 @@
 // several closed meshes that touch along faces (the pieces of one move's removal volume): their
 // common faces cancel in the count.
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -23,7 +24,6 @@ namespace cwe {
 class MeshSection {
  public:
   bool empty() const { return segments_.empty(); }
-  std::size_t segments() const { return segments_.size(); }
   // Is (u, v) inside (strictly, up to points on the section's boundary)?
   bool contains(double u, double v) const;
 
