@@ -218,11 +218,10 @@ TriangleMesh MeshWorkpiece::piece_mesh(const LinearSweep& piece) const {
 }
 
 double MeshWorkpiece::remove(const MoveSweep& sweep, TriangleMesh* removed) {
-  double volume = 0.0;
-  for (const LinearSweep& piece : sweep.pieces()) {
-    volume += stock_.subtract(piece_mesh(piece), removed);
-  }
-  return volume;
+  std::vector<TriangleMesh> pieces;
+  pieces.reserve(sweep.pieces().size());
+  for (const LinearSweep& piece : sweep.pieces()) pieces.push_back(piece_mesh(piece));
+  return stock_.subtract(pieces, removed);
 }
 
 std::vector<double> MeshWorkpiece::remove(std::span<const MoveSweep> sweeps) {

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <set>
 #include <vector>
 
 #include "cwe/core/error.hpp"
@@ -39,6 +40,62 @@ TEST(MeshStock, BoxMinusBoxIsExact) {
   // A tool through the whole stock splits it: two closed shells, their volumes summed.
   EXPECT_NEAR(stock.subtract(box_mesh({{4, -1, -1}, {5, 11, 11}})), 100.0, 1e-9);
   EXPECT_NEAR(stock.volume(), 876.0, 1e-9);
+}
+
+// The number of connected shells of `mesh` (triangles joined through shared vertices).
+int shells(const TriangleMesh& mesh) {
+  std::vector<int> parent(mesh.vertices.size());
+  for (std::size_t k = 0; k < parent.size(); ++k) parent[k] = static_cast<int>(k);
+  const auto root = [&](int v) {
+    while (parent[static_cast<std::size_t>(v)] != v) v = parent[static_cast<std::size_t>(v)];
+    return v;
+  };
+  for (const auto& t : mesh.triangles) {
+    parent[static_cast<std::size_t>(root(t[1]))] = root(t[0]);
+    parent[static_cast<std::size_t>(root(t[2]))] = root(t[0]);
+  }
+  std::set<int> roots;
+  for (const auto& t : mesh.triangles) roots.insert(root(t[0]));
+  return static_cast<int>(roots.size());
+}
+
+// A move's pieces are subtracted as one solid: their union. Overlapping pieces (an arc's,
+// which share the tool at each joint) remove their union's volume once, and what they removed
+// is one closed solid; pieces that only touch along an edge have no 2-manifold union and are
+// subtracted one by one, with the same result.
+TEST(MeshStock, SubtractsAMovesPiecesAsTheirUnion) {
+  MeshStock stock = MeshStock::from_box({{0, 0, 0}, {10, 10, 10}});
+  // Three boxes along x, each overlapping the next by 1 mm, 2 × 2 in y, z around the stock's
+  // top corner: inside the stock x ∈ [1, 8], y ∈ [8, 10], z ∈ [9, 10]; 7 · 2 · 1 = 14 mm³.
+  const std::vector<TriangleMesh> chain = {box_mesh({{1, 8, 9}, {4, 12, 12}}),
+                                           box_mesh({{3, 8, 9}, {6, 12, 12}}),
+                                           box_mesh({{5, 8, 9}, {8, 12, 12}})};
+  TriangleMesh removed;
+  EXPECT_NEAR(stock.subtract(chain, &removed), 14.0, 1e-9);
+  EXPECT_NEAR(stock.volume(), 986.0, 1e-9);
+  EXPECT_NEAR(removed.volume(), 14.0, 1e-9);
+  EXPECT_TRUE(check_closure(removed).closed());
+  EXPECT_TRUE(check_closure(stock.mesh()).closed());
+  EXPECT_EQ(shells(removed), 1);  // one solid, not three stacked
+  // Two pieces touching along an edge below the stock (x = 2, y = −2): no 2-manifold union, so
+  // each is taken on its own. A box, and a prism whose section is the triangle (2, −2), (5, −2),
+  // (5, 1): inside the stock, 2 × 1 × 1 and the triangle x ∈ [4, 5], 0 ≤ y ≤ x − 4, 1 deep.
+  std::vector<Vec3> corners;
+  for (const double z : {-1.0, 1.0}) {
+    for (const Vec2& p : {Vec2(2, -2), Vec2(5, -2), Vec2(5, 1)})
+      corners.emplace_back(p.x(), p.y(), z);
+  }
+  const std::vector<TriangleMesh> touching = {box_mesh({{0, -2, -1}, {2, 1, 1}}),
+                                              convex_hull(corners)};
+  removed = TriangleMesh();
+  EXPECT_NEAR(stock.subtract(touching, &removed), 2.5, 1e-9);
+  EXPECT_NEAR(stock.volume(), 983.5, 1e-9);
+  EXPECT_NEAR(removed.volume(), 2.5, 1e-9);
+  EXPECT_EQ(shells(removed), 2);
+  EXPECT_TRUE(check_closure(stock.mesh()).closed());
+  // Pieces away from the stock are not looked at; no pieces, nothing removed.
+  EXPECT_EQ(stock.subtract(std::vector<TriangleMesh>{box_mesh({{20, 20, 20}, {21, 21, 21}})}), 0.0);
+  EXPECT_EQ(stock.subtract(std::vector<TriangleMesh>{}), 0.0);
 }
 
 TEST(MeshStock, RefusesWhatIsNotASolid) {

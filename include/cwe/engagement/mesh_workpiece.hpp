@@ -1,8 +1,9 @@
 #pragma once
 // The polyhedral workpiece behind the workpiece seam (workpiece.hpp), the thesis's polyhedral
 // method (Aras 2008 §6.2; docs/engagement.md): each linear piece of a move's sweep is faceted
-// (the hull of the tool's facets at both ends, linear_piece_mesh) and subtracted from the closed
-// stock mesh by CGAL's corefinement (MeshStock), a move at a time. For engagement, the move's
+// (the hull of the tool's facets at both ends, linear_piece_mesh), a move's pieces are joined
+// into one solid and subtracted from the closed stock mesh by CGAL's corefinement (MeshStock), a
+// move at a time. For engagement, the move's
 // removal volume RV = W ∩ SV comes back from the same boolean, and a cell of the engagement
 // grid (EngagementGrid) that moves into the material (f > 0) at a cutter location is engaged
 // when the point a hair (contact/1000) outside it along its normal lies inside the RV: that point
@@ -38,7 +39,7 @@ class MeshWorkpiece : public Workpiece {
   static double facet_depth(const Cutter& cutter, double facet);
   // The swept piece's closed mesh, faceted for this workpiece.
   TriangleMesh piece_mesh(const LinearSweep& piece) const;
-  // Removes one sweep piece by piece; what it removed is appended to `removed` when given.
+  // Removes one sweep (its pieces' union); what it removed is appended to `removed` when given.
   double remove(const MoveSweep& sweep, TriangleMesh* removed);
 
  private:

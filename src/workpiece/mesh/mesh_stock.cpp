@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <span>
 #include <unordered_map>
 #include <vector>
 
@@ -221,12 +222,70 @@ MeshStock MeshStock::from_mesh(const TriangleMesh& mesh, const std::string& sour
 }
 
 double MeshStock::subtract(const TriangleMesh& tool, TriangleMesh* removed) {
-  if (tool.empty() || !tool.bounds().intersects(bounds())) return 0.0;
-  Mesh cutter;
-  std::size_t bad = 0;
-  if (!to_surface_mesh(tool, cutter, bad) || !CGAL::is_closed(cutter)) {
-    throw ComputationError("mesh removal: the swept volume's mesh is not a closed surface");
+  return subtract(std::span<const TriangleMesh>(&tool, 1), removed);
+}
+
+double MeshStock::subtract(std::span<const TriangleMesh> pieces, TriangleMesh* removed) {
+  // The pieces that reach the stock, as exact meshes, merged into one solid where they can be.
+  std::vector<const TriangleMesh*> near;
+  for (const TriangleMesh& piece : pieces) {
+    if (!piece.empty() && piece.bounds().intersects(bounds())) near.push_back(&piece);
   }
+  if (near.empty()) return 0.0;
+  std::vector<Solid> cutters(near.size());
+  for (std::size_t k = 0; k < near.size(); ++k) {
+    std::size_t bad = 0;
+    if (!to_surface_mesh(*near[k], cutters[k].mesh, bad) || !CGAL::is_closed(cutters[k].mesh)) {
+      throw ComputationError("mesh removal: the swept volume's mesh is not a closed surface");
+    }
+  }
+  if (cutters.size() > 1) {
+    // Pairwise, in a balanced tree: each mesh takes part in log2(n) unions, and the coordinates
+    // the unions make stay that few constructions deep.
+    std::vector<Solid> level = cutters;
+    std::vector<Aabb> boxes;
+    for (const TriangleMesh* piece : near) boxes.push_back(piece->bounds());
+    bool merged = true;
+    while (level.size() > 1 && merged) {
+      std::vector<Solid> up((level.size() + 1) / 2);
+      std::vector<Aabb> up_boxes(up.size());
+      for (std::size_t k = 0; k < up.size() && merged; ++k) {
+        if (2 * k + 1 == level.size()) {
+          up[k] = std::move(level[2 * k]);
+          up_boxes[k] = boxes[2 * k];
+          continue;
+        }
+        try {
+          merged =
+              PMP::corefine_and_compute_union(level[2 * k].mesh, level[2 * k + 1].mesh, up[k].mesh);
+        } catch (const std::exception&) {
+          merged = false;
+        }
+        up_boxes[k] = boxes[2 * k];
+        up_boxes[k].extend(boxes[2 * k + 1]);
+        if (merged) make_exact(up[k].mesh, up_boxes[k]);
+      }
+      level = std::move(up);
+      boxes = std::move(up_boxes);
+    }
+    Solid& joined = level.front();
+    // Pieces that only touch (along an edge: no 2-manifold union) are subtracted one by one.
+    if (merged) {
+      cutters.clear();
+      cutters.push_back(std::move(joined));
+    }
+  }
+  double taken = 0.0;
+  for (Solid& cutter : cutters) taken += subtract_solid(cutter, removed);
+  return taken;
+}
+
+double MeshStock::subtract_solid(Solid& solid, TriangleMesh* removed) {
+  Mesh& cutter = solid.mesh;
+  Aabb cut;
+  double cut_volume = 0.0;
+  measure(cutter, cut, cut_volume);
+  if (!cut.intersects(bounds())) return 0.0;
   Mesh common;
   std::array<boost::optional<Mesh*>, 4> output;
   output[PMP::Corefinement::TM1_MINUS_TM2] = &solid_->mesh;
@@ -243,7 +302,7 @@ double MeshStock::subtract(const TriangleMesh& tool, TriangleMesh* removed) {
         "mesh removal: CGAL's corefinement could not build the difference (the result would "
         "not be a 2-manifold)");
   }
-  make_exact(solid_->mesh, tool.bounds());
+  make_exact(solid_->mesh, cut);
   if (!solid_->mesh.is_empty() && !CGAL::is_closed(solid_->mesh)) {
     throw ComputationError("mesh removal: the difference is not a closed surface");
   }
@@ -252,12 +311,11 @@ double MeshStock::subtract(const TriangleMesh& tool, TriangleMesh* removed) {
   const double taken = before - volume_;
   // Rounding of the volume sums: a relative 1e-9 of the stock's volume is far above it.
   const double slack = 1e-9 * std::max(before, 1.0);
-  const double tool_volume = tool.volume();
-  if (taken < -slack || taken > tool_volume + slack) {
+  if (taken < -slack || taken > cut_volume + slack) {
     throw ComputationError(
         fmt::format("mesh removal: the stock's volume changed by {:g} mm³, outside [0, {:g}] mm³ "
-                    "(the swept piece's volume)",
-                    -taken, tool_volume));
+                    "(the swept volume's)",
+                    -taken, cut_volume));
   }
   if (removed != nullptr) removed->append(to_triangles(common));
   return std::max(0.0, taken);

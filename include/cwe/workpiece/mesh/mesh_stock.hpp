@@ -14,6 +14,7 @@
 // What a boolean removed comes back as triangles (rounded to doubles), for a MeshRegion.
 
 #include <memory>
+#include <span>
 #include <string>
 
 #include "cwe/geometry/aabb.hpp"
@@ -61,6 +62,12 @@ class MeshStock {
   // when CGAL cannot compute the result or the result is not a closed solid whose volume fell
   // by between 0 and the tool's volume; the stock must not be used after that.
   double subtract(const TriangleMesh& tool, TriangleMesh* removed = nullptr);
+  // Subtracts a move's pieces (closed convex solids) in one boolean: their union first, which
+  // spares the stock the faces each piece would cut into the next one's (an arc's or a 5-axis
+  // move's pieces overlap along the whole move). Pieces whose union is not a 2-manifold (they
+  // only touch) are subtracted one by one. The volume removed, mm³; `removed` and the errors
+  // as above, the bound being the union's volume.
+  double subtract(std::span<const TriangleMesh> pieces, TriangleMesh* removed = nullptr);
 
   double volume() const { return volume_; }  // mm³
   const Aabb& bounds() const { return bounds_; }
@@ -71,6 +78,7 @@ class MeshStock {
  private:
   struct Solid;
   explicit MeshStock(std::unique_ptr<Solid> solid);
+  double subtract_solid(Solid& cutter, TriangleMesh* removed);
   std::unique_ptr<Solid> solid_;
   Aabb bounds_;  // of the vertices, kept with the volume after each boolean
   double volume_ = 0.0;
