@@ -19,13 +19,16 @@ struct Sample {
 };
 
 // Every cutter location of `path` cut by the cutter `tool` (a specification) through the box
-// `block`, at ray spacing `spacing` and CL step `step`.
+// `block`, at ray spacing `spacing` and CL step `step`; arcs, helices and 5-axis moves subdivided
+// within `tolerance` (0: spacing / 10).
 inline std::vector<Sample> simulate_samples(const Toolpath& path, const char* tool,
-                                            const Aabb& block, double spacing, double step) {
+                                            const Aabb& block, double spacing, double step,
+                                            double tolerance = 0.0) {
   TriDexel stock = TriDexel::from_box(block, spacing);
   const Cutter cutter = cutter_from_spec(tool);
   SimulationOptions options;
   options.resolution = spacing;
+  options.tolerance = tolerance;
   SamplingOptions sampling;
   sampling.step = step;
   std::vector<Sample> samples;

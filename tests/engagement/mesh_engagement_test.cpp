@@ -150,10 +150,11 @@ TEST(MeshWorkpiece, SlotRemovesTheFacetedSweep) {
   EXPECT_LT(expected, depth * (2 * r * 50.0 + 0.5 * kPi * r * r));
 }
 
-// The map at the CL sample nearest `probe` of `moves` cut through `block` on the mesh workpiece.
+// The map at the CL sample nearest `probe` of `moves` cut through `block` on the mesh workpiece
+// (arcs, helices and 5-axis moves subdivided within `subdivision`, 0: s/10).
 EngagementMap mesh_engagement_near(const char* tool, const Aabb& block,
                                    const std::vector<Move>& moves, const Vec3& probe,
-                                   double facet = kFacet) {
+                                   double facet = kFacet, double subdivision = 0.0) {
   MeshStock stock = MeshStock::from_box(block);
   MeshWorkpiece workpiece(stock, facet, kSpacing);
   Toolpath path;
@@ -164,7 +165,7 @@ EngagementMap mesh_engagement_near(const char* tool, const Aabb& block,
   sampling.step = 0.5;
   EngagementMap best;
   double nearest = 1e300;
-  simulate_engagement(workpiece, cutter, path, {{kSpacing, 0.0}, sampling, {}},
+  simulate_engagement(workpiece, cutter, path, {{kSpacing, subdivision}, sampling, {}},
                       [&](const ClEngagement& e) {
                         const double d = (e.cl.position - probe).norm();
                         if (d < nearest) {
@@ -338,19 +339,18 @@ TEST(MeshEngagement, AreaConvergesWithTheFacetSize) {
 // along Y into the block's side, against the dexel workpiece's maps at the same locations. The
 // two methods differ by their own bounds: the dexel's s/(√2ρ) + 0.1° (engagement_test.cpp) and
 // the mesh's 1° plus half a facet angle π/n where a ring grazes its own wall.
-TEST(MeshEngagement, TiltedThreePlusTwoAgreesWithTheDexelMethod) {
-  const double facet = 0.25, r = 4.0;
-  const Vec3 axis(std::sin(20 * kDeg), 0.0, std::cos(20 * kDeg));
-  Move pass = line({28, -10, kTop - 3}, {28, 50, kTop - 3});
-  pass.start_axis = pass.end_axis = axis;
-  const Aabb block{{0, 0, 0}, {30, 40, kTop}};
-  const Vec3 probe(28, 20, kTop - 3);
-  const EngagementMap mesh = mesh_engagement_near("flat:8,20", block, {pass}, probe, facet);
+// The mesh method's map at the location of `path` nearest `probe` against the dexel method's
+// there: every disc's boundaries within `tolerance`; the disc at the top of the cut may be
+// engaged by one method only (depth within 2s).
+void expect_agrees_with_dexel(const char* tool, const Aabb& block, const Move& pass,
+                              const Vec3& probe, double facet, double subdivision,
+                              double tolerance) {
+  const EngagementMap mesh = mesh_engagement_near(tool, block, {pass}, probe, facet, subdivision);
   Toolpath path;
   path.sources = {"test"};
   path.moves = {pass};
   const std::vector<test::Sample> samples =
-      test::simulate_samples(path, "flat:8,20", block, kSpacing, 0.5);
+      test::simulate_samples(path, tool, block, kSpacing, 0.5, subdivision);
   const test::Sample* nearest = nullptr;
   for (const test::Sample& sample : samples) {
     if (!nearest || (sample.cl.position - probe).norm() < (nearest->cl.position - probe).norm()) {
@@ -361,13 +361,10 @@ TEST(MeshEngagement, TiltedThreePlusTwoAgreesWithTheDexelMethod) {
   const EngagementMap& dexel = nearest->map;
   ASSERT_TRUE(dexel.engaged);
   ASSERT_EQ(mesh.discs.size(), dexel.discs.size());
-  const int n = ring_sides(r, MeshWorkpiece::facet_depth(cutter_from_spec("flat:8,20"), facet));
-  const double tolerance = kSpacing / (std::sqrt(2.0) * r) + 0.1 * kDeg + kAngle + kPi / n;
   int compared = 0;
   for (std::size_t k = 0; k < dexel.discs.size(); ++k) {
     const DiscEngagement& d = dexel.discs[k];
     const DiscEngagement& m = mesh.discs[k];
-    // The disc at the top of the cut may be engaged by one method only (depth within s).
     if (d.phi.empty() != m.phi.empty()) {
       EXPECT_NEAR(d.z0, dexel.axial_depth, 2 * kSpacing) << "disc " << d.z0;
       continue;
@@ -383,6 +380,36 @@ TEST(MeshEngagement, TiltedThreePlusTwoAgreesWithTheDexelMethod) {
   }
   EXPECT_GT(compared, 20);
   EXPECT_NEAR(mesh.axial_depth, dexel.axial_depth, 2 * kSpacing);
+}
+
+// A flat end mill D = 8 tilted 20° sideways, 3 mm deep along the block's edge (3+2): the same
+// map as the dexel method's at the same location. Both are held to their own bounds: the
+// dexel's cell s/(√2·R) and 0.1° of the bisection, the mesh's 1° and its edge grazing π/n.
+TEST(MeshEngagement, TiltedThreePlusTwoAgreesWithTheDexelMethod) {
+  const double facet = 0.25, r = 4.0;
+  const Vec3 axis(std::sin(20 * kDeg), 0.0, std::cos(20 * kDeg));
+  Move pass = line({28, -10, kTop - 3}, {28, 50, kTop - 3});
+  pass.start_axis = pass.end_axis = axis;
+  const int n = ring_sides(r, MeshWorkpiece::facet_depth(cutter_from_spec("flat:8,20"), facet));
+  expect_agrees_with_dexel("flat:8,20", {{0, 0, 0}, {30, 40, kTop}}, pass, Vec3(28, 20, kTop - 3),
+                           facet, 0.0,
+                           kSpacing / (std::sqrt(2.0) * r) + 0.1 * kDeg + kAngle + kPi / n);
+}
+
+// The same pass with the tilt swinging from 10° to 30° along it (simultaneous 5-axis): the
+// mesh's RV is read in 3-D, the move is cut in pieces within the subdivision tolerance t (both
+// methods the same pieces), and each method's tool at a location lies within t/2 of the piece
+// that swept it, which moves a boundary by up to (t/2)/R more in each: t/R in all, on top of
+// the 3+2 bounds. At t = 0.1 mm (38 pieces for this 10 mm tool) and 0.5 mm facets.
+TEST(MeshEngagement, SimultaneousFiveAxisAgreesWithTheDexelMethod) {
+  const double facet = 0.5, r = 4.0, t = 0.1;
+  Move pass = line({28, -10, kTop - 3}, {28, 50, kTop - 3});
+  pass.start_axis = Vec3(std::sin(10 * kDeg), 0.0, std::cos(10 * kDeg));
+  pass.end_axis = Vec3(std::sin(30 * kDeg), 0.0, std::cos(30 * kDeg));
+  const int n = ring_sides(r, MeshWorkpiece::facet_depth(cutter_from_spec("flat:8,10"), facet));
+  expect_agrees_with_dexel("flat:8,10", {{0, 0, 0}, {30, 40, kTop}}, pass, Vec3(28, 20, kTop - 3),
+                           facet, t,
+                           kSpacing / (std::sqrt(2.0) * r) + 0.1 * kDeg + kAngle + kPi / n + t / r);
 }
 
 TEST(MeshEngagement, PlungeEngagesTheWholeBottom) {
