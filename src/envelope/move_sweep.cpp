@@ -96,7 +96,7 @@ ConvexParts::ConvexParts(const Cutter& cutter, double tolerance)
   }
 }
 
-MoveSweep::MoveSweep(const ConvexParts& parts, const Move& move) {
+MoveSweep::MoveSweep(const ConvexParts& parts, const Move& move) : move_(move), parts_(&parts) {
   const double tolerance = parts.tolerance();
   const BoundingCylinder b = parts.cutter().bounding_cylinder();
   const double reach = std::hypot(b.radius, b.z_max);

@@ -19,6 +19,22 @@ int steps_for(double radius, double angle, double deviation) {
   return std::max(1, static_cast<int>(std::ceil(angle / step - tol::kRelative)));
 }
 
+// (ρ, z) samples of the cutter's profile from the tip to the top edge, chords within
+// tolerance/2 of its arcs.
+std::vector<Vec2> profile_samples(const Cutter& cutter, double tolerance) {
+  const double half = tolerance / 2.0;
+  std::vector<Vec2> profile;
+  for (const ProfileSegment& s : cutter.profile().segments()) {
+    const int steps = s.kind == ProfileSegment::Kind::kArc
+                          ? steps_for(s.radius, std::abs(s.end_angle() - s.start_angle()), half)
+                          : 1;
+    for (int k = profile.empty() ? 0 : 1; k <= steps; ++k) {
+      profile.push_back(s.point_at(static_cast<double>(k) / steps));
+    }
+  }
+  return profile;
+}
+
 Frame frame_at(const Vec3& tip, const Vec3& axis) {
   return Frame::from_z(tip, axis, Vec3::UnitX());
 }
@@ -45,15 +61,7 @@ bool is_convex(const Cutter& cutter) {
 
 std::vector<Vec3> tool_surface_points(const Cutter& cutter, double tolerance) {
   const double half = tolerance / 2.0;
-  std::vector<Vec2> profile;  // (ρ, z) samples, tip to top edge
-  for (const ProfileSegment& s : cutter.profile().segments()) {
-    const int steps = s.kind == ProfileSegment::Kind::kArc
-                          ? steps_for(s.radius, std::abs(s.end_angle() - s.start_angle()), half)
-                          : 1;
-    for (int k = profile.empty() ? 0 : 1; k <= steps; ++k) {
-      profile.push_back(s.point_at(static_cast<double>(k) / steps));
-    }
-  }
+  const std::vector<Vec2> profile = profile_samples(cutter, tolerance);
   std::vector<Vec3> points;
   points.emplace_back(0.0, 0.0, cutter.profile().height());  // centre of the top disc
   for (const Vec2& p : profile) {
@@ -117,6 +125,127 @@ TriangleMesh linear_piece_mesh(const std::vector<Vec3>& tool, const Vec3& start,
     for (const Vec3& p : tool) points.push_back(frame.to_world(p));
   }
   return convex_hull(points);
+}
+
+TriangleMesh planar_arc_mesh(const Cutter& cutter, double tolerance, double path_tolerance,
+                             const Move& arc) {
+  if (!arc.is_arc() || arc.axial != 0.0 || !is_convex(cutter) || !(tolerance > 0.0) ||
+      !(path_tolerance > 0.0)) {
+    return {};
+  }
+  const Vec3 axis = arc.start_axis.normalized();
+  if (arc.end_axis.normalized().dot(axis) < 1.0 - 1e-12) return {};
+  if (std::abs(axis.dot(arc.normal)) < 1.0 - 1e-12) return {};
+  const double half = tolerance / 2.0;
+  const double big_r = arc.radius();
+  const double rho_max = cutter.profile().max_radius();
+  const bool full = arc.sweep >= kTwoPi * (1.0 - tol::kRelative);
+  // The inner wall must stay off the arc's axis, and the two half tools off each other and off
+  // the tube: each reaches asin(ρ/R) beyond its end of the arc, seen from the axis.
+  if (!(big_r - rho_max > std::max(half, 1e-3))) return {};
+  if (!full && arc.sweep + 2.0 * std::asin(rho_max / big_r) > kTwoPi - 1e-3) return {};
+
+  // The meridian polyline M: axis point at the bottom (a flat tip), the profile samples, the
+  // centre of the top disc; points on the axis (ρ = 0) are single vertices of every ring.
+  std::vector<Vec2> meridian;
+  for (const Vec2& p : profile_samples(cutter, tolerance)) {
+    if (meridian.empty() && p.x() > 0.0) meridian.emplace_back(0.0, p.y());
+    // A point again (a ball's tip: the bottom line of length 0, then the arc) is one vertex.
+    const Vec2 q(std::max(0.0, p.x()), p.y());
+    if (meridian.empty() || (q - meridian.back()).norm() > 1e-9) meridian.push_back(q);
+  }
+  meridian.emplace_back(0.0, cutter.profile().height());
+  // Ring sides: the largest ring's, even, so that every ring has vertices on the meridian plane
+  // (α = 0 and π) where the half tools meet the tube.
+  int sides = std::max(8, steps_for(rho_max, kTwoPi, half));
+  sides += sides % 2;
+  const double path_half = path_tolerance / 2.0;
+  const int stations = full ? std::max(8, steps_for(big_r + rho_max, kTwoPi, path_half))
+                            : steps_for(big_r + rho_max, arc.sweep, path_half);
+
+  TriangleMesh mesh;
+  const Vec3 e1 = (arc.start - arc.center).normalized();
+  const Vec3 e2 = arc.normal.cross(e1);
+  // The tool point at profile sample j, ring angle α (from the radial direction towards the
+  // travel), with the tip at arc angle θ.
+  const auto point = [&](double theta, std::size_t j, double alpha) -> Vec3 {
+    const Vec3 u = std::cos(theta) * e1 + std::sin(theta) * e2;
+    const Vec3 t = arc.normal.cross(u);
+    const Vec2& m = meridian[j];
+    return arc.center + big_r * u + m.y() * axis +
+           m.x() * (std::cos(alpha) * u + std::sin(alpha) * t);
+  };
+  const auto on_axis = [&](std::size_t j) { return meridian[j].x() <= 0.0; };
+  // The section polygon S at a station: the meridian at α = 0 (outer side) from the bottom to
+  // the top, then at α = π (inner side) back down, axis points once.
+  std::vector<std::pair<std::size_t, double>> section;
+  for (std::size_t j = 0; j < meridian.size(); ++j) section.emplace_back(j, 0.0);
+  for (std::size_t j = meridian.size(); j-- > 0;) {
+    if (!on_axis(j)) section.emplace_back(j, kPi);
+  }
+  const int rings = full ? stations : stations + 1;
+  std::vector<std::vector<int>> tube(static_cast<std::size_t>(rings));
+  for (int k = 0; k < rings; ++k) {
+    const double theta = arc.sweep * k / stations;
+    for (const auto& [j, alpha] : section) {
+      tube[static_cast<std::size_t>(k)].push_back(static_cast<int>(mesh.vertices.size()));
+      mesh.vertices.push_back(point(full ? kTwoPi * k / stations : theta, j, alpha));
+    }
+  }
+  const std::size_t n = section.size();
+  for (int k = 0; k < stations; ++k) {
+    const auto& a = tube[static_cast<std::size_t>(k)];
+    const auto& b = tube[static_cast<std::size_t>((k + 1) % rings)];
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t i1 = (i + 1) % n;
+      mesh.triangles.push_back({a[i], b[i], b[i1]});
+      mesh.triangles.push_back({a[i], b[i1], a[i1]});
+    }
+  }
+  if (!full) {
+    // The half tools: behind the start (α from π to 2π), ahead of the end (α from 0 to π); their
+    // vertices at α = 0 and π are the tube's end sections.
+    for (const bool start : {true, false}) {
+      const double theta = start ? 0.0 : arc.sweep;
+      const auto& ends = tube[static_cast<std::size_t>(start ? 0 : stations)];
+      std::vector<std::vector<int>> grid(meridian.size());
+      for (std::size_t j = 0; j < meridian.size(); ++j) {
+        for (int i = 0; i <= sides / 2; ++i) {
+          const double alpha = (start ? kPi : 0.0) + kTwoPi * i / sides;
+          const bool outer = alpha == 0.0 || alpha >= kTwoPi * (1.0 - tol::kRelative);
+          const bool inner = std::abs(alpha - kPi) <= kPi * tol::kRelative;
+          int id = -1;
+          if (on_axis(j) || outer || inner) {
+            // On the meridian plane: the tube's vertex there.
+            for (std::size_t q = 0; q < n; ++q) {
+              if (section[q].first == j && (on_axis(j) || (section[q].second == 0.0) == outer)) {
+                id = ends[q];
+                break;
+              }
+            }
+          } else {
+            id = static_cast<int>(mesh.vertices.size());
+            mesh.vertices.push_back(point(theta, j, alpha));
+          }
+          grid[j].push_back(id);
+        }
+      }
+      for (std::size_t j = 0; j + 1 < meridian.size(); ++j) {
+        for (int i = 0; i < sides / 2; ++i) {
+          const auto q = static_cast<std::size_t>(i);
+          const int a = grid[j][q], b = grid[j][q + 1], c = grid[j + 1][q + 1], d = grid[j + 1][q];
+          // Both halves wound as one tool, (α, j) the same way round; the tube's end sections
+          // run the other way.
+          if (a != b) mesh.triangles.push_back({a, b, c});
+          if (c != d) mesh.triangles.push_back({a, c, d});
+        }
+      }
+    }
+  }
+  if (mesh.volume() < 0.0) {
+    for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
+  }
+  return mesh;
 }
 
 }  // namespace cwe

@@ -10,6 +10,7 @@
 
 #include "cwe/core/error.hpp"
 #include "cwe/engagement/mesh_workpiece.hpp"
+#include "cwe/envelope/swept_volume.hpp"
 #include "cwe/simulation/simulation.hpp"
 #include "cwe/tool/tool_spec.hpp"
 #include "cwe/workpiece/mesh/mesh_stock.hpp"
@@ -148,6 +149,43 @@ TEST(MeshWorkpiece, SlotRemovesTheFacetedSweep) {
   EXPECT_TRUE(check_closure(stock.mesh()).closed());
   // Against the true sweep (a half disc in front): the facets are inside it.
   EXPECT_LT(expected, depth * (2 * r * 50.0 + 0.5 * kPi * r * r));
+}
+
+// A planar arc is swept in one mesh (planar_arc_mesh): a solid CGAL accepts (closed, outward,
+// not crossing itself) for every kind of tool, and what it removes from a block against the
+// closed form for a flat end mill, (sweep·2R·r + πr²)·depth: its vertices lie on the true
+// surface, so it differs by at most its area times the ring chords' depth h plus the stations'
+// sagitta (the simulation's tolerance/2).
+TEST(MeshWorkpiece, PlanarArcIsOneSolid) {
+  Move arc;
+  arc.shape = MoveShape::kArc;
+  arc.feed_rate = 600.0;
+  arc.normal = -Vec3::UnitZ();  // G2
+  arc.center = Vec3(30, 20, 17);
+  arc.start = arc.center + 12.0 * Vec3(std::cos(0.3), std::sin(0.3), 0.0);
+  arc.sweep = kPi / 2;
+  arc.end = arc.position(1.0);
+  for (const char* spec : {"flat:10,20", "ball:6,15", "bull:10,2,20", "chamfer:12,90,15"}) {
+    const Cutter cutter = cutter_from_spec(spec);
+    const TriangleMesh mesh =
+        planar_arc_mesh(cutter, 2.0 * MeshWorkpiece::facet_depth(cutter, kFacet), 0.01, arc);
+    ASSERT_FALSE(mesh.empty()) << spec;
+    EXPECT_NO_THROW(MeshStock::from_mesh(mesh, spec));
+  }
+  const double r = 5.0, big_r = 12.0, depth = 3.0;
+  const Cutter flat = cutter_from_spec("flat:10,20");
+  MeshStock stock = MeshStock::from_box({{0, -10, 0}, {60, 50, 20}});
+  MeshWorkpiece workpiece(stock, kFacet, kSpacing);
+  Toolpath path;
+  path.sources = {"test"};
+  path.moves = {arc};
+  const RemovalSummary summary = remove_toolpath(workpiece, flat, path, {kSpacing, 0.0});
+  const double section = arc.sweep * 2.0 * big_r * r + kPi * r * r;
+  const double area = 2.0 * section + depth * (arc.sweep * 2.0 * big_r + kTwoPi * r);
+  const double bound = area * (MeshWorkpiece::facet_depth(flat, kFacet) + kSpacing / 20.0);
+  ASSERT_EQ(summary.removed_by_move.size(), 1u);
+  EXPECT_NEAR(summary.removed_by_move[0], section * depth, bound);
+  EXPECT_TRUE(check_closure(stock.mesh()).closed());
 }
 
 // The map at the CL sample nearest `probe` of `moves` cut through `block` on the mesh workpiece

@@ -143,6 +143,115 @@ TEST(SweptVolume, ArcsHelicesAndFiveAxisStayWithinTheirBound) {
   expect_membership_agrees(ball, five_axis, 0.05, 1000, 600, random);
 }
 
+// Inside a closed mesh: an odd number of crossings by a ray (in a direction none of the test
+// meshes' faces contain).
+bool mesh_contains(const TriangleMesh& mesh, const Vec3& p) {
+  const Vec3 d = Vec3(0.3127, 0.2213, 0.9237).normalized();
+  int crossings = 0;
+  for (const auto& t : mesh.triangles) {
+    const Vec3& a = mesh.vertices[static_cast<std::size_t>(t[0])];
+    const Vec3 e1 = mesh.vertices[static_cast<std::size_t>(t[1])] - a;
+    const Vec3 e2 = mesh.vertices[static_cast<std::size_t>(t[2])] - a;
+    const Vec3 h = d.cross(e2);
+    const double det = e1.dot(h);
+    if (std::abs(det) < 1e-14) continue;
+    const Vec3 s = p - a;
+    const double u = s.dot(h) / det;
+    const Vec3 q = s.cross(e1);
+    const double v = d.dot(q) / det;
+    if (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && e2.dot(q) / det > 0.0) ++crossings;
+  }
+  return crossings % 2 == 1;
+}
+
+// An arc of the tip in the plane z = 0 about the origin, from angle `from` through `sweep`
+// (counter-clockwise about `normal`), the tool along +Z.
+Move planar_arc(double radius, double from, double sweep, const Vec3& normal) {
+  Move m;
+  m.shape = MoveShape::kArc;
+  m.normal = normal;
+  m.center = Vec3::Zero();
+  const Vec3 e1(std::cos(from), std::sin(from), 0.0);
+  m.start = radius * e1;
+  m.sweep = sweep;
+  m.end = m.position(1.0);
+  return m;
+}
+
+// A planar arc's sweep in one mesh (the tool's section revolved, half tools at the ends):
+// closed, and on the right side of the brute-force union of the tool's positions at every
+// point farther than the band from its boundary: the tool's facets and the stations' chords each
+// within tolerance/2. A flat end mill's against the closed form: an annulus sector 2r wide plus
+// the tool's disc, times the height, less by under its area times the tolerance.
+TEST(SweptVolume, PlanarArcIsOneClosedMeshWithinItsBound) {
+  test::Random random(43);
+  const double tolerance = 0.02;
+  const std::vector<Move> arcs = {planar_arc(12.0, 0.3, kPi / 2, -Vec3::UnitZ()),    // G2
+                                  planar_arc(8.0, -1.0, 1.25 * kPi, Vec3::UnitZ()),  // G3
+                                  planar_arc(7.0, 0.0, kTwoPi, -Vec3::UnitZ())};     // circle
+  for (const char* spec :
+       {"flat:10,20", "ball:6,15", "bull:10,2,20", "chamfer:12,90,15", "taper-ball:4,3,20"}) {
+    const Cutter cutter = cutter_from_spec(spec);
+    const double reach =
+        std::hypot(cutter.bounding_cylinder().radius, cutter.bounding_cylinder().z_max);
+    for (const Move& arc : arcs) {
+      SCOPED_TRACE(testing::Message() << spec << ", arc of " << arc.sweep << " rad");
+      const TriangleMesh mesh = planar_arc_mesh(cutter, tolerance, tolerance, arc);
+      ASSERT_FALSE(mesh.empty());
+      ASSERT_TRUE(check_closure(mesh).closed());
+      ASSERT_GT(mesh.volume(), 0.0);
+      for (const auto& t : mesh.triangles) {  // no degenerate face (a point repeated)
+        const Vec3& a = mesh.vertices[static_cast<std::size_t>(t[0])];
+        ASSERT_GT((mesh.vertices[static_cast<std::size_t>(t[1])] - a)
+                      .cross(mesh.vertices[static_cast<std::size_t>(t[2])] - a)
+                      .norm(),
+                  1e-9);
+      }
+      Aabb box = mesh.bounds();
+      box.inflate(1.0);
+      int decided = 0;
+      for (int k = 0; k < 300; ++k) {
+        const Vec3 p(random.uniform(box.min.x(), box.max.x()),
+                     random.uniform(box.min.y(), box.max.y()),
+                     random.uniform(box.min.z(), box.max.z()));
+        const int side = test::union_side(cutter, arc, p, tolerance, reach);
+        if (side == 0) continue;
+        ++decided;
+        ASSERT_EQ(mesh_contains(mesh, p), side < 0) << "point " << p.transpose();
+      }
+      EXPECT_GT(decided, 200);
+    }
+  }
+  const double r = 5.0, height = 20.0, big_r = 12.0;
+  const TriangleMesh flat =
+      planar_arc_mesh(cutter_from_spec("flat:10,20"), tolerance, tolerance, arcs[0]);
+  // Sweep π/2: the annulus sector's area is (π/2)·2R·r (outer and inner arcs (π/2)(R ± r)).
+  const double section = kPi / 2 * 2 * big_r * r + kPi * r * r;
+  const double exact = section * height;
+  const double area = 2 * section + height * (kPi / 2 * 2 * big_r + kTwoPi * r);
+  EXPECT_LT(flat.volume(), exact);
+  EXPECT_GT(flat.volume(), exact - area * tolerance);
+}
+
+// Where the revolved section would not be a solid, or the move is not a planar arc with the
+// tool along its normal, there is no one-piece mesh (the move is cut in pieces instead).
+TEST(SweptVolume, PlanarArcMeshOnlyWhereItIsASolid) {
+  const Cutter flat = cutter_from_spec("flat:10,20");
+  // The inner wall would reach the arc's axis (R ≤ r).
+  EXPECT_TRUE(planar_arc_mesh(flat, 0.02, 0.02, planar_arc(5.0, 0.0, 1.0, Vec3::UnitZ())).empty());
+  // The half tools would meet: 1.9π + 2·asin(5/8) > 2π.
+  EXPECT_TRUE(
+      planar_arc_mesh(flat, 0.02, 0.02, planar_arc(8.0, 0.0, 1.9 * kPi, Vec3::UnitZ())).empty());
+  // A helix; a tool tilted off the arc's normal; a line.
+  Move helix = planar_arc(8.0, 0.0, 1.0, Vec3::UnitZ());
+  helix.axial = -1.0;
+  EXPECT_TRUE(planar_arc_mesh(flat, 0.02, 0.02, helix).empty());
+  Move tilted = planar_arc(8.0, 0.0, 1.0, Vec3::UnitZ());
+  tilted.start_axis = tilted.end_axis = Vec3(0.1, 0.0, 1.0).normalized();
+  EXPECT_TRUE(planar_arc_mesh(flat, 0.02, 0.02, tilted).empty());
+  EXPECT_TRUE(planar_arc_mesh(flat, 0.02, 0.02, line({0, 0, 0}, {10, 0, 0})).empty());
+}
+
 TEST(SweptVolume, RefusesWhatItCannotBuild) {
   const Cutter corner = cutter_from_json(
       R"({"profile": [{"line": [2, 0]}, {"arc": [5, 3], "center": [5, 0], "ccw": false}, {"line": [5, 8]}]})",

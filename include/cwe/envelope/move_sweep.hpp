@@ -65,8 +65,13 @@ class MoveSweep {
   int path_pieces() const { return path_pieces_; }
   double deviation_bound() const { return deviation_bound_; }
   Aabb bounds() const;
+  // The move and the tool's parts it was built from (a backend may sweep them its own way).
+  const Move& move() const { return move_; }
+  const ConvexParts& parts() const { return *parts_; }
 
  private:
+  Move move_;
+  const ConvexParts* parts_;
   std::vector<LinearSweep> pieces_;
   int path_pieces_ = 1;
   double deviation_bound_ = 0.0;

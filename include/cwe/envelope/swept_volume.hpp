@@ -45,6 +45,18 @@ std::vector<Vec3> tool_surface_points(const Cutter& cutter, double tolerance);
 TriangleMesh linear_piece_mesh(const std::vector<Vec3>& tool, const Vec3& start, const Vec3& end,
                                const Vec3& axis);
 
+// The closed mesh of a planar arc (no advance along its normal) swept by a convex cutter whose
+// axis is the arc's normal all along, in one piece: the tool's meridian section revolved about
+// the arc's axis (stations with chords within path_tolerance/2 at the outer radius), closed by
+// the faceted tool's back half at the start and front half at the end (rings of an even number
+// of sides and profile samples, chords within tolerance/2, vertices on the end sections). A full
+// circle (or more) is the revolved ring alone. Empty when this does not apply: another move or
+// axis, an inner wall that would reach the arc's axis (R − ρmax ≤ max(tolerance/2, 1 µm)), or half
+// tools that would meet (sweep + 2·asin(ρmax/R) near 2π or more without a full turn); then the move
+// is cut in pieces.
+TriangleMesh planar_arc_mesh(const Cutter& cutter, double tolerance, double path_tolerance,
+                             const Move& arc);
+
 // Is the cutter's solid convex (radius a concave function of height)?
 bool is_convex(const Cutter& cutter);
 
