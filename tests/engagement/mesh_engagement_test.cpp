@@ -99,6 +99,27 @@ TEST(MeshStock, SubtractsAMovesPiecesAsTheirUnion) {
   EXPECT_EQ(stock.subtract(std::vector<TriangleMesh>{}), 0.0);
 }
 
+// A removed volume that touches itself along an edge has no 2-manifold mesh: the stock's top is
+// 1 mm above the cut for x < 5, steps down to it at x = 5 and ramps back up by x = 10 (a helix
+// ending where a circle then cleans the floor). The stock still loses exactly that volume, and
+// the RV comes back as a closed solid grown by a relative 1e-9 (its volume within 1e-6).
+TEST(MeshStock, PinchedRemovalVolumeIsGrownByAHair) {
+  MeshStock stock = MeshStock::from_box({{0, 0, 0}, {10, 10, 6}});
+  std::vector<Vec3> wedge;
+  for (const double y : {-1.0, 11.0}) {
+    for (const Vec2& p : {Vec2(5, 5), Vec2(10, 6), Vec2(10, 7), Vec2(5, 7)}) {
+      wedge.emplace_back(p.x(), y, p.y());
+    }
+  }
+  EXPECT_NEAR(stock.subtract(convex_hull(wedge)), 25.0, 1e-9);  // ½ · 5 · 1 · 10
+  TriangleMesh removed;
+  // Above z = 5: 5 × 10 × 1 for x < 5 and the ramp's 25.
+  EXPECT_NEAR(stock.subtract(box_mesh({{-1, -1, 5}, {11, 11, 8}}), &removed), 75.0, 1e-9);
+  EXPECT_NEAR(stock.volume(), 500.0, 1e-9);
+  EXPECT_TRUE(check_closure(removed).closed());
+  EXPECT_NEAR(removed.volume(), 75.0, 75.0 * 1e-6);
+}
+
 TEST(MeshStock, RefusesWhatIsNotASolid) {
   TriangleMesh open = box_mesh({{0, 0, 0}, {1, 1, 1}});
   open.triangles.pop_back();
