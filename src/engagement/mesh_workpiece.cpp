@@ -218,12 +218,13 @@ TriangleMesh MeshWorkpiece::piece_mesh(const LinearSweep& piece) const {
 }
 
 double MeshWorkpiece::remove(const MoveSweep& sweep, TriangleMesh* removed) {
-  // A planar arc of a tool of revolution: one mesh, the tool's section revolved (no pieces).
+  // A planar arc of a tool of revolution: the tool's section revolved (one mesh, or a wedge and
+  // the tool at both ends), not linear pieces.
   const ConvexParts& parts = sweep.parts();
   if (parts.parts().size() == 1 && parts.parts().front().offset == 0.0) {
     const Cutter& cutter = *parts.parts().front().cutter;
-    const TriangleMesh arc =
-        planar_arc_mesh(cutter, 2.0 * facet_depth(cutter, facet_), parts.tolerance(), sweep.move());
+    const std::vector<TriangleMesh> arc = planar_arc_sweep(
+        cutter, 2.0 * facet_depth(cutter, facet_), parts.tolerance(), sweep.move());
     if (!arc.empty()) return stock_.subtract(arc, removed);
   }
   std::vector<TriangleMesh> pieces;

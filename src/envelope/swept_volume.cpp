@@ -127,8 +127,8 @@ TriangleMesh linear_piece_mesh(const std::vector<Vec3>& tool, const Vec3& start,
   return convex_hull(points);
 }
 
-TriangleMesh planar_arc_mesh(const Cutter& cutter, double tolerance, double path_tolerance,
-                             const Move& arc) {
+std::vector<TriangleMesh> planar_arc_sweep(const Cutter& cutter, double tolerance,
+                                           double path_tolerance, const Move& arc) {
   if (!arc.is_arc() || arc.axial != 0.0 || !is_convex(cutter) || !(tolerance > 0.0) ||
       !(path_tolerance > 0.0)) {
     return {};
@@ -139,14 +139,16 @@ TriangleMesh planar_arc_mesh(const Cutter& cutter, double tolerance, double path
   const double half = tolerance / 2.0;
   const double big_r = arc.radius();
   const double rho_max = cutter.profile().max_radius();
+  if (!(big_r > 1e-3)) return {};
   const bool full = arc.sweep >= kTwoPi * (1.0 - tol::kRelative);
-  // The inner wall must stay off the arc's axis, and the two half tools off each other and off
-  // the tube: each reaches asin(ρ/R) beyond its end of the arc, seen from the axis.
-  if (!(big_r - rho_max > std::max(half, 1e-3))) return {};
-  if (!full && arc.sweep + 2.0 * std::asin(rho_max / big_r) > kTwoPi - 1e-3) return {};
+  // Glued (one mesh): the inner wall stays off the arc's axis, and the two half tools off each
+  // other and off the tube (each reaches asin(ρ/R) beyond its end of the arc, seen from the
+  // axis). Else the wedge, with the tools whole at both ends, for a union.
+  const bool glued = big_r - rho_max > std::max(half, 1e-3) &&
+                     (full || arc.sweep + 2.0 * std::asin(rho_max / big_r) < kTwoPi - 1e-3);
 
   // The meridian polyline M: axis point at the bottom (a flat tip), the profile samples, the
-  // centre of the top disc; points on the axis (ρ = 0) are single vertices of every ring.
+  // centre of the top disc; points on the tool's axis (ρ = 0) are single vertices of every ring.
   std::vector<Vec2> meridian;
   for (const Vec2& p : profile_samples(cutter, tolerance)) {
     if (meridian.empty() && p.x() > 0.0) meridian.emplace_back(0.0, p.y());
@@ -155,19 +157,35 @@ TriangleMesh planar_arc_mesh(const Cutter& cutter, double tolerance, double path
     if (meridian.empty() || (q - meridian.back()).norm() > 1e-9) meridian.push_back(q);
   }
   meridian.emplace_back(0.0, cutter.profile().height());
+  // A radius within a relative 1e-9 of R reaches the arc's axis (R is computed from the arc's
+  // ends, a few ulps off the radius of the corner it goes round).
+  const double axis_reach = big_r * (1.0 - 1e-9);
+  // Where the profile's radius crosses R, a sample: there the section's inner side reaches the
+  // arc's axis, and the clamped side runs up the axis from it (a chord across would cut the
+  // corner).
+  for (std::size_t j = 0; j + 1 < meridian.size(); ++j) {
+    const Vec2 a = meridian[j], b = meridian[j + 1];
+    if ((a.x() < axis_reach) != (b.x() < axis_reach) && std::abs(b.x() - a.x()) > 0.0) {
+      const double u = (big_r - a.x()) / (b.x() - a.x());
+      const Vec2 q = a + u * (b - a);
+      if ((q - a).norm() > 1e-9 && (q - b).norm() > 1e-9) {
+        meridian.insert(meridian.begin() + static_cast<std::ptrdiff_t>(j) + 1, q);
+        ++j;
+      }
+    }
+  }
+  const auto on_axis = [&](std::size_t j) { return meridian[j].x() <= 0.0; };
   // Ring sides: the largest ring's, even, so that every ring has vertices on the meridian plane
-  // (α = 0 and π) where the half tools meet the tube.
+  // (α = 0 and π), where the tools meet the tube's sections.
   int sides = std::max(8, steps_for(rho_max, kTwoPi, half));
   sides += sides % 2;
-  const double path_half = path_tolerance / 2.0;
-  const int stations = full ? std::max(8, steps_for(big_r + rho_max, kTwoPi, path_half))
-                            : steps_for(big_r + rho_max, arc.sweep, path_half);
+  const int stations = full ? std::max(8, steps_for(big_r + rho_max, kTwoPi, path_tolerance / 2))
+                            : steps_for(big_r + rho_max, arc.sweep, path_tolerance / 2);
 
-  TriangleMesh mesh;
   const Vec3 e1 = (arc.start - arc.center).normalized();
   const Vec3 e2 = arc.normal.cross(e1);
   // The tool point at profile sample j, ring angle α (from the radial direction towards the
-  // travel), with the tip at arc angle θ.
+  // travel), with the tip at arc angle θ; an inner point past the arc's axis is put on it.
   const auto point = [&](double theta, std::size_t j, double alpha) -> Vec3 {
     const Vec3 u = std::cos(theta) * e1 + std::sin(theta) * e2;
     const Vec3 t = arc.normal.cross(u);
@@ -175,77 +193,136 @@ TriangleMesh planar_arc_mesh(const Cutter& cutter, double tolerance, double path
     return arc.center + big_r * u + m.y() * axis +
            m.x() * (std::cos(alpha) * u + std::sin(alpha) * t);
   };
-  const auto on_axis = [&](std::size_t j) { return meridian[j].x() <= 0.0; };
   // The section polygon S at a station: the meridian at α = 0 (outer side) from the bottom to
-  // the top, then at α = π (inner side) back down, axis points once.
-  std::vector<std::pair<std::size_t, double>> section;
-  for (std::size_t j = 0; j < meridian.size(); ++j) section.emplace_back(j, 0.0);
+  // the top, then at α = π (inner side) back down, points on the tool's axis once. An inner point
+  // at or past the arc's axis (ρ ≥ R) sits on that axis, one vertex for every station.
+  struct Corner {
+    std::size_t j;
+    double alpha;
+    bool arc_axis;
+  };
+  std::vector<Corner> section;
+  for (std::size_t j = 0; j < meridian.size(); ++j) section.push_back({j, 0.0, false});
   for (std::size_t j = meridian.size(); j-- > 0;) {
-    if (!on_axis(j)) section.emplace_back(j, kPi);
+    if (on_axis(j)) continue;
+    const bool clamped = meridian[j].x() >= axis_reach;
+    // Clamped corners at one height (the bottom's or the top's ring and the sample at ρ = R)
+    // are one point.
+    if (clamped && section.back().arc_axis && meridian[section.back().j].y() == meridian[j].y()) {
+      continue;
+    }
+    section.push_back({j, kPi, clamped});
   }
+  TriangleMesh tube;
+  const auto add = [](TriangleMesh& mesh, int a, int b, int c) {
+    if (a != b && b != c && a != c) mesh.triangles.push_back({a, b, c});
+  };
+  const std::size_t n = section.size();
+  std::vector<int> on_arc_axis(n, -1);
   const int rings = full ? stations : stations + 1;
-  std::vector<std::vector<int>> tube(static_cast<std::size_t>(rings));
+  std::vector<std::vector<int>> ids(static_cast<std::size_t>(rings));
   for (int k = 0; k < rings; ++k) {
-    const double theta = arc.sweep * k / stations;
-    for (const auto& [j, alpha] : section) {
-      tube[static_cast<std::size_t>(k)].push_back(static_cast<int>(mesh.vertices.size()));
-      mesh.vertices.push_back(point(full ? kTwoPi * k / stations : theta, j, alpha));
+    const double theta = full ? kTwoPi * k / stations : arc.sweep * k / stations;
+    for (std::size_t q = 0; q < n; ++q) {
+      const Corner& c = section[q];
+      if (c.arc_axis && on_arc_axis[q] >= 0) {
+        ids[static_cast<std::size_t>(k)].push_back(on_arc_axis[q]);
+        continue;
+      }
+      const int id = static_cast<int>(tube.vertices.size());
+      tube.vertices.push_back(c.arc_axis ? Vec3(arc.center + meridian[c.j].y() * axis)
+                                         : point(theta, c.j, c.alpha));
+      if (c.arc_axis) on_arc_axis[q] = id;
+      ids[static_cast<std::size_t>(k)].push_back(id);
     }
   }
-  const std::size_t n = section.size();
   for (int k = 0; k < stations; ++k) {
-    const auto& a = tube[static_cast<std::size_t>(k)];
-    const auto& b = tube[static_cast<std::size_t>((k + 1) % rings)];
+    const auto& a = ids[static_cast<std::size_t>(k)];
+    const auto& b = ids[static_cast<std::size_t>((k + 1) % rings)];
     for (std::size_t i = 0; i < n; ++i) {
       const std::size_t i1 = (i + 1) % n;
-      mesh.triangles.push_back({a[i], b[i], b[i1]});
-      mesh.triangles.push_back({a[i], b[i1], a[i1]});
+      add(tube, a[i], b[i], b[i1]);
+      add(tube, a[i], b[i1], a[i1]);
     }
   }
-  if (!full) {
-    // The half tools: behind the start (α from π to 2π), ahead of the end (α from 0 to π); their
-    // vertices at α = 0 and π are the tube's end sections.
-    for (const bool start : {true, false}) {
-      const double theta = start ? 0.0 : arc.sweep;
-      const auto& ends = tube[static_cast<std::size_t>(start ? 0 : stations)];
-      std::vector<std::vector<int>> grid(meridian.size());
-      for (std::size_t j = 0; j < meridian.size(); ++j) {
-        for (int i = 0; i <= sides / 2; ++i) {
-          const double alpha = (start ? kPi : 0.0) + kTwoPi * i / sides;
-          const bool outer = alpha == 0.0 || alpha >= kTwoPi * (1.0 - tol::kRelative);
-          const bool inner = std::abs(alpha - kPi) <= kPi * tol::kRelative;
-          int id = -1;
-          if (on_axis(j) || outer || inner) {
-            // On the meridian plane: the tube's vertex there.
-            for (std::size_t q = 0; q < n; ++q) {
-              if (section[q].first == j && (on_axis(j) || (section[q].second == 0.0) == outer)) {
-                id = ends[q];
-                break;
-              }
+  // The tool at arc angle θ over ring angles α0 + [0, span] (half or whole), its vertices on the
+  // meridian plane taken from `ends` (the tube's section there) when given.
+  const auto tool = [&](TriangleMesh& mesh, double theta, double alpha0, int steps,
+                        const std::vector<int>* ends) {
+    std::vector<std::vector<int>> grid(meridian.size());
+    for (std::size_t j = 0; j < meridian.size(); ++j) {
+      for (int i = 0; i <= steps; ++i) {
+        const double alpha = alpha0 + kTwoPi * i / sides;
+        const double turns = alpha / kPi;
+        const bool meridional = std::abs(turns - std::round(turns)) <= tol::kRelative;
+        int id = -1;
+        if (ends != nullptr && (on_axis(j) || meridional)) {
+          const bool outer = static_cast<long>(std::round(turns)) % 2 == 0;
+          for (std::size_t q = 0; q < n && id < 0; ++q) {
+            if (section[q].j == j && (on_axis(j) || (section[q].alpha == 0.0) == outer)) {
+              id = (*ends)[q];
             }
-          } else {
-            id = static_cast<int>(mesh.vertices.size());
-            mesh.vertices.push_back(point(theta, j, alpha));
           }
-          grid[j].push_back(id);
+        } else if (on_axis(j) && i > 0) {
+          id = grid[j].front();
+        } else if (steps == sides && i == steps) {
+          id = grid[j].front();  // the whole ring closes on itself
+        } else {
+          id = static_cast<int>(mesh.vertices.size());
+          mesh.vertices.push_back(point(theta, j, alpha));
         }
+        grid[j].push_back(id);
       }
-      for (std::size_t j = 0; j + 1 < meridian.size(); ++j) {
-        for (int i = 0; i < sides / 2; ++i) {
-          const auto q = static_cast<std::size_t>(i);
-          const int a = grid[j][q], b = grid[j][q + 1], c = grid[j + 1][q + 1], d = grid[j + 1][q];
-          // Both halves wound as one tool, (α, j) the same way round; the tube's end sections
-          // run the other way.
-          if (a != b) mesh.triangles.push_back({a, b, c});
-          if (c != d) mesh.triangles.push_back({a, c, d});
+    }
+    // Both halves wound as one tool, (α, j) the same way round; the tube's end sections run the
+    // other way.
+    for (std::size_t j = 0; j + 1 < meridian.size(); ++j) {
+      for (int i = 0; i < steps; ++i) {
+        const auto q = static_cast<std::size_t>(i);
+        add(mesh, grid[j][q], grid[j][q + 1], grid[j + 1][q + 1]);
+        add(mesh, grid[j][q], grid[j + 1][q + 1], grid[j + 1][q]);
+      }
+    }
+  };
+  std::vector<TriangleMesh> result;
+  if (glued || full) {
+    if (!full) {
+      tool(tube, 0.0, kPi, sides / 2, &ids.front());       // behind the start
+      tool(tube, arc.sweep, 0.0, sides / 2, &ids.back());  // ahead of the end
+    }
+    result.push_back(std::move(tube));
+  } else {
+    // The wedge's end faces: the sections, convex (between the concave R + ρ(z) and the convex
+    // max(0, R − ρ(z))), the start's in the section's order.
+    // Fanned from their centroids: a corner may be in line with both its neighbours.
+    for (const bool start : {true, false}) {
+      const std::vector<int>& ring = start ? ids.front() : ids.back();
+      Vec3 centre = Vec3::Zero();
+      for (const int id : ring) centre += tube.vertices[static_cast<std::size_t>(id)];
+      const int c = static_cast<int>(tube.vertices.size());
+      tube.vertices.push_back(centre / static_cast<double>(n));
+      for (std::size_t i = 0; i < n; ++i) {
+        const int a = ring[i], b = ring[(i + 1) % n];
+        if (start) {
+          add(tube, c, a, b);
+        } else {
+          add(tube, c, b, a);
         }
       }
     }
+    result.push_back(std::move(tube));
+    for (const double theta : {0.0, arc.sweep}) {
+      TriangleMesh whole;
+      tool(whole, theta, 0.0, sides, nullptr);
+      result.push_back(std::move(whole));
+    }
   }
-  if (mesh.volume() < 0.0) {
-    for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
+  for (TriangleMesh& mesh : result) {
+    if (mesh.volume() < 0.0) {
+      for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
+    }
   }
-  return mesh;
+  return result;
 }
 
 }  // namespace cwe

@@ -174,27 +174,33 @@ TEST(MeshWorkpiece, SlotRemovesTheFacetedSweep) {
   EXPECT_LT(expected, depth * (2 * r * 50.0 + 0.5 * kPi * r * r));
 }
 
-// A planar arc is swept in one mesh (planar_arc_mesh): a solid CGAL accepts (closed, outward,
-// not crossing itself) for every kind of tool, and what it removes from a block against the
-// closed form for a flat end mill, (sweep·2R·r + πr²)·depth: its vertices lie on the true
-// surface, so it differs by at most its area times the ring chords' depth h plus the stations'
-// sagitta (the simulation's tolerance/2).
-TEST(MeshWorkpiece, PlanarArcIsOneSolid) {
+// A planar arc is swept from the tool's section revolved (planar_arc_sweep): solids CGAL
+// accepts (closed, outward, not crossing themselves) for every kind of tool, one mesh or, around
+// a corner (R ≤ r), three; and what the one mesh removes from a block against the closed form
+// for a flat end mill, (sweep·2R·r + πr²)·depth: its vertices lie on the true surface, so it
+// differs by at most its area times the ring chords' depth h plus the stations' sagitta (the
+// simulation's tolerance/2).
+TEST(MeshWorkpiece, PlanarArcIsSweptInOneOrThreeSolids) {
   Move arc;
   arc.shape = MoveShape::kArc;
   arc.feed_rate = 600.0;
   arc.normal = -Vec3::UnitZ();  // G2
   arc.center = Vec3(30, 20, 17);
-  arc.start = arc.center + 12.0 * Vec3(std::cos(0.3), std::sin(0.3), 0.0);
   arc.sweep = kPi / 2;
-  arc.end = arc.position(1.0);
-  for (const char* spec : {"flat:10,20", "ball:6,15", "bull:10,2,20", "chamfer:12,90,15"}) {
-    const Cutter cutter = cutter_from_spec(spec);
-    const TriangleMesh mesh =
-        planar_arc_mesh(cutter, 2.0 * MeshWorkpiece::facet_depth(cutter, kFacet), 0.01, arc);
-    ASSERT_FALSE(mesh.empty()) << spec;
-    EXPECT_NO_THROW(MeshStock::from_mesh(mesh, spec));
+  for (const double big_r : {12.0, 5.0, 3.0}) {
+    arc.start = arc.center + big_r * Vec3(std::cos(0.3), std::sin(0.3), 0.0);
+    arc.end = arc.position(1.0);
+    for (const char* spec : {"flat:10,20", "ball:6,15", "bull:10,2,20", "chamfer:12,90,15"}) {
+      SCOPED_TRACE(testing::Message() << spec << ", R " << big_r);
+      const Cutter cutter = cutter_from_spec(spec);
+      const std::vector<TriangleMesh> meshes =
+          planar_arc_sweep(cutter, 2.0 * MeshWorkpiece::facet_depth(cutter, kFacet), 0.01, arc);
+      EXPECT_EQ(meshes.size(), big_r > cutter.profile().max_radius() + 0.1 ? 1u : 3u);
+      for (const TriangleMesh& mesh : meshes) EXPECT_NO_THROW(MeshStock::from_mesh(mesh, spec));
+    }
   }
+  arc.start = arc.center + 12.0 * Vec3(std::cos(0.3), std::sin(0.3), 0.0);
+  arc.end = arc.position(1.0);
   const double r = 5.0, big_r = 12.0, depth = 3.0;
   const Cutter flat = cutter_from_spec("flat:10,20");
   MeshStock stock = MeshStock::from_box({{0, -10, 0}, {60, 50, 20}});

@@ -178,36 +178,54 @@ Move planar_arc(double radius, double from, double sweep, const Vec3& normal) {
   return m;
 }
 
-// A planar arc's sweep in one mesh (the tool's section revolved, half tools at the ends):
-// closed, and on the right side of the brute-force union of the tool's positions at every
-// point farther than the band from its boundary: the tool's facets and the stations' chords each
-// within tolerance/2. A flat end mill's against the closed form: an annulus sector 2r wide plus
-// the tool's disc, times the height, less by under its area times the tolerance.
-TEST(SweptVolume, PlanarArcIsOneClosedMeshWithinItsBound) {
+// A planar arc's sweep from the tool's section revolved: one mesh (half tools at the ends) where
+// the inner wall stays off the arc's axis, else the wedge and the tool at both ends. Each mesh
+// closed, with no degenerate face, and their union on the right side of the brute-force union
+// of the tool's positions at every point farther than the band from its boundary: the tool's
+// facets and the stations' chords each within tolerance/2. A flat end mill's one mesh against
+// the closed form: an annulus sector 2r wide plus the tool's disc, times the height, within
+// its area times the tolerance.
+TEST(SweptVolume, PlanarArcWithinItsBound) {
   test::Random random(43);
   const double tolerance = 0.02;
-  const std::vector<Move> arcs = {planar_arc(12.0, 0.3, kPi / 2, -Vec3::UnitZ()),    // G2
-                                  planar_arc(8.0, -1.0, 1.25 * kPi, Vec3::UnitZ()),  // G3
-                                  planar_arc(7.0, 0.0, kTwoPi, -Vec3::UnitZ())};     // circle
+  struct Case {
+    Move arc;
+    std::size_t meshes;  // for a tool of radius 5, 6 (chamfer) or 3 (ball)
+  };
+  const std::vector<Move> arcs = {
+      planar_arc(12.0, 0.3, kPi / 2, -Vec3::UnitZ()),    // G2: one mesh
+      planar_arc(8.0, -1.0, 1.25 * kPi, Vec3::UnitZ()),  // G3, most of a turn
+      planar_arc(7.0, 0.0, kTwoPi, -Vec3::UnitZ()),      // a full circle: one mesh
+      planar_arc(5.0, 0.5, kPi / 2, -Vec3::UnitZ()),     // a corner: R = r of the flat
+      planar_arc(2.0, 0.0, 1.5 * kPi, Vec3::UnitZ()),    // around a corner, R < r
+      planar_arc(2.5, 0.0, kTwoPi, Vec3::UnitZ())};      // a circle with R < r: no hole
   for (const char* spec :
        {"flat:10,20", "ball:6,15", "bull:10,2,20", "chamfer:12,90,15", "taper-ball:4,3,20"}) {
     const Cutter cutter = cutter_from_spec(spec);
+    const double rho = cutter.profile().max_radius();
     const double reach =
         std::hypot(cutter.bounding_cylinder().radius, cutter.bounding_cylinder().z_max);
     for (const Move& arc : arcs) {
-      SCOPED_TRACE(testing::Message() << spec << ", arc of " << arc.sweep << " rad");
-      const TriangleMesh mesh = planar_arc_mesh(cutter, tolerance, tolerance, arc);
-      ASSERT_FALSE(mesh.empty());
-      ASSERT_TRUE(check_closure(mesh).closed());
-      ASSERT_GT(mesh.volume(), 0.0);
-      for (const auto& t : mesh.triangles) {  // no degenerate face (a point repeated)
-        const Vec3& a = mesh.vertices[static_cast<std::size_t>(t[0])];
-        ASSERT_GT((mesh.vertices[static_cast<std::size_t>(t[1])] - a)
-                      .cross(mesh.vertices[static_cast<std::size_t>(t[2])] - a)
-                      .norm(),
-                  1e-9);
+      SCOPED_TRACE(testing::Message()
+                   << spec << ", arc R " << arc.radius() << ", " << arc.sweep << " rad");
+      const std::vector<TriangleMesh> meshes = planar_arc_sweep(cutter, tolerance, tolerance, arc);
+      const bool full = arc.sweep >= kTwoPi;
+      const bool glued = arc.radius() - rho > tolerance / 2 &&
+                         arc.sweep + 2 * std::asin(rho / arc.radius()) < kTwoPi - 1e-3;
+      ASSERT_EQ(meshes.size(), full || glued ? 1u : 3u);
+      Aabb box;
+      for (const TriangleMesh& mesh : meshes) {
+        ASSERT_TRUE(check_closure(mesh).closed());
+        ASSERT_GT(mesh.volume(), 0.0);
+        for (const auto& t : mesh.triangles) {  // no degenerate face (a point repeated)
+          const Vec3& a = mesh.vertices[static_cast<std::size_t>(t[0])];
+          ASSERT_GT((mesh.vertices[static_cast<std::size_t>(t[1])] - a)
+                        .cross(mesh.vertices[static_cast<std::size_t>(t[2])] - a)
+                        .norm(),
+                    1e-9);
+        }
+        box.extend(mesh.bounds());
       }
-      Aabb box = mesh.bounds();
       box.inflate(1.0);
       int decided = 0;
       for (int k = 0; k < 300; ++k) {
@@ -217,39 +235,36 @@ TEST(SweptVolume, PlanarArcIsOneClosedMeshWithinItsBound) {
         const int side = test::union_side(cutter, arc, p, tolerance, reach);
         if (side == 0) continue;
         ++decided;
-        ASSERT_EQ(mesh_contains(mesh, p), side < 0) << "point " << p.transpose();
+        const bool inside = std::any_of(meshes.begin(), meshes.end(),
+                                        [&](const TriangleMesh& m) { return mesh_contains(m, p); });
+        ASSERT_EQ(inside, side < 0) << "point " << p.transpose();
       }
       EXPECT_GT(decided, 200);
     }
   }
   const double r = 5.0, height = 20.0, big_r = 12.0;
-  const TriangleMesh flat =
-      planar_arc_mesh(cutter_from_spec("flat:10,20"), tolerance, tolerance, arcs[0]);
+  const std::vector<TriangleMesh> flat =
+      planar_arc_sweep(cutter_from_spec("flat:10,20"), tolerance, tolerance, arcs[0]);
+  ASSERT_EQ(flat.size(), 1u);
   // Sweep π/2: the annulus sector's area is (π/2)·2R·r (outer and inner arcs (π/2)(R ± r)).
   const double section = kPi / 2 * 2 * big_r * r + kPi * r * r;
   const double exact = section * height;
   const double area = 2 * section + height * (kPi / 2 * 2 * big_r + kTwoPi * r);
-  EXPECT_LT(flat.volume(), exact);
-  EXPECT_GT(flat.volume(), exact - area * tolerance);
+  EXPECT_LT(flat.front().volume(), exact);
+  EXPECT_GT(flat.front().volume(), exact - area * tolerance);
 }
 
-// Where the revolved section would not be a solid, or the move is not a planar arc with the
-// tool along its normal, there is no one-piece mesh (the move is cut in pieces instead).
-TEST(SweptVolume, PlanarArcMeshOnlyWhereItIsASolid) {
+// Only a planar arc with the tool along its normal is swept this way; any other move is cut in
+// pieces.
+TEST(SweptVolume, PlanarArcSweepOnlyForPlanarArcs) {
   const Cutter flat = cutter_from_spec("flat:10,20");
-  // The inner wall would reach the arc's axis (R ≤ r).
-  EXPECT_TRUE(planar_arc_mesh(flat, 0.02, 0.02, planar_arc(5.0, 0.0, 1.0, Vec3::UnitZ())).empty());
-  // The half tools would meet: 1.9π + 2·asin(5/8) > 2π.
-  EXPECT_TRUE(
-      planar_arc_mesh(flat, 0.02, 0.02, planar_arc(8.0, 0.0, 1.9 * kPi, Vec3::UnitZ())).empty());
-  // A helix; a tool tilted off the arc's normal; a line.
   Move helix = planar_arc(8.0, 0.0, 1.0, Vec3::UnitZ());
   helix.axial = -1.0;
-  EXPECT_TRUE(planar_arc_mesh(flat, 0.02, 0.02, helix).empty());
+  EXPECT_TRUE(planar_arc_sweep(flat, 0.02, 0.02, helix).empty());
   Move tilted = planar_arc(8.0, 0.0, 1.0, Vec3::UnitZ());
   tilted.start_axis = tilted.end_axis = Vec3(0.1, 0.0, 1.0).normalized();
-  EXPECT_TRUE(planar_arc_mesh(flat, 0.02, 0.02, tilted).empty());
-  EXPECT_TRUE(planar_arc_mesh(flat, 0.02, 0.02, line({0, 0, 0}, {10, 0, 0})).empty());
+  EXPECT_TRUE(planar_arc_sweep(flat, 0.02, 0.02, tilted).empty());
+  EXPECT_TRUE(planar_arc_sweep(flat, 0.02, 0.02, line({0, 0, 0}, {10, 0, 0})).empty());
 }
 
 TEST(SweptVolume, RefusesWhatItCannotBuild) {

@@ -45,17 +45,22 @@ std::vector<Vec3> tool_surface_points(const Cutter& cutter, double tolerance);
 TriangleMesh linear_piece_mesh(const std::vector<Vec3>& tool, const Vec3& start, const Vec3& end,
                                const Vec3& axis);
 
-// The closed mesh of a planar arc (no advance along its normal) swept by a convex cutter whose
-// axis is the arc's normal all along, in one piece: the tool's meridian section revolved about
-// the arc's axis (stations with chords within path_tolerance/2 at the outer radius), closed by
-// the faceted tool's back half at the start and front half at the end (rings of an even number
-// of sides and profile samples, chords within tolerance/2, vertices on the end sections). A full
-// circle (or more) is the revolved ring alone. Empty when this does not apply: another move or
-// axis, an inner wall that would reach the arc's axis (R − ρmax ≤ max(tolerance/2, 1 µm)), or half
-// tools that would meet (sweep + 2·asin(ρmax/R) near 2π or more without a full turn); then the move
-// is cut in pieces.
-TriangleMesh planar_arc_mesh(const Cutter& cutter, double tolerance, double path_tolerance,
-                             const Move& arc);
+// The volume a convex cutter sweeps along a planar arc (no advance along its normal) with its
+// axis along the arc's normal, as a few closed meshes whose union it is: the tool's meridian
+// section revolved about the arc's axis (stations with chords within path_tolerance/2 at the
+// outer radius), and the faceted tool at both ends (rings of an even number of sides and profile
+// samples, chords within tolerance/2, with vertices on the end sections).
+//  - One mesh where the inner wall stays off the arc's axis (R − ρmax > max(tolerance/2, 1 µm))
+//    and the half tools off each other (sweep + 2·asin(ρmax/R) < 2π): the tube closed by the
+//    tool's back half at the start and front half at the end; a full circle (or more) is the
+//    revolved ring alone, whatever R.
+//  - Else three, for a union: the wedge (the section's inner side clamped at the arc's axis,
+//    which the union of the tool's positions covers from every angle of the arc: the cake slice
+//    around a corner that an arc of R ≤ ρmax turns), and the whole tool at each end (which holds
+//    the points of the swept volume outside the wedge's angles).
+// Empty for any other move or axis (the move is then cut in linear pieces).
+std::vector<TriangleMesh> planar_arc_sweep(const Cutter& cutter, double tolerance,
+                                           double path_tolerance, const Move& arc);
 
 // Is the cutter's solid convex (radius a concave function of height)?
 bool is_convex(const Cutter& cutter);
