@@ -325,7 +325,8 @@ void add_job_options(CLI::App* cmd, SimulateCommandOptions& options) {
                   "Mesh workpiece: edge of the faceted tool at its largest radius, mm (default 1)")
       ->check(length);
   cmd->add_option("--tolerance", options.tolerance,
-                  "Subdivision tolerance of arcs, helices and 5-axis moves, mm (default s/10)")
+                  "Subdivision tolerance of arcs, helices and 5-axis moves, mm (default s/10; on "
+                  "the mesh workpiece the tools' facet depth h when larger)")
       ->check(length);
   cmd->add_option("--threads", options.threads, "Worker threads (default: all cores)")
       ->check(count("a whole number of threads, at least 1"));

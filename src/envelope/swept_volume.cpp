@@ -185,7 +185,7 @@ std::vector<TriangleMesh> planar_arc_sweep(const Cutter& cutter, double toleranc
   const Vec3 e1 = (arc.start - arc.center).normalized();
   const Vec3 e2 = arc.normal.cross(e1);
   // The tool point at profile sample j, ring angle α (from the radial direction towards the
-  // travel), with the tip at arc angle θ; an inner point past the arc's axis is put on it.
+  // travel), with the tip at arc angle θ.
   const auto point = [&](double theta, std::size_t j, double alpha) -> Vec3 {
     const Vec3 u = std::cos(theta) * e1 + std::sin(theta) * e2;
     const Vec3 t = arc.normal.cross(u);

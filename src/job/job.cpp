@@ -1,5 +1,7 @@
 #include "cwe/job/job.hpp"
 
+#include "cwe/engagement/mesh_workpiece.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <utility>
@@ -175,6 +177,17 @@ PreparedJob prepare_job(Job& options) {
     for (ToolRun& run : program_runs(options.operations[o], options, entries)) {
       runs.emplace_back(o, std::move(run));
     }
+  }
+  // On the mesh workpiece the tool's facets lie up to h inside it: arcs, helices and 5-axis
+  // moves cut in pieces much finer than that buy nothing but booleans (the bundled example's
+  // 5-axis pass: 85 s at s/10, 11 s at h, the same volume to 0.02 %). The default tolerance there
+  // is the smallest h of the job's tools, when above s/10.
+  if (job.workpiece == WorkpieceKind::kMesh && !options.tolerance) {
+    for (const auto& [o, run] : runs) {
+      const double h = MeshWorkpiece::facet_depth(run.cutter, job.facet);
+      if (simulation.tolerance == 0.0 || h < simulation.tolerance) simulation.tolerance = h;
+    }
+    simulation.tolerance = std::max(simulation.tolerance, simulation.resolution / 10.0);
   }
   // Forces: with --forces, or when the tool table gives a tool its coefficients.
   const bool own_coefficients = std::any_of(runs.begin(), runs.end(), [](const auto& run) {
