@@ -68,23 +68,58 @@ class FacetedTool {
 // in the disc's plane (MeshSection, 2-D), else by a point-inside query in 3-D (MeshRegion).
 struct MoveRemoval {
   MoveRemoval(const TriangleMesh& mesh, const MoveSweep& sweep) : region(mesh) {
-    if (mesh.empty() || sweep.pieces().empty()) return;
+    if (sweep.pieces().empty()) return;
     const Vec3 axis = sweep.pieces().front().axis().normalized();
     for (const LinearSweep& piece : sweep.pieces()) {
       if (!(piece.axis().normalized().dot(axis) > kSameAxis)) return;
     }
-    slicer.emplace(mesh, Frame::from_z(Vec3::Zero(), axis, Vec3::UnitX()));
+    if (sweep.pieces().size() > 1) pieces = sweep.pieces();
+    if (!mesh.empty()) slicer.emplace(mesh, Frame::from_z(Vec3::Zero(), axis, Vec3::UnitX()));
   }
   // Axes closer than this (cosine) read the same sections: 1e-6 rad, under 1e-5 mm across a
   // 10 mm cutter.
   static constexpr double kSameAxis = 1.0 - 5e-13;
+  // The number of the move's pieces wholly before a step that starts at tip `start`: those
+  // before the piece nearest it (the later one of equals: a circle's end is its start).
+  std::size_t pieces_before(const Vec3& start) const {
+    std::size_t nearest = 0;
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < pieces.size(); ++k) {
+      const Vec3 a = pieces[k].start(), d = pieces[k].end() - a;
+      const double along = d.squaredNorm() > 0.0 ? (start - a).dot(d) / d.squaredNorm() : 0.0;
+      const double gap = (a + std::clamp(along, 0.0, 1.0) * d - start).norm();
+      if (gap <= best) {
+        best = gap;
+        nearest = k;
+      }
+    }
+    return nearest;
+  }
+  // Is `point` deeper than `margin` along the unit `normal` (both ways) inside one of the first
+  // `count` pieces?
+  bool swept_before(const Vec3& point, const Vec3& normal, std::size_t count, double margin) const {
+    for (std::size_t k = 0; k < count; ++k) {
+      const Aabb& box = pieces[k].bounds();
+      if (((point.array() < box.min.array()) || (point.array() > box.max.array())).any()) continue;
+      const Interval in = pieces[k].chord(Ray{point, normal});
+      if (in.lo < -margin && in.hi > margin) return true;
+    }
+    return false;
+  }
   MeshRegion region;
   std::optional<MeshSlicer> slicer;
+  // A move in several pieces with one axis (an arc, a helix): its pieces, in order. Such a move
+  // can come back over its own path (a helix's turns), so the RV holds material that the move
+  // took before a location, in front of the tool there. (Not kept for simultaneous 5-axis
+  // moves, whose pieces' tips may all lie close together while the axis turns: which piece a
+  // step starts in is not told by its tip.)
+  std::vector<LinearSweep> pieces;
 };
 
 // A step's record: the removal volume of the move it lies on (shared by the move's steps).
 struct MeshStep : StepEngagement::Step {
   std::shared_ptr<const MoveRemoval> removed;
+  std::size_t before = 0;  // the move's pieces wholly before the step (MoveRemoval::pieces)
 };
 
 class MeshStepEngagement : public StepEngagement {
@@ -96,6 +131,10 @@ class MeshStepEngagement : public StepEngagement {
         faceted_(cutter, MeshWorkpiece::facet_depth(cutter, workpiece.facet()), grid_) {
     const double contact = options.contact > 0.0 ? options.contact : spacing / 10.0;
     offset_ = contact / 1000.0;
+    // Q lies on the faceted surface, up to h inside the true tool, and an arc's chords within
+    // tolerance/2 ≤ contact of it: an earlier piece's true tool covers a Q the step cuts by less
+    // than h + contact.
+    covered_ = MeshWorkpiece::facet_depth(cutter, workpiece.facet()) + contact;
   }
 
   std::unique_ptr<Step> new_step() const override { return std::make_unique<MeshStep>(); }
@@ -110,8 +149,14 @@ class MeshStepEngagement : public StepEngagement {
   }
 
   // The move's parts were removed with it (remove_move): a step only records its move's RV.
-  double remove(const MoveSweep& /*sweep*/, Step* step) override {
-    if (step != nullptr) static_cast<MeshStep*>(step)->removed = move_removed_;
+  double remove(const MoveSweep& sweep, Step* step) override {
+    if (step != nullptr) {
+      auto& record = static_cast<MeshStep&>(*step);
+      record.removed = move_removed_;
+      record.before = move_removed_ && !move_removed_->pieces.empty() && !sweep.pieces().empty()
+                          ? move_removed_->pieces_before(sweep.pieces().front().start())
+                          : 0;
+    }
     return 0.0;
   }
 
@@ -123,8 +168,9 @@ class MeshStepEngagement : public StepEngagement {
       // The facets' frame at this location (linear_piece_mesh's: x as close to world X as the
       // axis allows).
       const Frame facets = Frame::from_z(state.tcs.origin, state.tcs.z(), Vec3::UnitX());
+      const std::size_t before = static_cast<const MeshStep&>(step).before;
       for (std::size_t k = 0; k < found.size(); ++k) {
-        found[k] = scan(*removed, state, facets, k, v, w);
+        found[k] = scan(*removed, before, state, facets, k, v, w);
       }
     }
     return grid_.map(std::move(found));
@@ -132,11 +178,13 @@ class MeshStepEngagement : public StepEngagement {
 
  private:
   // A cell P (f > 0) is engaged when the point Q a hair outside it along its normal lies in
-  // the move's removal volume: Q is outside every earlier position of the tool on the move
-  // (the tool is convex and P's side moves into the material), so material the move removes
-  // there is still to be cut. Q is read in the section of the RV by Q's plane normal to the axis
-  // when the move has sections along this axis, else in 3-D.
-  std::vector<Interval> scan(const MoveRemoval& removed, const ToolState& state,
+  // the move's removal volume and in none of the move's pieces before the step (deeper than the
+  // facets' depth plus the contact tolerance): on a linear piece Q is outside every earlier
+  // position of the tool (the tool is convex and P's side moves into the material), so material the
+  // move removes there is still to be cut; a curved move may have passed over Q before (a helix's
+  // turn above). Q is read in the section of the RV by Q's plane normal to the axis when the move
+  // has sections along this axis, else in 3-D.
+  std::vector<Interval> scan(const MoveRemoval& removed, std::size_t before, const ToolState& state,
                              const Frame& facets, std::size_t index, const Vec3& v_tcs,
                              const Vec3& w_tcs) const {
     const EngagementGrid::Band& band = grid_.band(index);
@@ -156,6 +204,18 @@ class MeshStepEngagement : public StepEngagement {
           on_facets ? faceted_.radius(index, band.z, Vec3(ru, rv, 0.0), band.rho) : band.rho;
       return rho + offset_ * band.normal.x();
     };
+    // Q itself, in world coordinates, and whether a piece of the move before the step took it
+    // (deeper than covered_ along the cell's normal).
+    const auto point = [&](double s, double cs) -> Vec3 {
+      const Vec3 radial = s * x + cs * y;
+      const Vec3 local = facets.direction_to_local(radial);
+      return centre + reach(local.x(), local.y()) * radial + offset_ * band.normal.y() * z;
+    };
+    const auto taken = [&](double s, double cs, const Vec3& q) {
+      if (before == 0) return false;
+      const Vec3 normal = band.normal.x() * (s * x + cs * y) + band.normal.y() * z;
+      return removed.swept_before(q, normal, before, covered_);
+    };
     if (removed.slicer && removed.slicer->frame().z().dot(z) > MoveRemoval::kSameAxis) {
       // In the plane of Q's height, in the slicer's (u, v): the facets' frame up to the origin.
       const Frame& plane = removed.slicer->frame();
@@ -167,16 +227,15 @@ class MeshStepEngagement : public StepEngagement {
         if (!front(s, cs)) return false;
         const Vec2 r = s * xu + cs * yu;
         const double d = reach(r.x(), r.y());
-        return section.contains(c.x() + d * r.x(), c.y() + d * r.y());
+        if (!section.contains(c.x() + d * r.x(), c.y() + d * r.y())) return false;
+        return !taken(s, cs, point(s, cs));
       };
       return grid_.intervals(front, engaged);
     }
     const auto engaged = [&](double s, double cs) {
       if (!front(s, cs)) return false;
-      const Vec3 radial = s * x + cs * y;
-      const Vec3 local = facets.direction_to_local(radial);
-      return removed.region.contains(centre + reach(local.x(), local.y()) * radial +
-                                     offset_ * band.normal.y() * z);
+      const Vec3 q = point(s, cs);
+      return removed.region.contains(q) && !taken(s, cs, q);
     };
     return grid_.intervals(front, engaged);
   }
@@ -184,7 +243,8 @@ class MeshStepEngagement : public StepEngagement {
   MeshWorkpiece& workpiece_;
   EngagementGrid grid_;
   FacetedTool faceted_;
-  double offset_ = 0.0;  // how far outside the cutter surface Q lies, mm
+  double offset_ = 0.0;   // how far outside the cutter surface Q lies, mm
+  double covered_ = 0.0;  // how deep inside an earlier piece Q was taken before, mm
   std::shared_ptr<const MoveRemoval> move_removed_;
 };
 

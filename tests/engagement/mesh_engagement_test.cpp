@@ -517,6 +517,48 @@ TEST(MeshEngagement, SimultaneousFiveAxisAgreesWithTheDexelMethod) {
                            kSpacing / (std::sqrt(2.0) * r) + 0.1 * kDeg + kAngle + kPi / n + t / r);
 }
 
+// A helix passes over its own path: at a location on its third turn, the RV in front of the
+// tool above the first turn's floor (1 mm pitch higher) was taken a turn before, and is not
+// engaged. Only the bore's wall at radius R_helix + r touches the side there, along a grazing
+// line (the dexel method finds it 1.2° wide); below, the ramp engages the front half.
+TEST(MeshEngagement, HelixDoesNotEngageWhatItsLastTurnTook) {
+  Move helix;
+  helix.shape = MoveShape::kArc;
+  helix.feed_rate = 400.0;
+  helix.normal = Vec3::UnitZ();  // G3
+  helix.center = Vec3(30, 20, kTop + 0.5);
+  helix.start = helix.center + Vec3(6, 0, 0);
+  helix.sweep = 3 * kTwoPi;  // three turns
+  helix.axial = -3.0;        // 1 mm a turn
+  helix.end = helix.position(1.0);
+  const Vec3 probe = helix.position(0.9);  // 2.2 mm deep, 1.2 mm below the turn before
+  // Pieces within the facets' depth, as `cwe simulate` cuts them on the mesh workpiece.
+  const double h = MeshWorkpiece::facet_depth(cutter_from_spec("flat:10,20"), kFacet);
+  const EngagementMap map =
+      mesh_engagement_near("flat:10,20", {{0, 0, 0}, {60, 40, kTop}}, {helix}, probe, kFacet, h);
+  ASSERT_TRUE(map.engaged);
+  const int n = ring_sides(5.0, h);
+  int above = 0, below = 0;
+  for (const DiscEngagement& disc : map.discs) {
+    double width = 0.0;
+    for (const Interval& phi : disc.phi) width += phi.hi - phi.lo;
+    if (disc.z0 > 1.0 + 2 * kSpacing) {
+      // The wall's grazing line, widened by the band where Q lies less than h + contact (here
+      // 2h) inside the turn before's tool along its normal and so is not known to be taken.
+      EXPECT_LE(width, kPi / n + std::acos(1.0 - 2.0 * h / 5.0) + kAngle) << "disc " << disc.z0;
+      ++above;
+    } else if (disc.z1 < 0.5) {
+      // The ramp ahead, one interval: the turn before does not take any of it (on the faceted
+      // surface, Q is up to h inside the true tool the earlier pieces are tested with).
+      EXPECT_EQ(disc.phi.size(), 1u) << "disc " << disc.z0;
+      EXPECT_GE(width, kPi / 2) << "disc " << disc.z0;
+      ++below;
+    }
+  }
+  EXPECT_GT(above, 0);
+  EXPECT_GT(below, 0);
+}
+
 TEST(MeshEngagement, PlungeEngagesTheWholeBottom) {
   const EngagementMap map =
       mesh_engagement_near("flat:10,20", {{0, 0, 0}, {60, 40, kTop}},
