@@ -57,14 +57,15 @@ class MeshStock {
   MeshStock(MeshStock&&) noexcept;
   MeshStock& operator=(MeshStock&&) noexcept;
 
-  // Subtracts the closed convex solid `tool` (a swept-volume piece); the volume removed, mm³.
+  // Subtracts the closed solid `tool` (a swept volume or a piece of one); the volume removed, mm³.
   // With `removed`, what was removed (stock ∩ tool) is appended to it. Throws ComputationError
   // when CGAL cannot compute the result or the result is not a closed solid whose volume fell
   // by between 0 and the tool's volume; the stock must not be used after that.
   double subtract(const TriangleMesh& tool, TriangleMesh* removed = nullptr);
-  // Subtracts a move's pieces (closed convex solids) in one boolean: their union first, which
-  // spares the stock the faces each piece would cut into the next one's (an arc's or a 5-axis
-  // move's pieces overlap along the whole move). Pieces whose union is not a 2-manifold (they
+  // Subtracts a move's pieces (closed solids: linear pieces' hulls, or an arc's wedge and the
+  // tool at its ends) in one boolean: their union first, which spares the stock the faces each
+  // piece would cut into the next one's (a helix's or a 5-axis move's pieces overlap along the
+  // whole move). Pieces whose union is not a 2-manifold (they
   // only touch) are subtracted one by one. The volume removed, mm³; `removed` and the errors
   // as above, the bound being the union's volume.
   double subtract(std::span<const TriangleMesh> pieces, TriangleMesh* removed = nullptr);
