@@ -80,7 +80,9 @@ struct MoveRemoval {
   // 10 mm cutter.
   static constexpr double kSameAxis = 1.0 - 5e-13;
   // The number of the move's pieces wholly before a step that starts at tip `start`: those
-  // before the piece nearest it (the later one of equals: a circle's end is its start).
+  // before the piece nearest it (the first of equals: a circle's start is also its end, and a
+  // step there starts the circle; a step that starts on a joint starts the later piece, whose
+  // start is as near, but the piece before it holds no point the step cuts).
   std::size_t pieces_before(const Vec3& start) const {
     std::size_t nearest = 0;
     double best = std::numeric_limits<double>::infinity();
@@ -88,7 +90,7 @@ struct MoveRemoval {
       const Vec3 a = pieces[k].start(), d = pieces[k].end() - a;
       const double along = d.squaredNorm() > 0.0 ? (start - a).dot(d) / d.squaredNorm() : 0.0;
       const double gap = (a + std::clamp(along, 0.0, 1.0) * d - start).norm();
-      if (gap <= best) {
+      if (gap < best) {
         best = gap;
         nearest = k;
       }
