@@ -101,8 +101,7 @@ struct MoveRemoval {
   // `count` pieces?
   bool swept_before(const Vec3& point, const Vec3& normal, std::size_t count, double margin) const {
     for (std::size_t k = 0; k < count; ++k) {
-      const Aabb& box = pieces[k].bounds();
-      if (((point.array() < box.min.array()) || (point.array() > box.max.array())).any()) continue;
+      if (!pieces[k].bounds().contains(point)) continue;
       const Interval in = pieces[k].chord(Ray{point, normal});
       if (in.lo < -margin && in.hi > margin) return true;
     }

@@ -1,7 +1,5 @@
 #include "cwe/job/job.hpp"
 
-#include "cwe/engagement/mesh_workpiece.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <utility>
@@ -13,6 +11,7 @@
 #include "cwe/core/error.hpp"
 #include "cwe/core/memory_limit.hpp"
 #include "cwe/core/text_file.hpp"
+#include "cwe/engagement/mesh_workpiece.hpp"
 #include "program_runs.hpp"
 
 namespace cwe {

@@ -1,14 +1,16 @@
 #pragma once
 // The polyhedral workpiece behind the workpiece seam (workpiece.hpp), the thesis's polyhedral
 // method (Aras 2008 §6.2; docs/engagement.md): each linear piece of a move's sweep is faceted
-// (the hull of the tool's facets at both ends, linear_piece_mesh), a move's pieces are joined
-// into one solid and subtracted from the closed stock mesh by CGAL's corefinement (MeshStock), a
-// move at a time. For engagement, the move's
-// removal volume RV = W ∩ SV comes back from the same boolean, and a cell of the engagement
-// grid (EngagementGrid) that moves into the material (f > 0) at a cutter location is engaged
-// when the point a hair (contact/1000) outside it along its normal lies inside the RV: that point
-// is outside every earlier position of the convex tool on the move, so the material there is
-// what the move still has to cut (the thesis's section of the RV at the location, §6.2).
+// (the hull of the tool's facets at both ends, linear_piece_mesh; a planar arc as the tool's
+// section revolved, planar_arc_sweep), a move's pieces are joined into one solid and subtracted
+// from the closed stock mesh by CGAL's corefinement (MeshStock), a move at a time. For
+// engagement, the move's removal volume RV = W ∩ SV comes back from the same boolean, and a cell
+// of the engagement grid (EngagementGrid) that moves into the material (f > 0) at a cutter
+// location is engaged when the point a hair (contact/1000) outside it along its normal lies
+// inside the RV and, on a curved move, in none of the move's pieces before the location (a
+// helix's turn above took it): that point is outside every earlier position of the convex tool
+// on the move, so the material there is what the move still has to cut (the thesis's section of
+// the RV at the location, §6.2).
 //
 // Faceting: `facet` is the longest edge (mm) of the tool's rings at its largest radius R, the
 // thesis's facet size; the chords lie within h = R − √(R² − facet²/4) of the true surface, and

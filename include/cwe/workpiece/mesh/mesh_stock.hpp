@@ -65,9 +65,9 @@ class MeshStock {
   // Subtracts a move's pieces (closed solids: linear pieces' hulls, or an arc's wedge and the
   // tool at its ends) in one boolean: their union first, which spares the stock the faces each
   // piece would cut into the next one's (a helix's or a 5-axis move's pieces overlap along the
-  // whole move). Pieces whose union is not a 2-manifold (they
-  // only touch) are subtracted one by one. The volume removed, mm³; `removed` and the errors
-  // as above, the bound being the union's volume.
+  // whole move). Pieces whose union is not a 2-manifold (they only touch) are subtracted one
+  // by one. The volume removed, mm³; `removed` and the errors as above, the bound being the
+  // union's volume.
   double subtract(std::span<const TriangleMesh> pieces, TriangleMesh* removed = nullptr);
 
   double volume() const { return volume_; }  // mm³
