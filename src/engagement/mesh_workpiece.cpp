@@ -13,6 +13,7 @@
 #include "cwe/engagement/engagement_grid.hpp"
 #include "cwe/envelope/swept_volume.hpp"
 #include "cwe/geometry/mesh_sections.hpp"
+#include "cwe/geometry/tolerance.hpp"
 #include "cwe/geometry/triangle_mesh.hpp"
 
 namespace cwe {
@@ -290,6 +291,28 @@ double MeshWorkpiece::remove(const MoveSweep& sweep, TriangleMesh* removed) {
   }
   std::vector<TriangleMesh> pieces;
   pieces.reserve(sweep.pieces().size());
+  const Move& move = sweep.move();
+  if (move.axis_angle() > tol::kAngle) {
+    // A turning axis: each piece the hull of its two end tools in their own poses (not the
+    // LinearSweep's mean axis, whose tool at a joint reaches up to reach·Δ/2 beyond the true
+    // one and would take material the next move's first location is still to cut).
+    std::vector<std::vector<Vec3>> tools;
+    for (const ConvexParts::Part& part : parts.parts()) {
+      tools.push_back(tool_surface_points(*part.cutter, 2.0 * facet_depth(*part.cutter, facet_)));
+    }
+    const int steps = sweep.path_pieces();
+    for (int k = 0; k < steps; ++k) {
+      const double u0 = static_cast<double>(k) / steps, u1 = static_cast<double>(k + 1) / steps;
+      const Vec3 a0 = move.axis(u0), a1 = move.axis(u1);
+      const Vec3 p0 = k == 0 ? move.start : move.position(u0);
+      const Vec3 p1 = k + 1 == steps ? move.end : move.position(u1);
+      for (std::size_t j = 0; j < tools.size(); ++j) {
+        const double offset = parts.parts()[j].offset;
+        pieces.push_back(linear_piece_mesh(tools[j], p0 + offset * a0, a0, p1 + offset * a1, a1));
+      }
+    }
+    return stock_.subtract(pieces, removed);
+  }
   for (const LinearSweep& piece : sweep.pieces()) pieces.push_back(piece_mesh(piece));
   return stock_.subtract(pieces, removed);
 }

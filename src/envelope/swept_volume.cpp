@@ -91,8 +91,10 @@ SweptVolume swept_volume(const Cutter& cutter, const Move& move,
   }
   const double half = options.tolerance / 2.0;
   // Subdivision: the path's chords deviate at most tolerance/2 from an arc, and the axis turns
-  // at most Δ per piece so that no tool point (within `reach` of the tip) moves more than
-  // tolerance/2 from the piece's mean-axis tool: reach·Δ/2 ≤ tolerance/2.
+  // at most Δ per piece with reach·Δ ≤ tolerance (`reach`: the farthest tool point from the
+  // tip): each piece is the hull of its two end tools in their own poses, which exceeds the
+  // motion's sweep by at most reach·Δ/2 (linear_piece_mesh) and misses it by a tool point's
+  // sagitta reach·Δ²/8.
   const BoundingCylinder bounds = cutter.bounding_cylinder();
   const double reach = std::hypot(bounds.radius, bounds.z_max);
   int pieces = 1;
@@ -110,18 +112,22 @@ SweptVolume swept_volume(const Cutter& cutter, const Move& move,
   for (int k = 0; k < pieces; ++k) {
     const double u0 = static_cast<double>(k) / pieces;
     const double u1 = static_cast<double>(k + 1) / pieces;
-    result.pieces.push_back(
-        linear_piece_mesh(tool, move.position(u0), move.position(u1), move.axis(0.5 * (u0 + u1))));
+    result.pieces.push_back(linear_piece_mesh(tool, move.position(u0), move.axis(u0),
+                                              move.position(u1), move.axis(u1)));
   }
   return result;
 }
 
 TriangleMesh linear_piece_mesh(const std::vector<Vec3>& tool, const Vec3& start, const Vec3& end,
                                const Vec3& axis) {
+  return linear_piece_mesh(tool, start, axis, end, axis);
+}
+
+TriangleMesh linear_piece_mesh(const std::vector<Vec3>& tool, const Vec3& start,
+                               const Vec3& start_axis, const Vec3& end, const Vec3& end_axis) {
   std::vector<Vec3> points;
   points.reserve(2 * tool.size());
-  for (const Vec3& tip : {start, end}) {
-    const Frame frame = frame_at(tip, axis);
+  for (const Frame& frame : {frame_at(start, start_axis), frame_at(end, end_axis)}) {
     for (const Vec3& p : tool) points.push_back(frame.to_world(p));
   }
   return convex_hull(points);

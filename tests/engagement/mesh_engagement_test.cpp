@@ -221,7 +221,8 @@ TEST(MeshWorkpiece, PlanarArcIsSweptInOneOrThreeSolids) {
 // (arcs, helices and 5-axis moves subdivided within `subdivision`, 0: s/10).
 EngagementMap mesh_engagement_near(const char* tool, const Aabb& block,
                                    const std::vector<Move>& moves, const Vec3& probe,
-                                   double facet = kFacet, double subdivision = 0.0) {
+                                   double facet = kFacet, double subdivision = 0.0,
+                                   int on_move = -1) {
   MeshStock stock = MeshStock::from_box(block);
   MeshWorkpiece workpiece(stock, facet, kSpacing);
   Toolpath path;
@@ -234,6 +235,7 @@ EngagementMap mesh_engagement_near(const char* tool, const Aabb& block,
   double nearest = 1e300;
   simulate_engagement(workpiece, cutter, path, {{kSpacing, subdivision}, sampling, {}},
                       [&](const ClEngagement& e) {
+                        if (on_move >= 0 && e.cl.move != on_move) return;
                         const double d = (e.cl.position - probe).norm();
                         if (d < nearest) {
                           nearest = d;
@@ -447,17 +449,21 @@ TEST(MeshEngagement, AreaAtTheThesisFacetSizes) {
 // The mesh method's map at the location of `path` nearest `probe` against the dexel method's
 // there: every disc's boundaries within `tolerance`; the disc at the top of the cut may be
 // engaged by one method only (depth within 2s).
-void expect_agrees_with_dexel(const char* tool, const Aabb& block, const Move& pass,
-                              const Vec3& probe, double facet, double subdivision,
-                              double tolerance) {
-  const EngagementMap mesh = mesh_engagement_near(tool, block, {pass}, probe, facet, subdivision);
+// The maps of both methods at the location nearest `probe` (on move `on_move` of `moves` when
+// it is not negative) agree within `tolerance` on every disc both engage.
+void expect_agrees_with_dexel(const char* tool, const Aabb& block, const std::vector<Move>& moves,
+                              const Vec3& probe, double facet, double subdivision, double tolerance,
+                              int on_move = -1) {
+  const EngagementMap mesh =
+      mesh_engagement_near(tool, block, moves, probe, facet, subdivision, on_move);
   Toolpath path;
   path.sources = {"test"};
-  path.moves = {pass};
+  path.moves = moves;
   const std::vector<test::Sample> samples =
       test::simulate_samples(path, tool, block, kSpacing, 0.5, subdivision);
   const test::Sample* nearest = nullptr;
   for (const test::Sample& sample : samples) {
+    if (on_move >= 0 && sample.cl.move != on_move) continue;
     if (!nearest || (sample.cl.position - probe).norm() < (nearest->cl.position - probe).norm()) {
       nearest = &sample;
     }
@@ -496,7 +502,7 @@ TEST(MeshEngagement, TiltedThreePlusTwoAgreesWithTheDexelMethod) {
   Move pass = line({28, -10, kTop - 3}, {28, 50, kTop - 3});
   pass.start_axis = pass.end_axis = axis;
   const int n = ring_sides(r, MeshWorkpiece::facet_depth(cutter_from_spec("flat:8,20"), facet));
-  expect_agrees_with_dexel("flat:8,20", {{0, 0, 0}, {30, 40, kTop}}, pass, Vec3(28, 20, kTop - 3),
+  expect_agrees_with_dexel("flat:8,20", {{0, 0, 0}, {30, 40, kTop}}, {pass}, Vec3(28, 20, kTop - 3),
                            facet, 0.0,
                            kSpacing / (std::sqrt(2.0) * r) + 0.1 * kDeg + kAngle + kPi / n);
 }
@@ -512,9 +518,30 @@ TEST(MeshEngagement, SimultaneousFiveAxisAgreesWithTheDexelMethod) {
   pass.start_axis = Vec3(std::sin(10 * kDeg), 0.0, std::cos(10 * kDeg));
   pass.end_axis = Vec3(std::sin(30 * kDeg), 0.0, std::cos(30 * kDeg));
   const int n = ring_sides(r, MeshWorkpiece::facet_depth(cutter_from_spec("flat:8,10"), facet));
-  expect_agrees_with_dexel("flat:8,10", {{0, 0, 0}, {30, 40, kTop}}, pass, Vec3(28, 20, kTop - 3),
+  expect_agrees_with_dexel("flat:8,10", {{0, 0, 0}, {30, 40, kTop}}, {pass}, Vec3(28, 20, kTop - 3),
                            facet, t,
                            kSpacing / (std::sqrt(2.0) * r) + 0.1 * kDeg + kAngle + kPi / n + t / r);
+}
+
+// The first location of a 5-axis move that goes on from another: the move before must not have
+// taken what this location cuts. (Swept with each piece's mean axis, the last piece's tool
+// reached up to t beyond the true tool at the joint, and the mesh found the discs' entry near
+// 90° instead of 0°; each piece is now the hull of its end tools in their own poses.) That hull
+// still exceeds the motion's sweep where the two poses' union is concave, by about z·δ at height
+// z for a turn δ = 2t/reach per piece, which a t of the mesh job's default (the facets' depth
+// scale, here 0.025 mm) keeps within the bound; at t = 0.1 the entry moves 11°.
+
+TEST(MeshEngagement, FiveAxisMoveStartsWhereTheMoveBeforeEnded) {
+  const double facet = 0.5, r = 4.0, t = 0.025;
+  const Vec3 joint(28, 15, kTop - 3);
+  Move first = line({28, -10, kTop - 3}, joint), second = line(joint, {28, 50, kTop - 3});
+  first.start_axis = Vec3(std::sin(20 * kDeg), 0.0, std::cos(20 * kDeg));
+  first.end_axis = second.start_axis = Vec3(std::sin(30 * kDeg), 0.0, std::cos(30 * kDeg));
+  second.end_axis = Vec3(std::sin(20 * kDeg), 0.0, std::cos(20 * kDeg));
+  const int n = ring_sides(r, MeshWorkpiece::facet_depth(cutter_from_spec("flat:8,10"), facet));
+  expect_agrees_with_dexel(
+      "flat:8,10", {{0, 0, 0}, {30, 40, kTop}}, {first, second}, joint, facet, t,
+      kSpacing / (std::sqrt(2.0) * r) + 0.1 * kDeg + kAngle + kPi / n + t / r, 1);
 }
 
 // A helix passes over its own path: at a location on its third turn, the RV in front of the

@@ -44,6 +44,15 @@ std::vector<Vec3> tool_surface_points(const Cutter& cutter, double tolerance);
 // axis allows, so that pieces of one tool share their faceting).
 TriangleMesh linear_piece_mesh(const std::vector<Vec3>& tool, const Vec3& start, const Vec3& end,
                                const Vec3& axis);
+// The same with the axis turning by θ from unit `start_axis` to unit `end_axis` (a piece of a
+// simultaneous 5-axis move): the hull of the tool at each end in its own pose. It holds both true
+// end tools, where a mean axis's tool reaches up to reach·θ/2 beyond the true one at each end
+// (material the next move's first location is still to cut). Where the union of the two poses
+// is concave the hull fills it, by no more than the mean axis's reach·θ/2: a point λ·a + (1−λ)·b
+// of the hull (a, b on the tools at start and end) lies within 2λ(1−λ)·reach·θ of the tool at
+// the motion's fraction 1−λ, and so by about z·θ beside an end tool at height z.
+TriangleMesh linear_piece_mesh(const std::vector<Vec3>& tool, const Vec3& start,
+                               const Vec3& start_axis, const Vec3& end, const Vec3& end_axis);
 
 // The volume a convex cutter sweeps along a planar arc (no advance along its normal) with its
 // axis along the arc's normal, as a few closed meshes whose union it is: the tool's meridian
