@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -502,6 +504,33 @@ const char* const kForceProgram =
     "G21 G90\nS10000 M3\nG0 X-10 Y10 Z1\nG1 Z-3 F200\nG1 X60 F600\nG0 Z5\nG0 X-10 Y-3\n"
     "G1 Z-1 F200\nG1 X60 F900\nG0 Z5\nM2\n";
 
+// stock.off as the mesh workpiece writes it: "OFF", a comment naming cwe, counts, vertices in
+// double precision, triangles.
+TriangleMesh read_stock_off(const std::filesystem::path& path) {
+  std::ifstream off(path);
+  std::string keyword, comment;
+  std::getline(off, keyword);
+  std::getline(off, comment);
+  EXPECT_EQ(keyword, "OFF");
+  EXPECT_EQ(comment.rfind("# cwe in-process stock", 0), 0u) << comment;
+  std::size_t vertices = 0, faces = 0, edges = 0;
+  off >> vertices >> faces >> edges;
+  TriangleMesh read;
+  for (std::size_t k = 0; k < vertices; ++k) {
+    double x = 0.0, y = 0.0, z = 0.0;
+    off >> x >> y >> z;
+    read.vertices.emplace_back(x, y, z);
+  }
+  for (std::size_t k = 0; k < faces; ++k) {
+    int n = 0, a = 0, b = 0, c = 0;
+    off >> n >> a >> b >> c;
+    EXPECT_EQ(n, 3);
+    read.triangles.push_back({a, b, c});
+  }
+  EXPECT_TRUE(off.good()) << path;
+  return read;
+}
+
 // The mesh workpiece (--workpiece mesh): a slot through the block removes the faceted sweep's
 // volume, which for a feed along X is exactly the slot's (the rings' polygons have a vertex on
 // each side of the feed), stock.stl is the mesh itself, and the engagement is the slot's.
@@ -532,28 +561,8 @@ TEST(CliSimulate, MeshWorkpiece) {
   EXPECT_NE(r.out.find("as a triangle mesh, 1 mm facets"), std::string::npos) << r.out;
   // stock.off: the workpiece's own mesh in double precision, its volume the summary's.
   EXPECT_EQ(summary["stock_mesh"]["off"], "stock.off");
-  std::ifstream off(dir / "out" / "stock.off");
-  std::string keyword, comment;
-  std::getline(off, keyword);
-  std::getline(off, comment);
-  EXPECT_EQ(keyword, "OFF");
-  EXPECT_EQ(comment.rfind("# cwe in-process stock", 0), 0u) << comment;
-  std::size_t vertices = 0, faces = 0, edges = 0;
-  off >> vertices >> faces >> edges;
-  EXPECT_EQ(faces, summary["triangles"].get<std::size_t>());
-  TriangleMesh read;
-  for (std::size_t k = 0; k < vertices; ++k) {
-    double x = 0.0, y = 0.0, z = 0.0;
-    off >> x >> y >> z;
-    read.vertices.emplace_back(x, y, z);
-  }
-  for (std::size_t k = 0; k < faces; ++k) {
-    int n = 0, a = 0, b = 0, c = 0;
-    off >> n >> a >> b >> c;
-    EXPECT_EQ(n, 3);
-    read.triangles.push_back({a, b, c});
-  }
-  ASSERT_TRUE(off.good());
+  const TriangleMesh read = read_stock_off(dir / "out" / "stock.off");
+  EXPECT_EQ(read.triangles.size(), summary["triangles"].get<std::size_t>());
   EXPECT_TRUE(check_closure(read).closed());
   EXPECT_NEAR(read.volume(), 6000.0 - 900.0, 1e-9 * 6000.0);
   // The CL in the middle of the block: a full slot 3 mm deep.
@@ -581,6 +590,61 @@ TEST(CliSimulate, MeshWorkpiece) {
   EXPECT_EQ(refused.status, 2);
   EXPECT_NE(refused.err.find("expected \"dexel\" or \"mesh\""), std::string::npos) << refused.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "bad"));
+  std::filesystem::remove_all(dir);
+}
+
+// The bundled example's removal (both operations, three tools) on the mesh workpiece at 2 mm
+// facets against the dexel workpiece at s = 0.1 mm. The faceted tools lie inside the true ones
+// by at most h = R − √(R² − 1) (the 6 mm ball ends: 0.17 mm), so the mesh's stock holds the
+// true stock and exceeds it only within h of its machined faces: it removes less, by at most
+// h·S for S the machined area (the stock's faces off the block's). A dexel ray stands for its
+// s × s cell, which puts the dexel's volume within s/2·S of the true one either way.
+TEST(CliSimulate, MeshWorkpieceRemovesWhatTheDexelOneDoesOnTheExample) {
+  const auto dir = scratch_dir("simulate-mesh-example");
+  std::filesystem::create_directories(dir);
+  const std::string root = test::source_dir().string();
+  std::ofstream(dir / "job.json") << fmt::format(
+      R"({{"stock": "box:0,0,-30,100,60,0", "tools": "{0}/examples/tool_table.json",
+          "operations": [{{"path": "{0}/examples/programs/part.ngc"}},
+                         {{"path": "{0}/examples/programs/five_axis_pass.cls"}}],
+          "resolution": 0.1, "stock_only": true}})",
+      root);
+  double removed[2] = {0.0, 0.0};
+  for (const std::string workpiece : {"dexel", "mesh"}) {
+    const Result r =
+        run_cwe({"simulate", (dir / "job.json").string(), "--workpiece", workpiece, "--facet", "2",
+                 "--off", "--out", (dir / workpiece).string(), "--quiet"});
+    ASSERT_EQ(r.status, 0) << r.err;
+    std::ifstream in(dir / workpiece / "summary.json");
+    removed[workpiece == "mesh"] = nlohmann::json::parse(in)["removed_volume_mm3"].get<double>();
+  }
+  const TriangleMesh stock = read_stock_off(dir / "mesh" / "stock.off");
+  ASSERT_TRUE(check_closure(stock).closed());
+  EXPECT_NEAR(stock.volume(), 180000.0 - removed[1], 1e-6 * 180000.0);
+  // The machined area: the faces that do not lie on the block's faces.
+  double machined = 0.0;
+  for (const auto& t : stock.triangles) {
+    const Vec3& a = stock.vertices[static_cast<std::size_t>(t[0])];
+    const Vec3& b = stock.vertices[static_cast<std::size_t>(t[1])];
+    const Vec3& c = stock.vertices[static_cast<std::size_t>(t[2])];
+    const auto on = [&](int axis, double value) {
+      return std::abs(a[axis] - value) < 1e-9 && std::abs(b[axis] - value) < 1e-9 &&
+             std::abs(c[axis] - value) < 1e-9;
+    };
+    if (on(0, 0.0) || on(0, 100.0) || on(1, 0.0) || on(1, 60.0) || on(2, -30.0) || on(2, 0.0)) {
+      continue;
+    }
+    machined += 0.5 * (b - a).cross(c - a).norm();
+  }
+  const double h = 3.0 - std::sqrt(3.0 * 3.0 - 1.0), s = 0.1;
+  EXPECT_GT(machined, 1000.0);  // the example's slot, pockets and holes
+  EXPECT_GE(removed[0] - removed[1], -0.5 * s * machined);
+  EXPECT_LE(removed[0] - removed[1], (h + 0.5 * s) * machined);
+  std::printf(
+      "removed: dexel %.1f mm³, mesh %.1f mm³ (%+.2f %%); machined area %.0f mm², "
+      "bound h·S = %.0f mm³\n",
+      removed[0], removed[1], 100.0 * (removed[1] - removed[0]) / removed[0], machined,
+      h * machined);
   std::filesystem::remove_all(dir);
 }
 
