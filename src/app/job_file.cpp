@@ -283,7 +283,7 @@ void add_job_options(CLI::App* cmd, SimulateCommandOptions& options) {
                   "JSON job file (keys as the options below, with _ for -, plus operations; "
                   "docs/simulate.md); options below override it");
   cmd->add_option("--stock", options.stock,
-                  "box:xmin,ymin,zmin,xmax,ymax,zmax (mm) or a closed STL file");
+                  "box:xmin,ymin,zmin,xmax,ymax,zmax (mm), a closed STL file or a STEP file");
   cmd->add_option("--tool", options.tool,
                   "Tool specification or JSON tool file (default: the program's own CUTTER)");
   cmd->add_option("--tools", options.tools,

@@ -165,6 +165,14 @@ void print_report(std::ostream& out, const SimulateCommandOptions& options, cons
                op.path, op.cutter.name());
   }
   const double cubed = unit.mm * unit.mm * unit.mm;
+  if (job.stock.step) {
+    const StepModel& step = *job.stock.step;
+    fmt::print(out,
+               "  STEP stock  {} solid{} in {}, {:.{}f} {}³ exact; tessellated within {:g} mm\n",
+               step.solids(), step.solids() == 1 ? "" : "s", step.file_unit(),
+               step.volume() / cubed, 1 + 2 * unit.extra_decimals, unit.name,
+               step_tessellation(simulation, job.workpiece == WorkpieceKind::kMesh));
+  }
   if (run.stock) {
     const TriDexel::Memory memory = run.stock->memory();
     fmt::print(out,

@@ -170,7 +170,7 @@ JobResult run_job(const PreparedJob& job, MeshStock stock, const RunOptions& opt
 JobStock make_job_stock(const PreparedJob& job) {
   JobStock stock;
   if (job.workpiece == WorkpieceKind::kMesh) {
-    stock.mesh.emplace(make_mesh_stock(job.stock));
+    stock.mesh.emplace(make_mesh_stock(job.stock, job.simulation));
   } else {
     stock.rays.emplace(make_stock(job.stock, job.simulation));
   }

@@ -132,6 +132,14 @@ std::string job_summary(const PreparedJob& job, const JobResult& run, const JobS
   summary["tool"] = fmt::format("{}", fmt::join(tool_names, ", "));
   summary["path"] = fmt::format("{}", fmt::join(paths, ", "));
   summary["stock"] = extras.stock;
+  if (job.stock.step) {
+    const StepModel& step = *job.stock.step;
+    summary["stock_step"] = {
+        {"solids", step.solids()},
+        {"file_unit", step.file_unit()},
+        {"volume_mm3", step.volume()},
+        {"tessellation_mm", step_tessellation(simulation, job.workpiece == WorkpieceKind::kMesh)}};
+  }
   summary["report_units"] = extras.report_units;
   summary["threads"] = job.threads;
   summary["operations"] = operations_json(job, run);

@@ -21,7 +21,9 @@ StockSpec parse_stock_spec(const std::string& text, const SourceLocation& source
   constexpr std::string_view kBox = "box:";
   StockSpec spec;
   if (text.rfind(kBox, 0) != 0) {
-    if (text.empty()) throw InputError(source, "empty stock: expected box:… or an STL file");
+    if (text.empty()) {
+      throw InputError(source, "empty stock: expected box:…, an STL file or a STEP file");
+    }
     spec.is_box = false;
     spec.path = text;
     return spec;
@@ -64,10 +66,15 @@ StockSpec read_stock_spec(const std::string& text, const SourceLocation& source)
     std::error_code ec;
     if (!std::filesystem::exists(spec.path, ec)) {
       throw InputError(source, fmt::format("'{}': no such file; expected "
-                                           "box:xmin,ymin,zmin,xmax,ymax,zmax or a closed STL file",
+                                           "box:xmin,ymin,zmin,xmax,ymax,zmax, a closed STL file "
+                                           "or a STEP file",
                                            spec.path));
     }
-    spec.mesh = std::make_shared<const TriangleMesh>(read_stl(spec.path).mesh);
+    if (spec.is_step()) {
+      spec.step = std::make_shared<const StepModel>(StepModel::read(spec.path));
+    } else {
+      spec.mesh = std::make_shared<const TriangleMesh>(read_stl(spec.path).mesh);
+    }
   }
   return spec;
 }
@@ -76,9 +83,28 @@ double stock_top(const StockSpec& spec) { return stock_box(spec).max.z(); }
 
 Aabb stock_box(const StockSpec& spec) {
   if (spec.is_box) return spec.box;
+  if (spec.step) return spec.step->bounds();
   CWE_ASSERT(spec.mesh != nullptr, "the STL stock is read before its box is asked for");
   return spec.mesh->bounds();
 }
+
+double step_tessellation(const SimulationOptions& options, bool mesh_workpiece) {
+  return mesh_workpiece ? options.effective_tolerance() : options.resolution / 10.0;
+}
+
+namespace {
+
+// A STEP stock's triangles (read now when read_stock_spec has not).
+TriangleMesh step_triangles(const StockSpec& spec, double deviation) {
+  const StepModel model = spec.step ? *spec.step : StepModel::read(spec.path);
+  try {
+    return model.tessellate(deviation);
+  } catch (const ComputationError& e) {
+    throw InputError(SourceLocation{spec.path}, e.what());
+  }
+}
+
+}  // namespace
 
 TriDexel make_stock(const StockSpec& spec, const SimulationOptions& options) {
   if (!std::isfinite(options.resolution) || options.resolution <= 0.0) {
@@ -86,12 +112,19 @@ TriDexel make_stock(const StockSpec& spec, const SimulationOptions& options) {
                      fmt::format("{} mm: expected a positive ray spacing", options.resolution));
   }
   if (spec.is_box) return TriDexel::from_box(spec.box, options.resolution);
+  if (spec.is_step()) {
+    return TriDexel::from_mesh(step_triangles(spec, step_tessellation(options, false)),
+                               options.resolution, spec.path);
+  }
   if (spec.mesh) return TriDexel::from_mesh(*spec.mesh, options.resolution, spec.path);
   return TriDexel::from_mesh(read_stl(spec.path).mesh, options.resolution, spec.path);
 }
 
-MeshStock make_mesh_stock(const StockSpec& spec) {
+MeshStock make_mesh_stock(const StockSpec& spec, const SimulationOptions& options) {
   if (spec.is_box) return MeshStock::from_box(spec.box);
+  if (spec.is_step()) {
+    return MeshStock::from_mesh(step_triangles(spec, step_tessellation(options, true)), spec.path);
+  }
   if (spec.mesh) return MeshStock::from_mesh(*spec.mesh, spec.path);
   return MeshStock::from_mesh(read_stl(spec.path).mesh, spec.path);
 }

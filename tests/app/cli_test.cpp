@@ -1,5 +1,6 @@
 #include "cwe/app/cli.hpp"
 #include "source_dir.hpp"
+#include "step_fixtures.hpp"
 
 #include <gtest/gtest.h>
 
@@ -645,6 +646,65 @@ TEST(CliSimulate, MeshWorkpieceRemovesWhatTheDexelOneDoesOnTheExample) {
       "bound h·S = %.0f mm³\n",
       removed[0], removed[1], 100.0 * (removed[1] - removed[0]) / removed[0], machined,
       h * machined);
+  std::filesystem::remove_all(dir);
+}
+
+// A STEP stock (the 60 × 40 × 20 block with two holes of radius 5 at y = 20) slotted 3 mm deep
+// along y = 20 by a flat end mill D = 10: the slot takes 60 × 10 × 3 less the two holes' discs
+// (the slot's ends lie off the block). On the mesh workpiece the slot's sides and floor are
+// exact, and the holes' walls are polygons within the tolerance t inside them: it removes at
+// most t times the holes' wall in the slot more. The dexel stock holds the block within s/2 of
+// its surface.
+TEST(CliSimulate, StepStockOnBothWorkpieces) {
+  const auto dir = scratch_dir("simulate-step");
+  std::filesystem::create_directories(dir);
+  test::write_step_file(test::block_with_holes(), dir / "block.step");
+  const auto program = dir / "slot.ngc";
+  std::ofstream(program) << "G21 G90\nG0 X-10 Y20 Z25\nG0 Z17\nG1 X70 F600\nG0 Z25\nM2\n";
+  const double slot = 60.0 * 10.0 * 3.0 - 2.0 * kPi * 25.0 * 3.0;
+  for (const std::string workpiece : {"dexel", "mesh"}) {
+    SCOPED_TRACE(workpiece);
+    const Result r =
+        run_cwe({"simulate", "--stock", (dir / "block.step").string(), "--tool", "flat:10,20",
+                 "--path", program.string(), "--out", (dir / workpiece).string(), "--workpiece",
+                 workpiece, "--stock-only"});
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("STEP stock  1 solid in millimetre"), std::string::npos) << r.out;
+    std::ifstream in(dir / workpiece / "summary.json");
+    const nlohmann::json summary = nlohmann::json::parse(in);
+    const nlohmann::json& step = summary["stock_step"];
+    EXPECT_EQ(step["solids"], 1);
+    EXPECT_EQ(step["file_unit"], "millimetre");
+    EXPECT_NEAR(step["volume_mm3"].get<double>(), test::kBlockWithHolesVolume, 1e-6);
+    const double initial = summary["initial_volume_mm3"].get<double>();
+    const double removed = summary["removed_volume_mm3"].get<double>();
+    if (workpiece == "mesh") {
+      const double t = step["tessellation_mm"].get<double>();
+      EXPECT_EQ(t, summary["tolerance_mm"].get<double>());
+      // The holes' polygons lie inside their circles: the stock holds the solid.
+      EXPECT_GE(initial, test::kBlockWithHolesVolume);
+      EXPECT_LE(initial, test::kBlockWithHolesVolume + t * 2.0 * kTwoPi * 5.0 * 20.0);
+      EXPECT_GE(removed, slot - 1e-6);
+      EXPECT_LE(removed, slot + t * 2.0 * kTwoPi * 5.0 * 3.0);
+    } else {
+      const double s = summary["resolution_mm"].get<double>();
+      EXPECT_EQ(step["tessellation_mm"].get<double>(), s / 10.0);
+      EXPECT_NEAR(initial, test::kBlockWithHolesVolume, 0.5 * s * test::kBlockWithHolesArea);
+      // The slot's floor, sides and the holes' walls in it.
+      const double cut_area = 60.0 * 10.0 + 2.0 * 60.0 * 3.0 + 2.0 * kTwoPi * 5.0 * 3.0;
+      EXPECT_NEAR(removed, slot, 0.5 * s * cut_area);
+    }
+    std::printf("%s: stock %.2f mm³ (exact %.2f), removed %.2f mm³ (exact %.2f)\n",
+                workpiece.c_str(), initial, test::kBlockWithHolesVolume, removed, slot);
+  }
+  // A STEP file that holds no solid: exit 2, the file named, nothing written.
+  std::ofstream(dir / "junk.stp") << "ISO-10303-21;\nEND-ISO-10303-21;\n";
+  const Result bad =
+      run_cwe({"simulate", "--stock", (dir / "junk.stp").string(), "--tool", "flat:10,20", "--path",
+               program.string(), "--out", (dir / "bad").string()});
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("junk.stp"), std::string::npos) << bad.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "bad"));
   std::filesystem::remove_all(dir);
 }
 

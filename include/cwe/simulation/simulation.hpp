@@ -17,6 +17,7 @@
 #include "cwe/engagement/workpiece.hpp"
 #include "cwe/envelope/move_sweep.hpp"
 #include "cwe/geometry/triangle_mesh.hpp"
+#include "cwe/io/step.hpp"
 #include "cwe/tool/cutter.hpp"
 #include "cwe/toolpath/cl_sampling.hpp"
 #include "cwe/toolpath/toolpath.hpp"
@@ -26,13 +27,17 @@
 namespace cwe {
 
 // Where the stock comes from: "box:xmin,ymin,zmin,xmax,ymax,zmax" (mm; in inches with a
-// trailing ":in") or an STL file.
+// trailing ":in"), an STL file, or a STEP file (.step, .stp: its solids, in the file's unit).
 struct StockSpec {
   bool is_box = true;
   Aabb box;
-  std::string path;  // STL file when !is_box
+  std::string path;  // STL or STEP file when !is_box
   // The STL's triangles once read (read_stock_spec); make_stock reads the file when absent.
   std::shared_ptr<const TriangleMesh> mesh;
+  // The STEP file's solids once read (read_stock_spec; the other backends take them
+  // tessellated).
+  std::shared_ptr<const StepModel> step;
+  bool is_step() const { return !is_box && is_step_path(path); }
 };
 
 // Parses a stock specification; `source` names where it came from in error messages.
@@ -51,12 +56,17 @@ struct SimulationOptions {
   double effective_tolerance() const { return tolerance > 0.0 ? tolerance : resolution / 10.0; }
 };
 
-// The stock as a tri-dexel workpiece. Throws InputError for a bad box, an unreadable or open
-// STL, or a resolution the stock cannot take.
+// The stock as a tri-dexel workpiece: a STEP stock's solids tessellated within s/10
+// (step_tessellation). Throws InputError for a bad box, an unreadable or open STL, or a
+// resolution the stock cannot take.
 TriDexel make_stock(const StockSpec& spec, const SimulationOptions& options);
-// The stock as a closed triangle mesh (the mesh workpiece). Throws InputError for a bad box, or
-// an STL that is not the closed, outward surface of a solid.
-MeshStock make_mesh_stock(const StockSpec& spec);
+// The stock as a closed triangle mesh (the mesh workpiece): a STEP stock's solids tessellated
+// within the tolerance. Throws InputError for a bad box, or an STL that is not the closed,
+// outward surface of a solid.
+MeshStock make_mesh_stock(const StockSpec& spec, const SimulationOptions& options);
+// How far from its solids a STEP stock's triangles may lie on each workpiece, mm: s/10 on the
+// dexel one (below the rays' own error), the sweeps' tolerance on the mesh one.
+double step_tessellation(const SimulationOptions& options, bool mesh_workpiece);
 
 struct RapidCut {
   int move = 0;  // 0-based index into the toolpath

@@ -1,0 +1,52 @@
+#pragma once
+// STEP files (ISO 10303-21, AP203/AP214/AP242 geometry) read and written with OpenCASCADE: a
+// stock from CAD (a casting, a preform, a part with holes) and the in-process workpiece as a
+// solid. OpenCASCADE's types stay behind this header (cwe/io/step_shape.hpp hands the shape to
+// the B-rep workpiece); docs/stock.md states the reader's rules.
+
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include "cwe/geometry/aabb.hpp"
+#include "cwe/geometry/triangle_mesh.hpp"
+
+namespace cwe {
+
+// The solids of a STEP file, in millimetres.
+class StepModel {
+ public:
+  // Reads `path`. The file's length unit (SI_UNIT with its prefix, or a CONVERSION_BASED_UNIT
+  // such as INCH) is converted to mm. Every solid of the file's root shapes is kept, a
+  // compound of solids too; shells that close (a solid written as its skin) are made solids.
+  // Throws InputError naming the file: no such file, not STEP, no transferable root, a shape
+  // with no solid (only faces, an open shell, wires or points), a solid that is not valid
+  // (BRepCheck), or a negative or zero volume.
+  static StepModel read(const std::string& path);
+  // A model of a shape built in memory (tests, the B-rep workpiece); `source` names it.
+  struct Impl;
+  explicit StepModel(std::shared_ptr<const Impl> impl);
+
+  const std::string& source() const;
+  int solids() const;
+  // The length unit the file declared, as OpenCASCADE names it ("millimetre", "inch", "metre",
+  // "foot", …); "millimetre" for a shape built in memory.
+  const std::string& file_unit() const;
+  double volume() const;  // mm³, exact (of the B-rep)
+  Aabb bounds() const;    // tight (on the surfaces, not the control points)
+  // The closed, outward-oriented triangulation of the solids' faces, every triangle within
+  // `deviation` mm of its face (BRepMesh's linear deflection, absolute), vertices shared
+  // across faces. Throws ComputationError when the triangulation does not close (a face
+  // BRepMesh cannot mesh).
+  TriangleMesh tessellate(double deviation) const;
+
+  const Impl& impl() const { return *impl_; }
+
+ private:
+  std::shared_ptr<const Impl> impl_;
+};
+
+// True when `path` names a STEP file by its extension (.step, .stp, any case).
+bool is_step_path(std::string_view path);
+
+}  // namespace cwe

@@ -1,0 +1,333 @@
+#include "cwe/io/step.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+#include <unordered_map>
+#include <vector>
+
+#include <unistd.h>
+
+#include <BRepBndLib.hxx>
+#include <BRepBuilderAPI_Copy.hxx>
+#include <BRepBuilderAPI_MakeSolid.hxx>
+#include <BRepCheck_Analyzer.hxx>
+#include <BRepGProp.hxx>
+#include <BRepMesh_IncrementalMesh.hxx>
+#include <BRep_Builder.hxx>
+#include <BRep_Tool.hxx>
+#include <Bnd_Box.hxx>
+#include <GProp_GProps.hxx>
+#include <IFSelect_ReturnStatus.hxx>
+#include <Interface_Static.hxx>
+#include <Message.hxx>
+#include <Message_Messenger.hxx>
+#include <Message_PrinterOStream.hxx>
+#include <Poly_Triangulation.hxx>
+#include <STEPControl_Controller.hxx>
+#include <STEPControl_Reader.hxx>
+#include <STEPControl_Writer.hxx>
+#include <ShapeAnalysis_ShapeTolerance.hxx>
+#include <Standard_Failure.hxx>
+#include <TColStd_SequenceOfAsciiString.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopLoc_Location.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Compound.hxx>
+#include <TopoDS_Face.hxx>
+#include <TopoDS_Shell.hxx>
+#include <TopoDS_Solid.hxx>
+#include <fmt/format.h>
+
+#include "cwe/core/computation_error.hpp"
+#include "cwe/core/error.hpp"
+#include "cwe/io/step_shape.hpp"
+
+namespace cwe {
+namespace {
+
+// OpenCASCADE prints its translators' messages to standard output by default; the library
+// never prints (errors are thrown), so its printers are taken away once.
+void quiet_opencascade() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    Message::DefaultMessenger()->RemovePrinters(STANDARD_TYPE(Message_PrinterOStream));
+  });
+}
+
+double solid_volume(const TopoDS_Shape& shape) {
+  GProp_GProps props;
+  BRepGProp::VolumeProperties(shape, props);
+  return props.Mass();
+}
+
+int count(const TopoDS_Shape& shape, TopAbs_ShapeEnum kind) {
+  int n = 0;
+  for (TopExp_Explorer e(shape, kind); e.More(); e.Next()) ++n;
+  return n;
+}
+
+// Welds vertices closer than `tolerance` (a grid of that cell; the nearer of two candidates in
+// neighbouring cells wins), so that faces meeting on an edge share its vertices.
+class Welder {
+ public:
+  explicit Welder(double tolerance) : cell_(tolerance) {}
+  int add(const Vec3& p, TriangleMesh& mesh) {
+    const std::array<long long, 3> key = cell_of(p);
+    int best = -1;
+    double nearest = cell_ * cell_;
+    for (int dx = -1; dx <= 1; ++dx) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto found = cells_.find({key[0] + dx, key[1] + dy, key[2] + dz});
+          if (found == cells_.end()) continue;
+          for (const int v : found->second) {
+            const double d = (mesh.vertices[static_cast<std::size_t>(v)] - p).squaredNorm();
+            if (d <= nearest) {
+              nearest = d;
+              best = v;
+            }
+          }
+        }
+      }
+    }
+    if (best >= 0) return best;
+    mesh.vertices.push_back(p);
+    const int index = static_cast<int>(mesh.vertices.size()) - 1;
+    cells_[key].push_back(index);
+    return index;
+  }
+
+ private:
+  struct KeyHash {
+    std::size_t operator()(const std::array<long long, 3>& k) const {
+      return static_cast<std::size_t>(k[0] * 73856093LL ^ k[1] * 19349663LL ^ k[2] * 83492791LL);
+    }
+  };
+  std::array<long long, 3> cell_of(const Vec3& p) const {
+    return {static_cast<long long>(std::floor(p.x() / cell_)),
+            static_cast<long long>(std::floor(p.y() / cell_)),
+            static_cast<long long>(std::floor(p.z() / cell_))};
+  }
+  double cell_;
+  std::unordered_map<std::array<long long, 3>, std::vector<int>, KeyHash> cells_;
+};
+
+}  // namespace
+
+bool is_step_path(std::string_view path) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  std::string lower(ext.size(), '\0');
+  std::transform(ext.begin(), ext.end(), lower.begin(), [](unsigned char c) {
+    return static_cast<char>(std::tolower(c));
+  });
+  return lower == ".step" || lower == ".stp";
+}
+
+StepModel::StepModel(std::shared_ptr<const Impl> impl) : impl_(std::move(impl)) {}
+
+const std::string& StepModel::source() const { return impl_->source; }
+int StepModel::solids() const { return impl_->solids; }
+const std::string& StepModel::file_unit() const { return impl_->unit; }
+double StepModel::volume() const { return impl_->volume; }
+
+Aabb StepModel::bounds() const {
+  Bnd_Box box;
+  BRepBndLib::AddOptimal(impl_->shape, box, /*useTriangulation=*/false,
+                         /*useShapeTolerance=*/false);
+  double x0 = 0, y0 = 0, z0 = 0, x1 = 0, y1 = 0, z1 = 0;
+  box.Get(x0, y0, z0, x1, y1, z1);
+  return Aabb{{x0, y0, z0}, {x1, y1, z1}};
+}
+
+StepModel step_model(const TopoDS_Shape& shape, const std::string& source,
+                     const std::string& unit) {
+  auto impl = std::make_shared<StepModel::Impl>();
+  impl->source = source;
+  impl->unit = unit;
+  BRep_Builder builder;
+  TopoDS_Compound solids;
+  builder.MakeCompound(solids);
+  std::vector<TopoDS_Solid> found;
+  for (TopExp_Explorer e(shape, TopAbs_SOLID); e.More(); e.Next()) {
+    found.push_back(TopoDS::Solid(e.Current()));
+  }
+  // A solid written as its skin: closed shells that belong to no solid.
+  for (TopExp_Explorer e(shape, TopAbs_SHELL, TopAbs_SOLID); e.More(); e.Next()) {
+    const TopoDS_Shell& shell = TopoDS::Shell(e.Current());
+    if (!BRep_Tool::IsClosed(shell)) continue;
+    BRepBuilderAPI_MakeSolid make(shell);
+    if (make.IsDone()) found.push_back(make.Solid());
+  }
+  if (found.empty()) {
+    throw InputError(
+        SourceLocation{source},
+        fmt::format("no solid in the file ({} faces, {} open shells): expected the solid of "
+                    "the stock (one solid, or a compound of solids)",
+                    count(shape, TopAbs_FACE), count(shape, TopAbs_SHELL)));
+  }
+  for (std::size_t k = 0; k < found.size(); ++k) {
+    TopoDS_Solid solid = found[k];
+    if (!BRepCheck_Analyzer(solid).IsValid()) {
+      throw InputError(SourceLocation{source},
+                       fmt::format("solid {} of {} is not a valid solid (OpenCASCADE's "
+                                   "BRepCheck): expected a closed, consistent boundary",
+                                   k + 1, found.size()));
+    }
+    double volume = solid_volume(solid);
+    // A shell made solid with its faces inwards bounds the rest of space: turned round.
+    if (volume < 0.0) {
+      solid.Reverse();
+      volume = -volume;
+    }
+    if (!(volume > 0.0)) {
+      throw InputError(SourceLocation{source},
+                       fmt::format("solid {} of {} encloses no volume", k + 1, found.size()));
+    }
+    builder.Add(solids, solid);
+    impl->volume += volume;
+  }
+  impl->solids = static_cast<int>(found.size());
+  impl->shape = solids;
+  return StepModel(std::move(impl));
+}
+
+StepModel StepModel::read(const std::string& path) {
+  quiet_opencascade();
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    throw InputError(SourceLocation{path}, "no such file: expected a STEP file (.step, .stp)");
+  }
+  try {
+    // Lengths come out in mm whatever the file's unit.
+    STEPControl_Controller::Init();
+    Interface_Static::SetCVal("xstep.cascade.unit", "MM");
+    STEPControl_Reader reader;
+    if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) {
+      throw InputError(SourceLocation{path},
+                       "not a readable STEP file (ISO 10303-21): expected a file that starts "
+                       "with ISO-10303-21; and holds a DATA section");
+    }
+    TColStd_SequenceOfAsciiString lengths, angles, solid_angles;
+    reader.FileUnits(lengths, angles, solid_angles);
+    std::string unit = "millimetre";
+    if (lengths.Length() > 0) {
+      unit = lengths.Value(1).ToCString();  // "millimetre", "INCH" (a conversion-based unit)…
+      std::transform(unit.begin(), unit.end(), unit.begin(),
+                     [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    }
+    if (reader.TransferRoots() == 0) {
+      throw InputError(SourceLocation{path},
+                       "nothing in the file could be translated to a shape: expected the "
+                       "solid of the stock");
+    }
+    return step_model(reader.OneShape(), path, unit);
+  } catch (const Standard_Failure& e) {
+    throw InputError(SourceLocation{path},
+                     fmt::format("OpenCASCADE could not read the file ({}: {})",
+                                 e.DynamicType()->Name(), e.GetMessageString()));
+  }
+}
+
+TriangleMesh StepModel::tessellate(double deviation) const {
+  if (!(deviation > 0.0) || !std::isfinite(deviation)) {
+    throw InputError(fmt::format("STEP tessellation: deviation {} mm, expected a positive length",
+                                 deviation));
+  }
+  // BRepMesh stores its triangles on the faces, which copies of a shape share: a deep copy
+  // keeps the model as read (shared between threads, tessellated again at another deviation).
+  TopoDS_Shape shape;
+  try {
+    shape = BRepBuilderAPI_Copy(impl_->shape, /*copyGeom=*/true, /*copyMesh=*/false).Shape();
+    BRepMesh_IncrementalMesh mesher(shape, deviation, /*isRelative=*/false,
+                                    /*theAngDeflection=*/0.5, /*isInParallel=*/false);
+    if (!mesher.IsDone()) throw ComputationError("BRepMesh did not finish");
+  } catch (const Standard_Failure& e) {
+    throw ComputationError(fmt::format("{}: tessellating the solid failed ({}: {})",
+                                       impl_->source, e.DynamicType()->Name(),
+                                       e.GetMessageString()));
+  }
+  // Faces meet on their edges within the shape's tolerance (a file's often 1e-4 mm or more).
+  const double tolerance =
+      std::clamp(ShapeAnalysis_ShapeTolerance().Tolerance(shape, 1, TopAbs_EDGE), 1e-7,
+                 std::max(1e-7, deviation / 2.0));
+  TriangleMesh mesh;
+  Welder welder(tolerance);
+  int face_number = 0;
+  for (TopExp_Explorer e(shape, TopAbs_FACE); e.More(); e.Next()) {
+    ++face_number;
+    const TopoDS_Face& face = TopoDS::Face(e.Current());
+    TopLoc_Location location;
+    const Handle(Poly_Triangulation) triangulation = BRep_Tool::Triangulation(face, location);
+    if (triangulation.IsNull()) {
+      throw ComputationError(fmt::format(
+          "{}: face {} could not be tessellated (BRepMesh left it empty)", impl_->source,
+          face_number));
+    }
+    const gp_Trsf& move = location.Transformation();
+    std::vector<int> index(static_cast<std::size_t>(triangulation->NbNodes()) + 1, -1);
+    for (int n = 1; n <= triangulation->NbNodes(); ++n) {
+      const gp_Pnt p = triangulation->Node(n).Transformed(move);
+      index[static_cast<std::size_t>(n)] = welder.add(Vec3(p.X(), p.Y(), p.Z()), mesh);
+    }
+    const bool reversed = face.Orientation() == TopAbs_REVERSED;
+    for (int t = 1; t <= triangulation->NbTriangles(); ++t) {
+      int a = 0, b = 0, c = 0;
+      triangulation->Triangle(t).Get(a, b, c);
+      if (reversed) std::swap(b, c);
+      const std::array<int, 3> tri = {index[static_cast<std::size_t>(a)],
+                                      index[static_cast<std::size_t>(b)],
+                                      index[static_cast<std::size_t>(c)]};
+      if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) continue;
+      mesh.triangles.push_back(tri);
+    }
+  }
+  const MeshClosure closure = check_closure(mesh);
+  if (!closure.closed()) {
+    throw ComputationError(fmt::format(
+        "{}: the tessellation at {} mm does not close ({} open, {} non-manifold, {} misoriented "
+        "edges of {})",
+        impl_->source, deviation, closure.boundary_edges, closure.non_manifold_edges,
+        closure.misoriented_edges, closure.edges));
+  }
+  return mesh;
+}
+
+std::string step_bytes(const TopoDS_Shape& shape) {
+  quiet_opencascade();
+  const std::filesystem::path scratch =
+      std::filesystem::temp_directory_path() /
+      fmt::format("cwe-step-{}-{}.step", static_cast<long>(::getpid()),
+                  reinterpret_cast<std::uintptr_t>(&shape));
+  try {
+    // Read when the writer makes its model.
+    STEPControl_Controller::Init();
+    Interface_Static::SetCVal("write.step.unit", "MM");
+    Interface_Static::SetCVal("write.step.schema", "AP214IS");
+    STEPControl_Writer writer;
+    if (writer.Transfer(shape, STEPControl_AsIs) != IFSelect_RetDone) {
+      throw ComputationError("STEP output: OpenCASCADE could not translate the solid");
+    }
+    if (writer.Write(scratch.string().c_str()) != IFSelect_RetDone) {
+      std::filesystem::remove(scratch);
+      throw ComputationError("STEP output: OpenCASCADE could not write the file");
+    }
+  } catch (const Standard_Failure& e) {
+    std::filesystem::remove(scratch);
+    throw ComputationError(fmt::format("STEP output: OpenCASCADE failed ({}: {})",
+                                       e.DynamicType()->Name(), e.GetMessageString()));
+  }
+  std::ifstream in(scratch, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  std::filesystem::remove(scratch);
+  return bytes.str();
+}
+
+}  // namespace cwe
