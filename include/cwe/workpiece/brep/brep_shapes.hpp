@@ -1,0 +1,46 @@
+#pragma once
+// Exact solids of cutters and of the volumes they sweep, as OpenCASCADE shapes: what the B-rep
+// workpiece removes (Aras 2008 §6.1). For code that works on the shapes (the B-rep workpiece,
+// its tests); the rest of cwe sees BrepStock only.
+//
+// A linear move with a constant axis sweeps the Minkowski sum of the convex tool T and the
+// segment d = end − start (Aras 2008 §4.2, built as §6.1 does): the faces of T that trail (the
+// outward normal n has n·d < 0) kept at the start, the faces that lead kept at the end, and the
+// silhouette between them (the grazing curve, n·d = 0) swept along d, sewn into one solid. The
+// silhouette is cut into T's faces by planes that hold it:
+//  - a cylinder's two rulings lie in the plane through the axis square to d's horizontal part
+//    (which also halves a disc that a level move runs along: its trailing half stays at the
+//    start, its leading half goes to the end, and the diameter between them sweeps the floor);
+//  - a sphere's great circle in the plane through its centre square to d;
+//  - a cone's two rulings (cos θ = −n_z d_z / (n_ρ |d_h|)) meet at its apex: the plane through
+//    the apex and both;
+//  - where the normal jumps (a flat bottom's rim, a chamfer's top, the top disc) the silhouette
+//    runs along the joint circle, an edge T already has;
+//  - a torus (a bull-nose corner): the plane through the axis when d is square to the axis,
+//    the equator's plane when d is along it. Along a ramp its silhouette is not a plane curve,
+//    and linear_sweep_solid throws ComputationError.
+// Under a plunge the flank that d runs along is kept at the start, and the rim below it swept.
+
+#include <TopoDS_Shape.hxx>
+#include <TopoDS_Solid.hxx>
+
+#include "cwe/geometry/vec.hpp"
+#include "cwe/tool/cutter.hpp"
+
+namespace cwe {
+
+// The cutter's solid (its profile revolved about its axis, closed by the top disc) with its tip
+// at `tip` and its axis along unit `axis` (the frame of cwe's faceted tools: x as close to world
+// X as the axis allows). Throws InputError for a profile with a concave part.
+TopoDS_Solid tool_solid(const Cutter& cutter, const Vec3& tip, const Vec3& axis);
+
+// The volume the cutter sweeps from tip `start` to tip `end` with unit `axis`, exact (see
+// above): the tool at `start` when the two coincide. Throws ComputationError when OpenCASCADE
+// cannot build it, or for a torus along a ramp.
+TopoDS_Shape linear_sweep_solid(const Cutter& cutter, const Vec3& start, const Vec3& end,
+                                const Vec3& axis);
+
+// Volume of a shape, mm³ (BRepGProp).
+double shape_volume(const TopoDS_Shape& shape);
+
+}  // namespace cwe

@@ -1,0 +1,311 @@
+#include "cwe/workpiece/brep/brep_shapes.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <fmt/format.h>
+#include <BRepAdaptor_Surface.hxx>
+#include <BRepAlgoAPI_Splitter.hxx>
+#include <BRepBuilderAPI_MakeEdge.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakeSolid.hxx>
+#include <BRepBuilderAPI_MakeWire.hxx>
+#include <BRepBuilderAPI_Sewing.hxx>
+#include <BRepBuilderAPI_Transform.hxx>
+#include <BRepCheck_Analyzer.hxx>
+#include <BRepClass_FaceClassifier.hxx>
+#include <BRepGProp.hxx>
+#include <BRepPrimAPI_MakePrism.hxx>
+#include <BRepPrimAPI_MakeRevol.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Tool.hxx>
+#include <GC_MakeArcOfCircle.hxx>
+#include <GProp_GProps.hxx>
+#include <Standard_Failure.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopTools_ListOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Face.hxx>
+#include <TopoDS_Shell.hxx>
+#include <gp_Ax1.hxx>
+#include <gp_Pln.hxx>
+#include <gp_Trsf.hxx>
+
+#include "cwe/core/computation_error.hpp"
+#include "cwe/core/error.hpp"
+#include "cwe/envelope/swept_volume.hpp"
+
+namespace cwe {
+namespace {
+
+gp_Pnt point(const Vec3& p) { return gp_Pnt(p.x(), p.y(), p.z()); }
+gp_Dir direction(const Vec3& v) { return gp_Dir(v.x(), v.y(), v.z()); }
+
+// The rigid motion from the tool's frame (tip at the origin, axis along +Z) to the world:
+// cwe's tool frame, x as close to world X as the axis allows.
+gp_Trsf placement(const Vec3& tip, const Vec3& axis) {
+  const Frame frame = Frame::from_z(tip, axis, Vec3::UnitX());
+  gp_Trsf trsf;
+  trsf.SetTransformation(gp_Ax3(point(tip), direction(frame.z()), direction(frame.x())),
+                         gp_Ax3(gp::Origin(), gp::DZ(), gp::DX()));
+  return trsf;
+}
+
+// The tool in its own frame: the meridian section (ρ along X, z along Z) revolved about Z.
+TopoDS_Solid local_tool(const Cutter& cutter) {
+  if (!is_convex(cutter)) {
+    throw InputError(SourceLocation{cutter.name()},
+                     "the B-rep workpiece sweeps convex cutters (every APT cutter); this "
+                     "profile has a concave part");
+  }
+  const Profile& profile = cutter.profile();
+  const auto xz = [](const Vec2& p) { return gp_Pnt(p.x(), 0.0, p.y()); };
+  BRepBuilderAPI_MakeWire wire;
+  for (const ProfileSegment& s : profile.segments()) {
+    if ((s.end - s.start).norm() < 1e-9) continue;  // a ball's bottom line of length 0
+    if (s.kind == ProfileSegment::Kind::kArc) {
+      const Handle(Geom_TrimmedCurve) arc =
+          GC_MakeArcOfCircle(xz(s.start), xz(s.point_at(0.5)), xz(s.end)).Value();
+      wire.Add(BRepBuilderAPI_MakeEdge(arc).Edge());
+    } else {
+      wire.Add(BRepBuilderAPI_MakeEdge(xz(s.start), xz(s.end)).Edge());
+    }
+  }
+  const Vec2 top(profile.top_radius(), profile.height());
+  if (top.x() > 1e-9) wire.Add(BRepBuilderAPI_MakeEdge(xz(top), xz(Vec2(0, top.y()))).Edge());
+  wire.Add(BRepBuilderAPI_MakeEdge(xz(Vec2(0, top.y())), xz(Vec2(0, 0))).Edge());
+  if (!wire.IsDone()) {
+    throw ComputationError(
+        fmt::format("{}: the profile does not make a closed outline", cutter.name()));
+  }
+  const TopoDS_Face section = BRepBuilderAPI_MakeFace(wire.Wire(), /*OnlyPlane=*/true).Face();
+  BRepPrimAPI_MakeRevol revol(section, gp_Ax1(gp::Origin(), gp::DZ()), 2.0 * M_PI);
+  TopExp_Explorer solid(revol.Shape(), TopAbs_SOLID);
+  if (!solid.More()) {
+    throw ComputationError(fmt::format("{}: revolving the profile gave no solid", cutter.name()));
+  }
+  return TopoDS::Solid(solid.Current());
+}
+
+struct Plane {
+  Vec3 origin, normal;
+};
+
+// The planes that cut the tool's faces along its silhouette for local direction d (see the
+// header): the plane through the axis square to d's horizontal part (it also halves the discs a
+// level move grazes), a sphere's plane through its centre square to d, a cone's plane through
+// its apex and rulings, a torus's equator under a plunge.
+std::vector<Plane> silhouette_planes(const Cutter& cutter, const Vec3& d) {
+  const double length = d.norm();
+  const double eps = 1e-12 * length;
+  const Vec3 dh(d.x(), d.y(), 0.0);
+  const double h = dh.norm();
+  const bool climbs = std::abs(d.z()) > eps, across = h > eps;
+  std::vector<Plane> planes;
+  if (across) planes.push_back({Vec3::Zero(), Vec3(dh / h)});
+  for (const ProfileSegment& s : cutter.profile().segments()) {
+    if ((s.end - s.start).norm() < 1e-9) continue;
+    if (s.kind == ProfileSegment::Kind::kLine) {
+      if (s.is_horizontal() || s.is_vertical() || !across) continue;
+      // A cone: rulings at azimuth ψ0 ± θ, cos θ = −n_z d_z / (n_ρ |d_h|), through the apex.
+      const Vec2 n = s.normal_at(0.0);
+      const double c = -n.y() * d.z() / (n.x() * h);
+      if (!(std::abs(c) < 1.0 - 1e-12)) continue;  // wholly leading or trailing
+      const double theta = std::acos(c), psi = std::atan2(dh.y(), dh.x());
+      const Vec2 a = s.start, b = s.end;
+      const Vec3 apex(0.0, 0.0, a.y() - a.x() * (b.y() - a.y()) / (b.x() - a.x()));
+      const Vec2 far = b.x() > a.x() ? b : a;
+      const Vec3 p(far.x() * std::cos(psi + theta), far.x() * std::sin(psi + theta), far.y());
+      const Vec3 q(far.x() * std::cos(psi - theta), far.x() * std::sin(psi - theta), far.y());
+      planes.push_back({apex, (p - apex).cross(q - apex).normalized()});
+    } else if (std::abs(s.center.x()) < 1e-9) {  // a sphere: its great circle square to d
+      planes.push_back({Vec3(0.0, 0.0, s.center.y()), d / length});
+    } else if (!climbs) {  // a torus, d square to the axis: the axial plane
+    } else if (!across) {  // a torus, d along the axis: its equator, where the arc holds it
+      const double z = s.center.y();
+      if (z > s.min_z() + 1e-9 && z < s.max_z() - 1e-9) {
+        planes.push_back({Vec3(0.0, 0.0, z), Vec3::UnitZ()});
+      }
+    } else {
+      throw ComputationError(fmt::format(
+          "{}: the B-rep workpiece does not yet sweep a torus along a ramp exactly (its "
+          "silhouette is not a plane curve)",
+          cutter.name()));
+    }
+  }
+  // One of each plane.
+  std::vector<Plane> unique;
+  for (const Plane& p : planes) {
+    const bool seen = std::any_of(unique.begin(), unique.end(), [&](const Plane& q) {
+      return std::abs(std::abs(p.normal.dot(q.normal)) - 1.0) < 1e-12 &&
+             std::abs((p.origin - q.origin).dot(q.normal)) < 1e-9;
+    });
+    if (!seen) unique.push_back(p);
+  }
+  return unique;
+}
+
+// A point inside the face and its outward normal there.
+bool face_sample(const TopoDS_Face& face, Vec3& at, Vec3& normal) {
+  double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
+  BRepTools::UVBounds(face, u0, u1, v0, v1);
+  const BRepAdaptor_Surface surface(face);
+  // The middle of the face's parameter box first, then ever finer grids over it (a sliver
+  // between two cuts may hold none of the coarse points).
+  for (int n = 1; n <= 64; n *= 2) {
+    for (int i = 0; i < n; ++i) {
+      for (int j = 0; j < n; ++j) {
+        const double fu = (i + 0.5) / n, fv = (j + 0.5) / n;
+        const gp_Pnt2d uv(u0 + fu * (u1 - u0), v0 + fv * (v1 - v0));
+        BRepClass_FaceClassifier inside(face, uv, 1e-9);
+        if (inside.State() != TopAbs_IN) continue;
+        gp_Pnt p;
+        gp_Vec du, dv;
+        surface.D1(uv.X(), uv.Y(), p, du, dv);
+        gp_Vec n = du.Crossed(dv);
+        if (n.Magnitude() < 1e-12) continue;
+        if (face.Orientation() == TopAbs_REVERSED) n.Reverse();
+        n.Normalize();
+        at = Vec3(p.X(), p.Y(), p.Z());
+        normal = Vec3(n.X(), n.Y(), n.Z());
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+void check_done(bool done, const char* what, const Cutter& cutter) {
+  if (!done) throw ComputationError(fmt::format("{}: {} failed", cutter.name(), what));
+}
+
+}  // namespace
+
+double shape_volume(const TopoDS_Shape& shape) {
+  GProp_GProps props;
+  BRepGProp::VolumeProperties(shape, props);
+  return props.Mass();
+}
+
+TopoDS_Solid tool_solid(const Cutter& cutter, const Vec3& tip, const Vec3& axis) {
+  try {
+    const TopoDS_Shape placed =
+        BRepBuilderAPI_Transform(local_tool(cutter), placement(tip, axis), true).Shape();
+    return TopoDS::Solid(placed);
+  } catch (const Standard_Failure& e) {
+    throw ComputationError(fmt::format("{}: OpenCASCADE could not build the tool ({})",
+                                       cutter.name(), e.GetMessageString()));
+  }
+}
+
+TopoDS_Shape linear_sweep_solid(const Cutter& cutter, const Vec3& start, const Vec3& end,
+                                const Vec3& axis) {
+  try {
+    const gp_Trsf to_world = placement(start, axis);
+    const TopoDS_Solid tool = local_tool(cutter);
+    const Frame frame = Frame::from_z(start, axis, Vec3::UnitX());
+    const Vec3 d = frame.direction_to_local(end - start);
+    const double reach = std::hypot(cutter.profile().max_radius(), cutter.profile().height());
+    if (!(d.norm() > 1e-9 * reach)) {
+      return BRepBuilderAPI_Transform(tool, to_world, true).Shape();
+    }
+    const Vec3 dh(d.x(), d.y(), 0.0);
+    const bool across = dh.norm() > 1e-12 * d.norm();
+    // 1. The tool's faces cut along the silhouette.
+    TopTools_ListOfShape skin, cuts;
+    for (TopExp_Explorer e(tool, TopAbs_SHELL); e.More(); e.Next()) skin.Append(e.Current());
+    const double big = 4.0 * reach;
+    for (const Plane& plane : silhouette_planes(cutter, d)) {
+      cuts.Append(BRepBuilderAPI_MakeFace(gp_Pln(point(plane.origin), direction(plane.normal)),
+                                          -big, big, -big, big)
+                      .Face());
+    }
+    TopoDS_Shape faces = tool;
+    if (!cuts.IsEmpty()) {
+      BRepAlgoAPI_Splitter splitter;
+      splitter.SetArguments(skin);
+      splitter.SetTools(cuts);
+      splitter.SetRunParallel(false);
+      splitter.Build();
+      check_done(splitter.IsDone() && !splitter.HasErrors(), "cutting the tool's faces", cutter);
+      faces = splitter.Shape();
+    }
+    // 2. Each face trails (kept at the start) or leads (kept at the end): by the sign of n·d;
+    // a face d runs along (a disc under a level move, the flank under a plunge) by its side of
+    // the axial plane, or trailing under a plunge.
+    TopTools_IndexedMapOfShape trailing;
+    std::vector<TopoDS_Face> kept_start, kept_end;
+    for (TopExp_Explorer e(faces, TopAbs_FACE); e.More(); e.Next()) {
+      const TopoDS_Face& face = TopoDS::Face(e.Current());
+      Vec3 at, normal;
+      if (!face_sample(face, at, normal)) {
+        throw ComputationError(
+            fmt::format("{}: a face of the tool has no inner point", cutter.name()));
+      }
+      const double lead = normal.dot(d) / d.norm();
+      const bool trails = std::abs(lead) > 1e-9 ? lead < 0.0 : !across || at.dot(dh) < 0.0;
+      if (trails) {
+        trailing.Add(face);
+        kept_start.push_back(face);
+      } else {
+        kept_end.push_back(face);
+      }
+    }
+    // 3. The silhouette: edges between a trailing and a leading face, swept along d.
+    TopTools_IndexedDataMapOfShapeListOfShape edge_faces;
+    TopExp::MapShapesAndAncestors(faces, TopAbs_EDGE, TopAbs_FACE, edge_faces);
+    const gp_Vec along(d.x(), d.y(), d.z());
+    BRepBuilderAPI_Sewing sewing(1e-6 * reach);
+    for (const TopoDS_Face& face : kept_start) sewing.Add(face);
+    gp_Trsf shift;
+    shift.SetTranslation(along);
+    for (const TopoDS_Face& face : kept_end) {
+      sewing.Add(BRepBuilderAPI_Transform(face, shift, true).Shape());
+    }
+    for (int k = 1; k <= edge_faces.Extent(); ++k) {
+      const TopoDS_Edge& edge = TopoDS::Edge(edge_faces.FindKey(k));
+      if (BRep_Tool::Degenerated(edge)) continue;
+      int trails = 0, leads = 0;
+      for (const TopoDS_Shape& f : edge_faces.FindFromIndex(k)) {
+        ++(trailing.Contains(f) ? trails : leads);
+      }
+      if (trails == 0 || leads == 0) continue;
+      BRepPrimAPI_MakePrism band(edge, along, /*Copy=*/true);
+      check_done(band.IsDone(), "sweeping the silhouette", cutter);
+      sewing.Add(band.Shape());
+    }
+    sewing.Perform();
+    // 4. The closed skin as a solid, turned outward.
+    TopoDS_Shell shell;
+    int shells = 0;
+    for (TopExp_Explorer e(sewing.SewedShape(), TopAbs_SHELL); e.More(); e.Next()) {
+      shell = TopoDS::Shell(e.Current());
+      ++shells;
+    }
+    if (shells != 1 || !BRep_Tool::IsClosed(shell)) {
+      throw ComputationError(
+          fmt::format("{}: the swept volume's faces do not close into one skin ({} shells)",
+                      cutter.name(), shells));
+    }
+    BRepBuilderAPI_MakeSolid make(shell);
+    check_done(make.IsDone(), "making the swept volume a solid", cutter);
+    TopoDS_Solid solid = make.Solid();
+    if (shape_volume(solid) < 0.0) solid.Reverse();
+    const TopoDS_Shape swept = BRepBuilderAPI_Transform(solid, to_world, true).Shape();
+    if (!BRepCheck_Analyzer(swept).IsValid()) {
+      throw ComputationError(
+          fmt::format("{}: the swept volume is not a valid solid", cutter.name()));
+    }
+    return swept;
+  } catch (const Standard_Failure& e) {
+    throw ComputationError(fmt::format("{}: OpenCASCADE could not build the swept volume ({})",
+                                       cutter.name(), e.GetMessageString()));
+  }
+}
+
+}  // namespace cwe
