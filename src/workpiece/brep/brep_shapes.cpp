@@ -157,10 +157,10 @@ bool face_sample(const TopoDS_Face& face, Vec3& at, Vec3& normal) {
   const BRepAdaptor_Surface surface(face);
   // The middle of the face's parameter box first, then ever finer grids over it (a sliver
   // between two cuts may hold none of the coarse points).
-  for (int n = 1; n <= 64; n *= 2) {
-    for (int i = 0; i < n; ++i) {
-      for (int j = 0; j < n; ++j) {
-        const double fu = (i + 0.5) / n, fv = (j + 0.5) / n;
+  for (int grid = 1; grid <= 64; grid *= 2) {
+    for (int i = 0; i < grid; ++i) {
+      for (int j = 0; j < grid; ++j) {
+        const double fu = (i + 0.5) / grid, fv = (j + 0.5) / grid;
         const gp_Pnt2d uv(u0 + fu * (u1 - u0), v0 + fv * (v1 - v0));
         BRepClass_FaceClassifier inside(face, uv, 1e-9);
         if (inside.State() != TopAbs_IN) continue;
@@ -242,7 +242,7 @@ TopoDS_Shape linear_sweep_solid(const Cutter& cutter, const Vec3& start, const V
     std::vector<TopoDS_Face> kept_start, kept_end;
     for (TopExp_Explorer e(faces, TopAbs_FACE); e.More(); e.Next()) {
       const TopoDS_Face& face = TopoDS::Face(e.Current());
-      Vec3 at, normal;
+      Vec3 at = Vec3::Zero(), normal = Vec3::Zero();
       if (!face_sample(face, at, normal)) {
         throw ComputationError(
             fmt::format("{}: a face of the tool has no inner point", cutter.name()));
