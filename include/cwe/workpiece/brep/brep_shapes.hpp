@@ -26,6 +26,7 @@
 
 #include "cwe/geometry/vec.hpp"
 #include "cwe/tool/cutter.hpp"
+#include "cwe/workpiece/brep/brep_stock.hpp"
 
 namespace cwe {
 
@@ -42,5 +43,12 @@ TopoDS_Shape linear_sweep_solid(const Cutter& cutter, const Vec3& start, const V
 
 // Volume of a shape, mm³ (BRepGProp).
 double shape_volume(const TopoDS_Shape& shape);
+
+struct BrepStock::Solid {
+  TopoDS_Shape shape;
+};
+
+// The stock as the solids of `shape` (a STEP file's, checked by StepModel).
+BrepStock brep_stock(const TopoDS_Shape& shape);
 
 }  // namespace cwe

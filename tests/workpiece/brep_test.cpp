@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cwe/core/computation_error.hpp"
+#include "cwe/core/error.hpp"
 #include "cwe/core/numbers.hpp"
 #include "cwe/tool/tool_spec.hpp"
 #include "cwe/workpiece/brep/brep_shapes.hpp"
@@ -136,6 +137,61 @@ TEST(BrepShapes, TorusAlongARampIsRefused) {
   const Cutter cutter = cutter_from_spec("bull:10,2,20");
   EXPECT_THROW(linear_sweep_solid(cutter, Vec3::Zero(), Vec3(10, 0, -3), Vec3::UnitZ()),
                ComputationError);
+}
+
+}  // namespace
+}  // namespace cwe
+
+namespace cwe {
+namespace {
+
+// Removal from a 60 × 40 × 20 block (top at z = 20) against closed forms: cuts of the B-rep
+// stock are exact up to OpenCASCADE's volume integration, so 1e-6 relative.
+TEST(BrepStock, SlotsGrooveAndPlungeRemoveTheirClosedForms) {
+  const Aabb block{{0, 0, 0}, {60, 40, 20}};
+  const Vec3 z = Vec3::UnitZ();
+  {
+    // A flat end mill D = 10, 3 mm deep, through along X; then across along Y.
+    BrepStock stock = BrepStock::from_box(block);
+    const Cutter flat = cutter_from_spec("flat:10,30");
+    EXPECT_NEAR(stock.cut_linear(flat, {-10, 20, 17}, {70, 20, 17}, z), 1800.0, 1e-6 * 1800.0);
+    // The crossing slot takes its 40 × 10 × 3 less the square both share.
+    EXPECT_NEAR(stock.cut_linear(flat, {30, -10, 17}, {30, 50, 17}, z), 900.0, 1e-6 * 900.0);
+    EXPECT_NEAR(stock.volume(), 48000.0 - 2700.0, 1e-6 * 48000.0);
+    // Again along the first slot: nothing left to take.
+    EXPECT_NEAR(stock.cut_linear(flat, {-10, 20, 17}, {70, 20, 17}, z), 0.0, 1e-6 * 1800.0);
+    // A plunge 3 mm deep elsewhere: π r² · 3.
+    EXPECT_NEAR(stock.cut_linear(flat, {10, 8, 25}, {10, 8, 17}, z), kPi * 25.0 * 3.0,
+                1e-6 * kPi * 75.0);
+  }
+  {
+    // A ball end mill R = 5, tip 3 mm deep: the circular segment of height 3 along 60 mm.
+    BrepStock stock = BrepStock::from_box(block);
+    const Cutter ball = cutter_from_spec("ball:10,30");
+    const double r = 5.0, h = 3.0;
+    const double segment = r * r * std::acos((r - h) / r) - (r - h) * std::sqrt(2 * r * h - h * h);
+    EXPECT_NEAR(stock.cut_linear(ball, {-10, 20, 17}, {70, 20, 17}, z), 60.0 * segment,
+                1e-6 * 60.0 * segment);
+  }
+  {
+    // Wholly inside the block, a tilted bull-nose (3+2) takes its whole swept volume.
+    BrepStock stock = BrepStock::from_box({{-50, -50, -50}, {100, 100, 100}});
+    const Cutter bull = cutter_from_spec("bull:10,2,20");
+    const Vec3 axis(0.0, -std::sin(20 * kPi / 180), std::cos(20 * kPi / 180));
+    const double taken = stock.cut_linear(bull, {0, 10, 10}, {30, 10, 10}, axis);
+    const Frame frame = Frame::from_z(Vec3::Zero(), axis, Vec3::UnitX());
+    const double exact =
+        tool_volume(bull) + 30.0 * shadow_area(bull, frame.direction_to_local(Vec3::UnitX()));
+    EXPECT_NEAR(taken, exact, 1e-6 * exact);
+  }
+}
+
+TEST(BrepStock, MovesOffTheStockTakeNothing) {
+  BrepStock stock = BrepStock::from_box({{0, 0, 0}, {60, 40, 20}});
+  const Cutter flat = cutter_from_spec("flat:10,30");
+  EXPECT_EQ(stock.cut_linear(flat, {-10, 20, 25}, {70, 20, 25}, Vec3::UnitZ()), 0.0);
+  EXPECT_NEAR(stock.volume(), 48000.0, 1e-9 * 48000.0);
+  EXPECT_THROW(BrepStock::from_box({{0, 0, 0}, {0, 1, 1}}), InputError);
 }
 
 }  // namespace

@@ -1,0 +1,50 @@
+#pragma once
+// The in-process workpiece as an exact solid (OpenCASCADE B-rep): the thesis's reference
+// representation (Aras 2008 §6.1). Each move's swept volume is built exactly
+// (cwe/workpiece/brep/brep_shapes.hpp) and cut from the solid with BRepAlgoAPI_Cut; after every
+// cut the solid must be valid (BRepCheck) and have lost between 0 and the swept volume's volume,
+// else the cut is tried again with a fuzzy value, and then the move is refused
+// (ComputationError): a run never goes on with a broken solid.
+//
+// OpenCASCADE's types stay behind this header; cwe/workpiece/brep/brep_shapes.hpp gives the
+// solid itself to the code that needs it (STEP output, tessellation, tests).
+
+#include <memory>
+
+#include "cwe/geometry/aabb.hpp"
+#include "cwe/geometry/vec.hpp"
+#include "cwe/tool/cutter.hpp"
+
+namespace cwe {
+
+class BrepStock {
+ public:
+  // A box. Throws InputError for a box of no volume.
+  static BrepStock from_box(const Aabb& box);
+
+  BrepStock(BrepStock&&) noexcept;
+  BrepStock& operator=(BrepStock&&) noexcept;
+  ~BrepStock();
+
+  // Cuts the volume the cutter sweeps along a line with a constant axis (3-axis and 3+2 moves;
+  // linear_sweep_solid) and returns the volume removed, mm³. Throws ComputationError when the
+  // sweep cannot be built or the cut fails its checks; the stock is then unchanged.
+  double cut_linear(const Cutter& cutter, const Vec3& start, const Vec3& end, const Vec3& axis);
+
+  struct Solid;  // the OpenCASCADE shape (brep_shapes.hpp)
+  // Cuts a solid (a swept volume) and returns the volume removed, mm³, with the checks above.
+  double cut(const Solid& cutter);
+
+  double volume() const { return volume_; }  // mm³, exact (BRepGProp)
+  Aabb bounds() const;
+  int faces() const;
+
+  const Solid& solid() const { return *solid_; }
+  explicit BrepStock(std::unique_ptr<Solid> solid);
+
+ private:
+  std::unique_ptr<Solid> solid_;
+  double volume_ = 0.0;
+};
+
+}  // namespace cwe

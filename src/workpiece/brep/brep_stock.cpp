@@ -1,0 +1,132 @@
+#include "cwe/workpiece/brep/brep_stock.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <fmt/format.h>
+#include <BRepAlgoAPI_Cut.hxx>
+#include <BRepBndLib.hxx>
+#include <BRepCheck_Analyzer.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <Bnd_Box.hxx>
+#include <ShapeUpgrade_UnifySameDomain.hxx>
+#include <Standard_Failure.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_ListOfShape.hxx>
+
+#include "cwe/core/computation_error.hpp"
+#include "cwe/core/error.hpp"
+#include "cwe/workpiece/brep/brep_shapes.hpp"
+
+namespace cwe {
+namespace {
+
+Bnd_Box box_of(const TopoDS_Shape& shape) {
+  Bnd_Box box;
+  BRepBndLib::Add(shape, box, /*useTriangulation=*/false);
+  return box;
+}
+
+}  // namespace
+
+BrepStock::BrepStock(std::unique_ptr<Solid> solid)
+    : solid_(std::move(solid)), volume_(shape_volume(solid_->shape)) {}
+BrepStock::BrepStock(BrepStock&&) noexcept = default;
+BrepStock& BrepStock::operator=(BrepStock&&) noexcept = default;
+BrepStock::~BrepStock() = default;
+
+BrepStock BrepStock::from_box(const Aabb& box) {
+  if (box.is_empty() || !box.min.allFinite() || !box.max.allFinite() ||
+      !((box.max - box.min).minCoeff() > 0.0)) {
+    throw InputError("B-rep stock: the box must have a positive size along x, y and z");
+  }
+  auto solid = std::make_unique<Solid>();
+  solid->shape = BRepPrimAPI_MakeBox(gp_Pnt(box.min.x(), box.min.y(), box.min.z()),
+                                     gp_Pnt(box.max.x(), box.max.y(), box.max.z()))
+                     .Shape();
+  return BrepStock(std::move(solid));
+}
+
+BrepStock brep_stock(const TopoDS_Shape& shape) {
+  auto solid = std::make_unique<BrepStock::Solid>();
+  solid->shape = shape;
+  return BrepStock(std::move(solid));
+}
+
+Aabb BrepStock::bounds() const {
+  const Bnd_Box box = box_of(solid_->shape);
+  if (box.IsVoid()) return Aabb();
+  double x0 = 0, y0 = 0, z0 = 0, x1 = 0, y1 = 0, z1 = 0;
+  box.Get(x0, y0, z0, x1, y1, z1);
+  return Aabb{{x0, y0, z0}, {x1, y1, z1}};
+}
+
+int BrepStock::faces() const {
+  int n = 0;
+  for (TopExp_Explorer e(solid_->shape, TopAbs_FACE); e.More(); e.Next()) ++n;
+  return n;
+}
+
+double BrepStock::cut_linear(const Cutter& cutter, const Vec3& start, const Vec3& end,
+                             const Vec3& axis) {
+  Solid sweep;
+  sweep.shape = linear_sweep_solid(cutter, start, end, axis);
+  return cut(sweep);
+}
+
+double BrepStock::cut(const Solid& cutter) {
+  if (box_of(cutter.shape).IsOut(box_of(solid_->shape))) return 0.0;
+  const double swept = shape_volume(cutter.shape);
+  const Aabb box = bounds();
+  const double size = box.is_empty() ? 1.0 : (box.max - box.min).norm();
+  // BRepGProp integrates curved faces numerically: a relative 1e-7 of the stock is far above
+  // its error and far below any chip.
+  const double slack = 1e-7 * std::max(volume_, 1.0);
+  std::string failure;
+  // As it is, then with OpenCASCADE's fuzzy option (faces within 1e-6 of the stock's size are
+  // taken as touching).
+  for (const double fuzzy : {0.0, 1e-6 * size}) {
+    try {
+      TopTools_ListOfShape stock, tools;
+      stock.Append(solid_->shape);
+      tools.Append(cutter.shape);
+      BRepAlgoAPI_Cut cut;
+      cut.SetArguments(stock);
+      cut.SetTools(tools);
+      cut.SetRunParallel(false);
+      if (fuzzy > 0.0) cut.SetFuzzyValue(fuzzy);
+      cut.Build();
+      if (!cut.IsDone() || cut.HasErrors()) {
+        failure = "BRepAlgoAPI_Cut reported an error";
+        continue;
+      }
+      ShapeUpgrade_UnifySameDomain unify(cut.Shape(), true, true, true);
+      unify.Build();
+      const TopoDS_Shape result = unify.Shape();
+      if (!BRepCheck_Analyzer(result).IsValid()) {
+        failure = "the result is not a valid solid (BRepCheck)";
+        continue;
+      }
+      const double after = shape_volume(result);
+      const double taken = volume_ - after;
+      if (taken < -slack || taken > swept + slack) {
+        failure = fmt::format(
+            "the stock's volume changed by {:g} mm³, outside [0, {:g}] mm³ "
+            "(the swept volume's)",
+            -taken, swept);
+        continue;
+      }
+      solid_->shape = result;
+      volume_ = after;
+      return std::max(0.0, taken);
+    } catch (const Standard_Failure& e) {
+      failure =
+          fmt::format("OpenCASCADE failed ({}: {})", e.DynamicType()->Name(), e.GetMessageString());
+    }
+  }
+  throw ComputationError(
+      fmt::format("B-rep removal: {} (also with a fuzzy value of {:g} mm)", failure, 1e-6 * size));
+}
+
+}  // namespace cwe
