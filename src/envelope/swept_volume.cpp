@@ -39,6 +39,77 @@ Frame frame_at(const Vec3& tip, const Vec3& axis) {
   return Frame::from_z(tip, axis, Vec3::UnitX());
 }
 
+// Composite Simpson's rule of f over [a, b] in n (even) intervals.
+template <class F>
+double simpson(F f, double a, double b, int n) {
+  const double h = (b - a) / n;
+  double sum = f(a) + f(b);
+  for (int k = 1; k < n; ++k) sum += (k % 2 ? 4.0 : 2.0) * f(a + k * h);
+  return sum * h / 3.0;
+}
+
+// ∫ g(ρ) dz over the profile, along each piece's length (smooth where ρ(z) is not: a ball's √z
+// at the tip).
+template <class G>
+double over_profile(const Cutter& cutter, G g) {
+  double sum = 0.0;
+  for (const ProfileSegment& s : cutter.profile().segments()) {
+    if (s.max_z() - s.min_z() < 1e-12) continue;
+    sum += simpson([&](double u) { return g(s.point_at(u).x()) * s.tangent_at(u).y(); }, 0.0, 1.0,
+                   2000) *
+           s.length();
+  }
+  return sum;
+}
+
+// ∫₀^2π |A cos φ + B| dφ for A ≥ 0.
+double ring_integral(double a, double b) {
+  if (std::abs(b) >= a) return 2.0 * M_PI * std::abs(b);
+  const double phi0 = std::acos(-b / a);
+  return 4.0 * (a * std::sin(phi0) + b * phi0) - 2.0 * M_PI * b;
+}
+
+// The area of the tool's shadow along unit local d, ½∮|n·d| dS (Cauchy).
+double shadow_area(const Cutter& cutter, const Vec3& d) {
+  const double h = std::hypot(d.x(), d.y());
+  double twice = 0.0;
+  for (const ProfileSegment& s : cutter.profile().segments()) {
+    if (s.length() < 1e-12) continue;
+    twice += simpson(
+                 [&](double u) {
+                   const Vec2 q = s.point_at(u), n = s.normal_at(u);
+                   return q.x() * ring_integral(n.x() * h, n.y() * d.z());
+                 },
+                 0.0, 1.0, 2000) *
+             s.length();
+  }
+  const double top = cutter.profile().top_radius();
+  return 0.5 * (twice + std::abs(d.z()) * M_PI * top * top);
+}
+
+// The area a disc of radius ρ sweeps with its centre on an arc of radius R through α: where
+// R ≥ ρ, the annular strip and the two end half discs (2αRρ + πρ², valid while they do not
+// overlap); where R < ρ the disc covers the arc's axis: the sector out to R + ρ and, beyond the
+// arc's angles, the farther reach of the two end discs along each ray from the axis.
+double arc_swept_area(double big_r, double rho, double alpha) {
+  if (alpha >= 2.0 * M_PI) {
+    const double inner = std::max(0.0, big_r - rho);
+    return M_PI * ((big_r + rho) * (big_r + rho) - inner * inner);
+  }
+  if (big_r >= rho) return 2.0 * alpha * big_r * rho + M_PI * rho * rho;
+  const auto reach = [&](double phi) {
+    const double s = std::sin(phi);
+    return big_r * std::cos(phi) + std::sqrt(rho * rho - big_r * big_r * s * s);
+  };
+  return 0.5 * alpha * (big_r + rho) * (big_r + rho) +
+         simpson(
+             [&](double phi) {
+               const double r = std::max(reach(phi), reach(phi - alpha));
+               return 0.5 * r * r;
+             },
+             alpha, 2.0 * M_PI, 4000);
+}
+
 }  // namespace
 
 bool is_convex(const Cutter& cutter) {
@@ -329,6 +400,20 @@ std::vector<TriangleMesh> planar_arc_sweep(const Cutter& cutter, double toleranc
     }
   }
   return result;
+}
+
+double cutter_volume(const Cutter& cutter) {
+  return over_profile(cutter, [](double rho) { return M_PI * rho * rho; });
+}
+
+double line_swept_volume(const Cutter& cutter, const Vec3& d) {
+  const double length = d.norm();
+  if (!(length > 0.0)) return cutter_volume(cutter);
+  return cutter_volume(cutter) + length * shadow_area(cutter, d / length);
+}
+
+double planar_arc_swept_volume(const Cutter& cutter, double radius, double sweep) {
+  return over_profile(cutter, [&](double rho) { return arc_swept_area(radius, rho, sweep); });
 }
 
 }  // namespace cwe

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "cwe/core/numbers.hpp"
 #include "cwe/tool/tool_spec.hpp"
 #include "random.hpp"
 #include "sweep_oracle.hpp"
@@ -280,6 +281,58 @@ TEST(SweptVolume, RefusesWhatItCannotBuild) {
   for (const char* spec : {"flat:10", "ball:10", "bull:10,2", "taper-flat:6,5", "taper-flat:10,-3",
                            "taper-ball:4,3", "chamfer:12,90", "apt:7.8586,1,3,1.5444,10,5,20"}) {
     EXPECT_TRUE(is_convex(cutter_from_spec(spec))) << spec;
+  }
+}
+
+// The volumes from the profile alone (what the B-rep workpiece checks its solids by) against
+// closed forms: flat and ball end mills on lines at any slope, and planar arcs.
+TEST(SweptVolumeFormulas, LinesAgreeWithClosedForms) {
+  const double r = 5.0, h = 20.0, length = 17.0;
+  const Cutter flat = cutter_from_spec("flat:10,20");
+  EXPECT_NEAR(cutter_volume(flat), kPi * r * r * h, 1e-9 * kPi * r * r * h);
+  for (const double deg : {0.0, 10.0, -35.0, 90.0}) {
+    const double g = deg * kPi / 180.0;
+    const Vec3 d = length * Vec3(0.6 * std::cos(g), 0.8 * std::cos(g), std::sin(g));
+    const double exact =
+        kPi * r * r * h + length * (2 * r * h * std::cos(g) + kPi * r * r * std::abs(std::sin(g)));
+    EXPECT_NEAR(line_swept_volume(flat, d), exact, 1e-8 * exact) << deg;
+  }
+  // A ball end: the cylinder over a hemisphere; level, its shadow is the rectangle over a half
+  // disc; plunging, the disc.
+  const Cutter ball = cutter_from_spec("ball:10,20");
+  const double tool = kPi * r * r * (h - r) + 2.0 / 3.0 * kPi * r * r * r;
+  EXPECT_NEAR(cutter_volume(ball), tool, 1e-8 * tool);
+  const double level = tool + length * (2 * r * (h - r) + kPi * r * r / 2);
+  EXPECT_NEAR(line_swept_volume(ball, Vec3(length, 0, 0)), level, 1e-8 * level);
+  const double plunge = tool + length * kPi * r * r;
+  EXPECT_NEAR(line_swept_volume(ball, Vec3(0, 0, -length)), plunge, 1e-8 * plunge);
+}
+
+// A flat end mill on arcs: h·(2αRr + πr²) off the arc's axis, h·4πRr for a full ring; round a
+// corner (R < r) against the area of the points within r of the arc on a 0.02 mm grid (the
+// nearest point of the arc is the radial projection, or the end nearer in angle).
+TEST(SweptVolumeFormulas, PlanarArcsAgreeWithClosedFormsAndAGrid) {
+  const double r = 5.0, h = 20.0;
+  const Cutter flat = cutter_from_spec("flat:10,20");
+  const double off = h * (2 * 1.2 * 12.0 * r + kPi * r * r);
+  EXPECT_NEAR(planar_arc_swept_volume(flat, 12.0, 1.2), off, 1e-8 * off);
+  const double ring = h * 4 * kPi * 12.0 * r;
+  EXPECT_NEAR(planar_arc_swept_volume(flat, 12.0, kTwoPi), ring, 1e-8 * ring);
+  for (const double big_r : {3.0, 1.0}) {
+    const double alpha = 0.5 * kPi, step = 0.02, extent = big_r + r;
+    long inside = 0;
+    for (double x = -extent; x <= extent; x += step) {
+      for (double y = -extent; y <= extent; y += step) {
+        // The polar angle within a turn centred on the arc's middle, clamped to its ends.
+        double polar = std::atan2(y, x);
+        if (polar < 0.5 * alpha - kPi) polar += kTwoPi;
+        const double angle = std::clamp(polar, 0.0, alpha);
+        const double dx = x - big_r * std::cos(angle), dy = y - big_r * std::sin(angle);
+        if (dx * dx + dy * dy <= r * r) ++inside;
+      }
+    }
+    const double grid = h * static_cast<double>(inside) * step * step;
+    EXPECT_NEAR(planar_arc_swept_volume(flat, big_r, alpha), grid, 2e-3 * grid) << big_r;
   }
 }
 

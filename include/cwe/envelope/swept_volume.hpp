@@ -74,6 +74,20 @@ std::vector<TriangleMesh> planar_arc_sweep(const Cutter& cutter, double toleranc
 // Is the cutter's solid convex (radius a concave function of height)?
 bool is_convex(const Cutter& cutter);
 
+// Volumes from the profile alone (1-D quadrature, a relative error near 1e-8; no meshes), for a
+// convex cutter: what exact sweeps must measure (the B-rep workpiece checks its solids by them).
+// The cutter's volume, π∫ρ² dz.
+double cutter_volume(const Cutter& cutter);
+// The volume swept along the segment d (tool frame, any length) with a constant axis: the
+// Minkowski sum's V(T) + |d|·A(d̂), the shadow's area A by Cauchy's formula ½∮|n·d̂| dS.
+double line_swept_volume(const Cutter& cutter, const Vec3& d);
+// The volume swept along a planar arc of radius `radius` (the tip's distance from the arc's
+// axis) through `sweep` radians (≥ 2π: a full ring), the axis along the arc's normal: slice by
+// slice, the area a disc sweeps (the annular strip and the end half discs off the arc's axis;
+// over it, the sector and what the end discs reach beyond it). Off the axis the end half discs
+// must not overlap: sweep + 2·asin(ρmax/R) ≤ 2π.
+double planar_arc_swept_volume(const Cutter& cutter, double radius, double sweep);
+
 // Throws InputError for a non-convex cutter or a tolerance that is not positive.
 SweptVolume swept_volume(const Cutter& cutter, const Move& move,
                          const SweptVolumeOptions& options = {});

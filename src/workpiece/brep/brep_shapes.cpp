@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 #include <BRepAdaptor_Surface.hxx>
+#include <BRepAlgoAPI_Common.hxx>
+#include <BRepAlgoAPI_Fuse.hxx>
 #include <BRepAlgoAPI_Splitter.hxx>
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
@@ -22,6 +24,7 @@
 #include <BRep_Tool.hxx>
 #include <GC_MakeArcOfCircle.hxx>
 #include <GProp_GProps.hxx>
+#include <ShapeUpgrade_UnifySameDomain.hxx>
 #include <Standard_Failure.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
@@ -33,6 +36,7 @@
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shell.hxx>
 #include <gp_Ax1.hxx>
+#include <gp_Ax3.hxx>
 #include <gp_Pln.hxx>
 #include <gp_Trsf.hxx>
 
@@ -184,6 +188,17 @@ void check_done(bool done, const char* what, const Cutter& cutter) {
   if (!done) throw ComputationError(fmt::format("{}: {} failed", cutter.name(), what));
 }
 
+// A swept solid whose volume is not the one its motion sweeps (OpenCASCADE's booleans can lose
+// part of a solid without a word) is refused.
+void check_volume(const TopoDS_Shape& swept, double expected, const Cutter& cutter,
+                  const char* what) {
+  const double v = shape_volume(swept);
+  if (!(std::abs(v - expected) <= 1e-5 * expected)) {
+    throw ComputationError(
+        fmt::format("{}: the {} has a volume of {:.6g} mm³ where the motion sweeps {:.6g} mm³",
+                    cutter.name(), what, v, expected));
+  }
+}
 }  // namespace
 
 double shape_volume(const TopoDS_Shape& shape) {
@@ -203,6 +218,116 @@ TopoDS_Solid tool_solid(const Cutter& cutter, const Vec3& tip, const Vec3& axis)
   }
 }
 
+namespace {
+
+// The tool's faces (`tool`, a solid) cut by the planes.
+TopoDS_Shape cut_faces(const TopoDS_Shape& tool, const std::vector<Plane>& planes, double big,
+                       const Cutter& cutter) {
+  if (planes.empty()) return tool;
+  TopTools_ListOfShape skin, cuts;
+  for (TopExp_Explorer e(tool, TopAbs_SHELL); e.More(); e.Next()) skin.Append(e.Current());
+  for (const Plane& plane : planes) {
+    cuts.Append(BRepBuilderAPI_MakeFace(gp_Pln(point(plane.origin), direction(plane.normal)), -big,
+                                        big, -big, big)
+                    .Face());
+  }
+  BRepAlgoAPI_Splitter splitter;
+  splitter.SetArguments(skin);
+  splitter.SetTools(cuts);
+  splitter.SetRunParallel(false);
+  splitter.Build();
+  check_done(splitter.IsDone() && !splitter.HasErrors(), "cutting the tool's faces", cutter);
+  return splitter.Shape();
+}
+
+// The solid a tool sweeps under a rigid motion, sewn from its faces (`faces`: the tool's faces
+// cut along the silhouette): those for which `trails(point, outward normal)` holds kept where
+// the motion starts, the others moved to where it ends by `to_end`, and the silhouette (edges
+// between the two kinds) swept by `band`. Throws ComputationError when the faces do not close
+// into a valid solid.
+template <class Trails, class Band>
+TopoDS_Shape sewn_sweep(const TopoDS_Shape& faces, Trails trails, const gp_Trsf& to_end, Band band,
+                        double tolerance, const Cutter& cutter) {
+  TopTools_IndexedMapOfShape trailing;
+  BRepBuilderAPI_Sewing sewing(tolerance);
+  for (TopExp_Explorer e(faces, TopAbs_FACE); e.More(); e.Next()) {
+    const TopoDS_Face& face = TopoDS::Face(e.Current());
+    Vec3 at = Vec3::Zero(), normal = Vec3::Zero();
+    if (!face_sample(face, at, normal)) {
+      throw ComputationError(
+          fmt::format("{}: a face of the tool has no inner point", cutter.name()));
+    }
+    if (trails(at, normal)) {
+      trailing.Add(face);
+      sewing.Add(face);
+    } else {
+      sewing.Add(BRepBuilderAPI_Transform(face, to_end, true).Shape());
+    }
+  }
+  TopTools_IndexedDataMapOfShapeListOfShape edge_faces;
+  TopExp::MapShapesAndAncestors(faces, TopAbs_EDGE, TopAbs_FACE, edge_faces);
+  for (int k = 1; k <= edge_faces.Extent(); ++k) {
+    const TopoDS_Edge& edge = TopoDS::Edge(edge_faces.FindKey(k));
+    if (BRep_Tool::Degenerated(edge)) continue;
+    int trail = 0, lead = 0;
+    for (const TopoDS_Shape& f : edge_faces.FindFromIndex(k))
+      ++(trailing.Contains(f) ? trail : lead);
+    if (trail > 0 && lead > 0) sewing.Add(band(edge));
+  }
+  sewing.Perform();
+  TopoDS_Shell shell;
+  int shells = 0;
+  for (TopExp_Explorer e(sewing.SewedShape(), TopAbs_SHELL); e.More(); e.Next()) {
+    shell = TopoDS::Shell(e.Current());
+    ++shells;
+  }
+  if (shells != 1 || !BRep_Tool::IsClosed(shell)) {
+    throw ComputationError(
+        fmt::format("{}: the swept volume's faces do not close into one skin ({} shells)",
+                    cutter.name(), shells));
+  }
+  BRepBuilderAPI_MakeSolid make(shell);
+  check_done(make.IsDone(), "making the swept volume a solid", cutter);
+  TopoDS_Solid solid = make.Solid();
+  if (shape_volume(solid) < 0.0) solid.Reverse();
+  if (!BRepCheck_Analyzer(solid).IsValid()) {
+    throw ComputationError(fmt::format("{}: the swept volume is not a valid solid", cutter.name()));
+  }
+  return solid;
+}
+
+// The union of solids, refused (ComputationError) unless it is valid and its volume lies between
+// the largest part's and the parts' sum.
+TopoDS_Shape checked_union(const std::vector<TopoDS_Shape>& parts, const Cutter& cutter) {
+  TopTools_ListOfShape arguments, tools;
+  double largest = 0.0, sum = 0.0;
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    (k == 0 ? arguments : tools).Append(parts[k]);
+    const double v = shape_volume(parts[k]);
+    largest = std::max(largest, v);
+    sum += v;
+  }
+  BRepAlgoAPI_Fuse fuse;
+  fuse.SetArguments(arguments);
+  fuse.SetTools(tools);
+  fuse.SetRunParallel(false);
+  fuse.Build();
+  check_done(fuse.IsDone() && !fuse.HasErrors(), "the union of the sweep's parts", cutter);
+  ShapeUpgrade_UnifySameDomain unify(fuse.Shape(), true, true, true);
+  unify.Build();
+  const TopoDS_Shape joined = unify.Shape();
+  const double v = shape_volume(joined), slack = 1e-9 * sum;
+  if (!BRepCheck_Analyzer(joined).IsValid() || v < largest - slack || v > sum + slack) {
+    throw ComputationError(fmt::format(
+        "{}: the union of the sweep's parts is not a valid solid of a volume between its largest "
+        "part's and their sum ({:g} mm³, parts {:g} to {:g} mm³)",
+        cutter.name(), v, largest, sum));
+  }
+  return joined;
+}
+
+}  // namespace
+
 TopoDS_Shape linear_sweep_solid(const Cutter& cutter, const Vec3& start, const Vec3& end,
                                 const Vec3& axis) {
   try {
@@ -216,94 +341,85 @@ TopoDS_Shape linear_sweep_solid(const Cutter& cutter, const Vec3& start, const V
     }
     const Vec3 dh(d.x(), d.y(), 0.0);
     const bool across = dh.norm() > 1e-12 * d.norm();
-    // 1. The tool's faces cut along the silhouette.
-    TopTools_ListOfShape skin, cuts;
-    for (TopExp_Explorer e(tool, TopAbs_SHELL); e.More(); e.Next()) skin.Append(e.Current());
-    const double big = 4.0 * reach;
-    for (const Plane& plane : silhouette_planes(cutter, d)) {
-      cuts.Append(BRepBuilderAPI_MakeFace(gp_Pln(point(plane.origin), direction(plane.normal)),
-                                          -big, big, -big, big)
-                      .Face());
-    }
-    TopoDS_Shape faces = tool;
-    if (!cuts.IsEmpty()) {
-      BRepAlgoAPI_Splitter splitter;
-      splitter.SetArguments(skin);
-      splitter.SetTools(cuts);
-      splitter.SetRunParallel(false);
-      splitter.Build();
-      check_done(splitter.IsDone() && !splitter.HasErrors(), "cutting the tool's faces", cutter);
-      faces = splitter.Shape();
-    }
-    // 2. Each face trails (kept at the start) or leads (kept at the end): by the sign of n·d;
-    // a face d runs along (a disc under a level move, the flank under a plunge) by its side of
-    // the axial plane, or trailing under a plunge.
-    TopTools_IndexedMapOfShape trailing;
-    std::vector<TopoDS_Face> kept_start, kept_end;
-    for (TopExp_Explorer e(faces, TopAbs_FACE); e.More(); e.Next()) {
-      const TopoDS_Face& face = TopoDS::Face(e.Current());
-      Vec3 at = Vec3::Zero(), normal = Vec3::Zero();
-      if (!face_sample(face, at, normal)) {
-        throw ComputationError(
-            fmt::format("{}: a face of the tool has no inner point", cutter.name()));
-      }
+    const TopoDS_Shape faces = cut_faces(tool, silhouette_planes(cutter, d), 4.0 * reach, cutter);
+    // A face trails by the sign of n·d; one d runs along (a disc under a level move, the flank
+    // under a plunge) by its side of the axial plane, or trailing under a plunge.
+    const auto trails = [&](const Vec3& at, const Vec3& normal) {
       const double lead = normal.dot(d) / d.norm();
-      const bool trails = std::abs(lead) > 1e-9 ? lead < 0.0 : !across || at.dot(dh) < 0.0;
-      if (trails) {
-        trailing.Add(face);
-        kept_start.push_back(face);
-      } else {
-        kept_end.push_back(face);
-      }
-    }
-    // 3. The silhouette: edges between a trailing and a leading face, swept along d.
-    TopTools_IndexedDataMapOfShapeListOfShape edge_faces;
-    TopExp::MapShapesAndAncestors(faces, TopAbs_EDGE, TopAbs_FACE, edge_faces);
+      return std::abs(lead) > 1e-9 ? lead < 0.0 : !across || at.dot(dh) < 0.0;
+    };
     const gp_Vec along(d.x(), d.y(), d.z());
-    BRepBuilderAPI_Sewing sewing(1e-6 * reach);
-    for (const TopoDS_Face& face : kept_start) sewing.Add(face);
     gp_Trsf shift;
     shift.SetTranslation(along);
-    for (const TopoDS_Face& face : kept_end) {
-      sewing.Add(BRepBuilderAPI_Transform(face, shift, true).Shape());
-    }
-    for (int k = 1; k <= edge_faces.Extent(); ++k) {
-      const TopoDS_Edge& edge = TopoDS::Edge(edge_faces.FindKey(k));
-      if (BRep_Tool::Degenerated(edge)) continue;
-      int trails = 0, leads = 0;
-      for (const TopoDS_Shape& f : edge_faces.FindFromIndex(k)) {
-        ++(trailing.Contains(f) ? trails : leads);
-      }
-      if (trails == 0 || leads == 0) continue;
-      BRepPrimAPI_MakePrism band(edge, along, /*Copy=*/true);
-      check_done(band.IsDone(), "sweeping the silhouette", cutter);
-      sewing.Add(band.Shape());
-    }
-    sewing.Perform();
-    // 4. The closed skin as a solid, turned outward.
-    TopoDS_Shell shell;
-    int shells = 0;
-    for (TopExp_Explorer e(sewing.SewedShape(), TopAbs_SHELL); e.More(); e.Next()) {
-      shell = TopoDS::Shell(e.Current());
-      ++shells;
-    }
-    if (shells != 1 || !BRep_Tool::IsClosed(shell)) {
-      throw ComputationError(
-          fmt::format("{}: the swept volume's faces do not close into one skin ({} shells)",
-                      cutter.name(), shells));
-    }
-    BRepBuilderAPI_MakeSolid make(shell);
-    check_done(make.IsDone(), "making the swept volume a solid", cutter);
-    TopoDS_Solid solid = make.Solid();
-    if (shape_volume(solid) < 0.0) solid.Reverse();
-    const TopoDS_Shape swept = BRepBuilderAPI_Transform(solid, to_world, true).Shape();
-    if (!BRepCheck_Analyzer(swept).IsValid()) {
-      throw ComputationError(
-          fmt::format("{}: the swept volume is not a valid solid", cutter.name()));
-    }
-    return swept;
+    const auto band = [&](const TopoDS_Edge& edge) {
+      BRepPrimAPI_MakePrism prism(edge, along, /*Copy=*/true);
+      check_done(prism.IsDone(), "sweeping the silhouette", cutter);
+      return prism.Shape();
+    };
+    const TopoDS_Shape swept = sewn_sweep(faces, trails, shift, band, 1e-6 * reach, cutter);
+    check_volume(swept, line_swept_volume(cutter, d), cutter, "line's swept volume");
+    return BRepBuilderAPI_Transform(swept, to_world, true).Shape();
   } catch (const Standard_Failure& e) {
     throw ComputationError(fmt::format("{}: OpenCASCADE could not build the swept volume ({})",
+                                       cutter.name(), e.GetMessageString()));
+  }
+}
+
+TopoDS_Shape planar_arc_sweep_solid(const Cutter& cutter, const Move& arc) {
+  try {
+    const Vec3 axis = arc.start_axis.normalized();
+    const Vec3 normal = arc.normal.normalized();
+    const Vec3 radial = arc.start - arc.center - (arc.start - arc.center).dot(normal) * normal;
+    const double big_r = radial.norm();
+    const TopoDS_Solid start = tool_solid(cutter, arc.start, axis);
+    if (!(big_r > 1e-9)) return start;  // the tool turning on its own axis
+    const double rho = cutter.profile().max_radius();
+    const double reach = std::hypot(rho, cutter.profile().height());
+    const double big = 4.0 * (reach + big_r);
+    const gp_Ax1 arc_axis(point(arc.center), direction(normal));
+    const double angle = std::min(arc.sweep, 2.0 * M_PI);
+    // The direction of travel at the tip, and the plane through both axes.
+    const Vec3 travel = normal.cross(radial).normalized();
+    if (big_r > rho + 1e-6 * reach && angle < 2.0 * M_PI) {
+      // Off the arc's axis: sewn from the tool's faces cut by the plane through both axes, where
+      // its silhouette lies (n is square to ω × (p − C) there); the faces the arc runs along
+      // (discs) by their side of that plane.
+      const TopoDS_Shape faces = cut_faces(start, {{arc.start, travel}}, big, cutter);
+      const Vec3 centre = arc.center;
+      const auto trails = [&](const Vec3& at, const Vec3& n) {
+        const Vec3 velocity = normal.cross(at - centre);
+        const double lead = n.dot(velocity) / velocity.norm();
+        return std::abs(lead) > 1e-9 ? lead < 0.0 : (at - arc.start).dot(travel) < 0.0;
+      };
+      gp_Trsf turn;
+      turn.SetRotation(arc_axis, angle);
+      const auto band = [&](const TopoDS_Edge& edge) {
+        BRepPrimAPI_MakeRevol revol(edge, arc_axis, angle, /*Copy=*/true);
+        check_done(revol.IsDone(), "revolving the silhouette", cutter);
+        return revol.Shape();
+      };
+      const TopoDS_Shape swept = sewn_sweep(faces, trails, turn, band, 1e-6 * reach, cutter);
+      check_volume(swept, planar_arc_swept_volume(cutter, big_r, angle), cutter,
+                   "arc's swept volume");
+      return swept;
+    }
+    // A full circle, or a corner (the tool covers the arc's axis): the section on the tool's
+    // side of the arc's axis, revolved, and the tool at both ends.
+    const gp_Ax3 frame(point(arc.center), direction(travel), direction(radial));
+    const TopoDS_Face half = BRepBuilderAPI_MakeFace(gp_Pln(frame), 0.0, big, -big, big).Face();
+    BRepAlgoAPI_Common section(start, half);
+    check_done(section.IsDone() && !section.HasErrors(), "the tool's section", cutter);
+    BRepPrimAPI_MakeRevol ring(section.Shape(), arc_axis, angle);
+    check_done(ring.IsDone(), "revolving the tool's section", cutter);
+    const TopoDS_Shape swept =
+        angle >= 2.0 * M_PI
+            ? ring.Shape()
+            : checked_union({ring.Shape(), start, tool_solid(cutter, arc.end, axis)}, cutter);
+    check_volume(swept, planar_arc_swept_volume(cutter, big_r, angle), cutter,
+                 "arc's swept volume");
+    return swept;
+  } catch (const Standard_Failure& e) {
+    throw ComputationError(fmt::format("{}: OpenCASCADE could not build the arc's sweep ({})",
                                        cutter.name(), e.GetMessageString()));
   }
 }

@@ -26,6 +26,7 @@
 
 #include "cwe/geometry/vec.hpp"
 #include "cwe/tool/cutter.hpp"
+#include "cwe/toolpath/move.hpp"
 #include "cwe/workpiece/brep/brep_stock.hpp"
 
 namespace cwe {
@@ -40,6 +41,13 @@ TopoDS_Solid tool_solid(const Cutter& cutter, const Vec3& tip, const Vec3& axis)
 // cannot build it, or for a torus along a ramp.
 TopoDS_Shape linear_sweep_solid(const Cutter& cutter, const Vec3& start, const Vec3& end,
                                 const Vec3& axis);
+
+// The volume the cutter sweeps along a planar arc (no advance along its normal) with its axis
+// along the arc's normal: the tool's section by the plane through both axes, clamped at the
+// arc's axis, revolved through the arc's angle (a ring for a full circle), with the tool at both
+// ends (the points of the sweep outside the arc's angles are nearest one of them). Throws
+// ComputationError when OpenCASCADE cannot build it.
+TopoDS_Shape planar_arc_sweep_solid(const Cutter& cutter, const Move& arc);
 
 // Volume of a shape, mm³ (BRepGProp).
 double shape_volume(const TopoDS_Shape& shape);
