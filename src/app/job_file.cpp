@@ -316,8 +316,9 @@ void add_job_options(CLI::App* cmd, SimulateCommandOptions& options) {
   cmd->add_option("--path", options.path, "Toolpath file (G-code or APT CLDATA)");
   const CLI::Validator length = positive("a positive length in mm");
   cmd->add_option("--workpiece", options.workpiece,
-                  "The in-process workpiece: dexel (tri-dexel rays, default) or mesh (a closed "
-                  "triangle mesh cut by CGAL's booleans, the polyhedral method)");
+                  "The in-process workpiece: dexel (tri-dexel rays, default), mesh (a closed "
+                  "triangle mesh cut by CGAL's booleans, the polyhedral method) or brep (an "
+                  "exact OpenCASCADE solid; removal only, with --stock-only)");
   cmd->add_option("--resolution", options.resolution,
                   "Ray spacing s, and the engagement maps' disc height, mm (default 0.1)")
       ->check(length);

@@ -27,6 +27,7 @@
 #include "cwe/io/cl_writers.hpp"
 #include "cwe/io/mesh_io.hpp"
 #include "cwe/io/output_set.hpp"
+#include "cwe/io/step.hpp"
 #include "cwe/job/run.hpp"
 #include "cwe/job/summary.hpp"
 #include "cwe/simulation/simulation.hpp"
@@ -116,6 +117,9 @@ void print_outputs(std::ostream& out, const SimulateCommandOptions& options, boo
   const std::string made =
       summary["stock_mesh"].contains("lattice_mm")
           ? fmt::format("on a {:g} mm lattice", summary["stock_mesh"]["lattice_mm"].get<double>())
+      : summary["stock_mesh"].contains("deviation_mm")
+          ? fmt::format("within {:g} mm of the solid",
+                        summary["stock_mesh"]["deviation_mm"].get<double>())
           : "of the mesh workpiece";
   const std::size_t maps_written =
       summary.contains("engagement") ? summary["engagement"]["maps"].get<std::size_t>() : 0;
@@ -137,11 +141,16 @@ void print_outputs(std::ostream& out, const SimulateCommandOptions& options, boo
     }
   }
   fmt::print(out,
-             "  {}{}/stock.stl (machined stock, {} triangles {}){}{}, "
+             "  {}{}/stock.stl (machined stock, {} triangles {}){}{}{}, "
              "{}/summary.json\n",
              options.stock_only ? "outputs     " : "            ", options.out, triangles, made,
              options.ply ? fmt::format(", {}/stock.ply", options.out) : std::string(),
-             options.off ? fmt::format(", {}/stock.off", options.out) : std::string(), options.out);
+             options.off ? fmt::format(", {}/stock.off", options.out) : std::string(),
+             summary.contains("stock_solid")
+                 ? fmt::format(", {}/{} (the solid)", options.out,
+                               summary["stock_solid"]["file"].get<std::string>())
+                 : std::string(),
+             options.out);
 }
 
 // The terminal report of a run: what ran, volumes, engagement and force extremes, accuracy,
@@ -187,6 +196,13 @@ void print_report(std::ostream& out, const SimulateCommandOptions& options, cons
                unit.name, initial.mean() / cubed, 1 + 2 * unit.extra_decimals, unit.name,
                removal.cutting_moves, final_volume.spread() / cubed, 2 + 2 * unit.extra_decimals,
                unit.name);
+  } else if (run.brep) {
+    fmt::print(out, "  stock       {} as an exact solid (B-rep): {} faces\n", options.stock,
+               run.brep->faces());
+    fmt::print(out, "  removed     {:.{}f} {}³ of {:.{}f} {}³, exact ({} moves cut material)\n",
+               (initial.mean() - final_volume.mean()) / cubed, 3 + 2 * unit.extra_decimals,
+               unit.name, initial.mean() / cubed, 3 + 2 * unit.extra_decimals, unit.name,
+               removal.cutting_moves);
   } else {
     fmt::print(out, "  stock       {} as a triangle mesh, {:g} mm facets: {} triangles\n",
                options.stock, job.facet, run.mesh->triangles());
@@ -244,8 +260,8 @@ namespace {
 
 // The names `cwe simulate` writes in its folder.
 const std::vector<std::string> kSimulateOutputs = {
-    "stock.stl",        "stock.ply",  "stock.off", "summary.json", "engagement.csv",
-    "engagement.jsonl", "forces.csv", "maps",      "force_curves"};
+    "stock.stl",      "stock.ply",        "stock.off",  "stock.step", "summary.json",
+    "engagement.csv", "engagement.jsonl", "forces.csv", "maps",       "force_curves"};
 
 }  // namespace
 
@@ -294,6 +310,11 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
                                         static_cast<std::size_t>(threads));
   std::vector<PreparedOperation>& operations = job.operations;
   const std::size_t cl_count = job.cl_count;
+  if (job.workpiece == WorkpieceKind::kBrep && !options.stock_only) {
+    throw options.error("workpiece",
+                        "the B-rep workpiece removes material only (its engagement is still to "
+                        "come): add --stock-only");
+  }
   if (options.stock_only && job.forces) {
     throw options.error("forces",
                         "forces need the engagement, which --stock-only skips; drop one of them");
@@ -340,7 +361,11 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
                 : fmt::format("Engagement along {} operations", operations.size());
         figures->finish(title);
       },
-      [&] { mesh = run.stock ? dexel_mesh(*run.stock, stride) : run.mesh->mesh(); });
+      [&] {
+        mesh = run.stock  ? dexel_mesh(*run.stock, stride)
+               : run.mesh ? run.mesh->mesh()
+                          : tessellate(*run.brep, step_tessellation(job.simulation, false));
+      });
   const std::size_t maps_written = figures ? figures->maps_written() : 0;
   const std::size_t curves_written = figures ? figures->curves_written() : 0;
   const double seconds =
@@ -370,6 +395,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   stl.commit();
   if (options.ply) write_file_atomically(folder / "stock.ply", ply_ascii(mesh, title));
   if (options.off) write_file_atomically(folder / "stock.off", off_ascii(mesh, title));
+  if (run.brep) write_file_atomically(folder / "stock.step", step_bytes(*run.brep));
   write_file_atomically(folder / "summary.json", summary_text);
   outputs.publish();
 

@@ -48,6 +48,7 @@
 #include "cwe/core/computation_error.hpp"
 #include "cwe/core/error.hpp"
 #include "cwe/io/step_shape.hpp"
+#include "cwe/workpiece/brep/brep_shapes.hpp"
 
 namespace cwe {
 namespace {
@@ -328,6 +329,15 @@ std::string step_bytes(const TopoDS_Shape& shape) {
   bytes << in.rdbuf();
   std::filesystem::remove(scratch);
   return bytes.str();
+}
+
+BrepStock brep_stock(const StepModel& model) { return brep_stock(model.impl().shape); }
+
+std::string step_bytes(const BrepStock& stock) { return step_bytes(stock.solid().shape); }
+
+TriangleMesh tessellate(const BrepStock& stock, double deviation) {
+  if (stock.volume() <= 0.0) return TriangleMesh{};  // nothing left
+  return step_model(stock.solid().shape, "the B-rep stock").tessellate(deviation);
 }
 
 }  // namespace cwe

@@ -166,9 +166,14 @@ PreparedJob prepare_job(Job& options) {
   } else if (options.workpiece == "mesh") {
     job.workpiece = WorkpieceKind::kMesh;
     job.facet = options.facet.value_or(1.0);
+  } else if (options.workpiece == "brep") {
+    job.workpiece = WorkpieceKind::kBrep;
+    if (!job.stock.is_box && !job.stock.is_step()) {
+      throw options.error("stock", "the B-rep workpiece starts from a box or a STEP stock");
+    }
   } else {
-    throw options.error("workpiece",
-                        fmt::format("\"{}\": expected \"dexel\" or \"mesh\"", options.workpiece));
+    throw options.error("workpiece", fmt::format("\"{}\": expected \"dexel\", \"mesh\" or \"brep\"",
+                                                 options.workpiece));
   }
   const EntryRules entries = entry_rules(options, stock_top(job.stock));
   std::vector<std::pair<std::size_t, ToolRun>> runs;  // with their operation

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <utility>
 
+#include "cwe/engagement/brep_workpiece.hpp"
 #include "cwe/engagement/dexel_workpiece.hpp"
 #include "cwe/engagement/mesh_workpiece.hpp"
+#include "cwe/io/step.hpp"
 
 namespace cwe {
 namespace {
@@ -127,8 +129,9 @@ void run_on(const PreparedJob& job, Workpiece& workpiece, const RunOptions& opti
   for_each_move(job, visitor);
 }
 
-// A mesh's volume as the rays' three figures.
-TriDexel::Volume volume_of(const MeshStock& stock) {
+// A mesh's or a solid's volume as the rays' three figures.
+template <class Stock>
+TriDexel::Volume volume_of(const Stock& stock) {
   TriDexel::Volume v;
   v.by_family.fill(stock.volume());
   return v;
@@ -167,9 +170,22 @@ JobResult run_job(const PreparedJob& job, MeshStock stock, const RunOptions& opt
   return result;
 }
 
+JobResult run_job(const PreparedJob& job, BrepStock stock, const RunOptions& options,
+                  std::span<ClSink* const> sinks, const Progress& progress) {
+  JobResult result(std::move(stock));
+  result.initial_volume = volume_of(*result.brep);
+  BrepWorkpiece workpiece(*result.brep);
+  run_on(job, workpiece, options, sinks, progress, result);
+  result.final_volume = volume_of(*result.brep);
+  return result;
+}
+
 JobStock make_job_stock(const PreparedJob& job) {
   JobStock stock;
-  if (job.workpiece == WorkpieceKind::kMesh) {
+  if (job.workpiece == WorkpieceKind::kBrep) {
+    stock.brep.emplace(job.stock.is_box ? BrepStock::from_box(job.stock.box)
+                                        : brep_stock(*job.stock.step));
+  } else if (job.workpiece == WorkpieceKind::kMesh) {
     stock.mesh.emplace(make_mesh_stock(job.stock, job.simulation));
   } else {
     stock.rays.emplace(make_stock(job.stock, job.simulation));
@@ -179,6 +195,7 @@ JobStock make_job_stock(const PreparedJob& job) {
 
 JobResult run_job(const PreparedJob& job, JobStock stock, const RunOptions& options,
                   std::span<ClSink* const> sinks, const Progress& progress) {
+  if (stock.brep) return run_job(job, std::move(*stock.brep), options, sinks, progress);
   if (stock.mesh) return run_job(job, std::move(*stock.mesh), options, sinks, progress);
   return run_job(job, std::move(*stock.rays), options, sinks, progress);
 }

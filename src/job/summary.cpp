@@ -123,6 +123,10 @@ std::string job_summary(const PreparedJob& job, const JobResult& run, const JobS
     summary["volume_spread_mm3"] = final_volume.spread();
     summary["bytes_per_ray"] =
         static_cast<double>(memory.total()) / static_cast<double>(run.stock->ray_count());
+  } else if (run.brep) {
+    summary["workpiece"] = "brep";
+    summary["stock_solid"] = {
+        {"file", "stock.step"}, {"faces", run.brep->faces()}, {"volume_mm3", run.brep->volume()}};
   } else {
     summary["workpiece"] = "mesh";
     summary["facet_mm"] = job.facet;
@@ -157,6 +161,7 @@ std::string job_summary(const PreparedJob& job, const JobResult& run, const JobS
       summary["stock_mesh"]["stride"] = extras.mesh_stride;
       summary["stock_mesh"]["lattice_mm"] = extras.mesh_stride * simulation.resolution;
     }
+    if (run.brep) summary["stock_mesh"]["deviation_mm"] = step_tessellation(simulation, false);
     if (extras.ply) summary["stock_mesh"]["ply"] = "stock.ply";
     if (extras.off) summary["stock_mesh"]["off"] = "stock.off";
   }

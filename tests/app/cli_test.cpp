@@ -19,8 +19,11 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "cwe/core/numbers.hpp"
 #include "cwe/geometry/triangle_mesh.hpp"
 #include "cwe/geometry/vec.hpp"
+#include "cwe/io/atomic_file.hpp"
+#include "cwe/io/mesh_io.hpp"
 
 namespace cwe::app {
 namespace {
@@ -589,7 +592,8 @@ TEST(CliSimulate, MeshWorkpiece) {
   bad[8] = (dir / "bad").string();
   const Result refused = run_cwe(bad);
   EXPECT_EQ(refused.status, 2);
-  EXPECT_NE(refused.err.find("expected \"dexel\" or \"mesh\""), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("expected \"dexel\", \"mesh\" or \"brep\""), std::string::npos)
+      << refused.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "bad"));
   std::filesystem::remove_all(dir);
 }
@@ -705,6 +709,75 @@ TEST(CliSimulate, StepStockOnBothWorkpieces) {
   EXPECT_EQ(bad.status, 2);
   EXPECT_NE(bad.err.find("junk.stp"), std::string::npos) << bad.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "bad"));
+  std::filesystem::remove_all(dir);
+}
+
+// The B-rep workpiece (--workpiece brep, removal only): a plunge and a full circle of a flat end
+// mill D = 10 at radius 10, 3 mm deep, take the ring π(15² − 5²)·3 exactly; the in-process
+// solid written to stock.step reads back as a STEP stock of the same volume (the round trip),
+// and a second run on it cuts on. What it cannot do yet is refused: without --stock-only
+// (exit 2), from an STL stock (exit 2), a helix (exit 3, the move's line named).
+TEST(CliSimulate, BrepWorkpieceCutsExactlyAndRoundTripsThroughStep) {
+  const auto dir = scratch_dir("simulate-brep");
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "ring.ngc") << "G21 G90\nG0 X40 Y20 Z25\nG0 Z21\nG1 Z17 F200\n"
+                                     "G2 X40 Y20 I-10 J0 F600\nG0 Z25\nM2\n";
+  std::ofstream(dir / "slot.ngc") << "G21 G90\nG0 X-10 Y35 Z25\nG0 Z18\nG1 X70 F600\n"
+                                     "G0 Z25\nM2\n";
+  const auto simulate = [&](const std::string& stock, const std::string& program,
+                            const std::string& out, bool stock_only = true) {
+    std::vector<std::string> args = {"simulate", stock,   "--tool", "flat:10,30",  "--path",
+                                     program,    "--out", out,      "--workpiece", "brep"};
+    args.insert(args.begin() + 1, "--stock");
+    if (stock_only) args.push_back("--stock-only");
+    return run_cwe(args);
+  };
+  const Result r =
+      simulate("box:0,0,0,60,40,20", (dir / "ring.ngc").string(), (dir / "ring").string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("as an exact solid (B-rep)"), std::string::npos) << r.out;
+  std::ifstream in(dir / "ring" / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  EXPECT_EQ(summary["workpiece"], "brep");
+  const double ring = kPi * (15.0 * 15.0 - 5.0 * 5.0) * 3.0;
+  EXPECT_NEAR(summary["removed_volume_mm3"].get<double>(), ring, 1e-6 * ring);
+  const double left = summary["stock_solid"]["volume_mm3"].get<double>();
+  EXPECT_NEAR(left, 48000.0 - ring, 1e-6 * ring);
+  // stock.stl: the solid within s/10, closed; it holds at most that much less than the solid.
+  const StlMesh stl = read_stl((dir / "ring" / "stock.stl").string());
+  EXPECT_TRUE(check_closure(stl.mesh).closed());
+  EXPECT_NEAR(stl.mesh.volume(), left, 0.01 * 2.0 * kTwoPi * 15.0 * 3.0);
+  // The round trip, and a slot across the ring's edge on the solid read back.
+  const Result again = simulate((dir / "ring" / "stock.step").string(), (dir / "slot.ngc").string(),
+                                (dir / "again").string());
+  ASSERT_EQ(again.status, 0) << again.err;
+  std::ifstream in_again(dir / "again" / "summary.json");
+  const nlohmann::json second = nlohmann::json::parse(in_again);
+  EXPECT_NEAR(second["stock_step"]["volume_mm3"].get<double>(), left, 1e-9 * left);
+  EXPECT_NEAR(second["initial_volume_mm3"].get<double>(), left, 1e-9 * left);
+  // The slot (y = 30 … 40, 2 mm deep) takes 60 × 10 × 2 less what the ring took there: the
+  // segment of its outer circle (R 15, 10 from the centre) beyond y = 30, 2 mm deep.
+  const double segment = 225.0 * std::acos(10.0 / 15.0) - 10.0 * std::sqrt(125.0);
+  const double slot = 1200.0 - 2.0 * segment;
+  EXPECT_NEAR(second["removed_volume_mm3"].get<double>(), slot, 1e-6 * slot);
+  // Refused.
+  const Result engaging =
+      simulate("box:0,0,0,60,40,20", (dir / "ring.ngc").string(), (dir / "no1").string(), false);
+  EXPECT_EQ(engaging.status, 2);
+  EXPECT_NE(engaging.err.find("add --stock-only"), std::string::npos) << engaging.err;
+  write_file_atomically(dir / "cube.stl",
+                        stl_binary(read_stl((dir / "ring" / "stock.stl").string()).mesh, "cube"));
+  const Result from_stl =
+      simulate((dir / "cube.stl").string(), (dir / "ring.ngc").string(), (dir / "no2").string());
+  EXPECT_EQ(from_stl.status, 2);
+  EXPECT_NE(from_stl.err.find("a box or a STEP stock"), std::string::npos) << from_stl.err;
+  std::ofstream(dir / "helix.ngc") << "G21 G90\nG0 X40 Y20 Z25\nG0 Z21\n"
+                                      "G3 X40 Y20 I-10 J0 Z17 F400\nG0 Z25\nM2\n";
+  const Result helix =
+      simulate("box:0,0,0,60,40,20", (dir / "helix.ngc").string(), (dir / "no3").string());
+  EXPECT_EQ(helix.status, 3);
+  EXPECT_NE(helix.err.find("helix.ngc:4:"), std::string::npos) << helix.err;
+  for (const char* none : {"no1", "no2", "no3"}) EXPECT_FALSE(std::filesystem::exists(dir / none));
   std::filesystem::remove_all(dir);
 }
 

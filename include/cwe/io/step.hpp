@@ -10,6 +10,7 @@
 
 #include "cwe/geometry/aabb.hpp"
 #include "cwe/geometry/triangle_mesh.hpp"
+#include "cwe/workpiece/brep/brep_stock.hpp"
 
 namespace cwe {
 
@@ -48,5 +49,11 @@ class StepModel {
 
 // True when `path` names a STEP file by its extension (.step, .stp, any case).
 bool is_step_path(std::string_view path);
+
+// The B-rep workpiece and STEP: a stock from the model's solids, and the in-process solid as
+// STEP bytes (AP214, mm) and as triangles within `deviation` (StepModel::tessellate's rules).
+BrepStock brep_stock(const StepModel& model);
+std::string step_bytes(const BrepStock& stock);
+TriangleMesh tessellate(const BrepStock& stock, double deviation);
 
 }  // namespace cwe

@@ -36,7 +36,7 @@ struct Operation {
 // A job as given. Empty strings and absent numbers mean "not given" (the defaults in the
 // comments); every number given is checked by prepare_job, located where it was given.
 struct Job {
-  std::string stock;  // box:xmin,ymin,zmin,xmax,ymax,zmax or an STL file
+  std::string stock;  // box:xmin,ymin,zmin,xmax,ymax,zmax, an STL or a STEP file
   std::string tool;   // for operations without their own
   std::string path;   // one program; else `operations`
   std::vector<Operation> operations;
@@ -130,7 +130,7 @@ struct PreparedOperation {
 inline constexpr double kFewestRaysAcross = 4.0;
 
 // The in-process workpiece's representation (Job::workpiece).
-enum class WorkpieceKind { kDexel, kMesh };
+enum class WorkpieceKind { kDexel, kMesh, kBrep };
 
 struct PreparedJob {
   StockSpec stock;  // an STL stock read

@@ -12,6 +12,7 @@
 #include "cwe/io/cl_sink.hpp"
 #include "cwe/job/job.hpp"
 #include "cwe/simulation/simulation.hpp"
+#include "cwe/workpiece/brep/brep_stock.hpp"
 #include "cwe/workpiece/dexel/tri_dexel.hpp"
 #include "cwe/workpiece/mesh/mesh_stock.hpp"
 
@@ -33,9 +34,12 @@ struct ForceExtremes {
 struct JobResult {
   explicit JobResult(TriDexel workpiece) : stock(std::move(workpiece)) {}
   explicit JobResult(MeshStock workpiece) : mesh(std::move(workpiece)) {}
-  // The in-process workpiece after the job: the rays, or the mesh (PreparedJob::workpiece).
+  explicit JobResult(BrepStock workpiece) : brep(std::move(workpiece)) {}
+  // The in-process workpiece after the job: the rays, the mesh or the solid
+  // (PreparedJob::workpiece).
   std::optional<TriDexel> stock;
   std::optional<MeshStock> mesh;
+  std::optional<BrepStock> brep;
   // Volumes before and after, mm³: the rays' by family; the mesh's one figure in all three.
   TriDexel::Volume initial_volume, final_volume;
   RemovalSummary removal;  // of the whole job (move indices over all operations)
@@ -63,11 +67,17 @@ JobResult run_job(const PreparedJob& job, TriDexel stock, const RunOptions& opti
 JobResult run_job(const PreparedJob& job, MeshStock stock, const RunOptions& options,
                   std::span<ClSink* const> sinks, const Progress& progress = {});
 
-// The job's stock in the representation its workpiece asks (make_stock or make_mesh_stock),
-// made before a run so that a bad stock is reported before any output is opened.
+// The same on the B-rep workpiece (BrepWorkpiece: removal only, RunOptions::engagement false).
+// Throws ComputationError naming the move's file and line when a sweep or a cut fails.
+JobResult run_job(const PreparedJob& job, BrepStock stock, const RunOptions& options,
+                  std::span<ClSink* const> sinks, const Progress& progress = {});
+
+// The job's stock in the representation its workpiece asks (make_stock, make_mesh_stock or a
+// B-rep solid), made before a run so that a bad stock is reported before any output is opened.
 struct JobStock {
   std::optional<TriDexel> rays;
   std::optional<MeshStock> mesh;
+  std::optional<BrepStock> brep;
 };
 JobStock make_job_stock(const PreparedJob& job);
 // run_job on whichever the stock holds.

@@ -75,6 +75,12 @@ double BrepStock::cut_linear(const Cutter& cutter, const Vec3& start, const Vec3
   return cut(sweep);
 }
 
+double BrepStock::cut_planar_arc(const Cutter& cutter, const Move& arc) {
+  Solid sweep;
+  sweep.shape = planar_arc_sweep_solid(cutter, arc);
+  return cut(sweep);
+}
+
 double BrepStock::cut(const Solid& cutter) {
   if (box_of(cutter.shape).IsOut(box_of(solid_->shape))) return 0.0;
   const double swept = shape_volume(cutter.shape);
