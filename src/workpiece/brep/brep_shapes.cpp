@@ -24,8 +24,13 @@
 #include <BRep_Tool.hxx>
 #include <GC_MakeArcOfCircle.hxx>
 #include <GProp_GProps.hxx>
+#include <GeomAPI_Interpolate.hxx>
+#include <GeomFill.hxx>
+#include <Geom_Surface.hxx>
 #include <ShapeUpgrade_UnifySameDomain.hxx>
 #include <Standard_Failure.hxx>
+#include <TColStd_HArray1OfReal.hxx>
+#include <TColgp_HArray1OfPnt.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
@@ -100,11 +105,56 @@ struct Plane {
   Vec3 origin, normal;
 };
 
+void check_done(bool done, const char* what, const Cutter& cutter) {
+  if (!done) throw ComputationError(fmt::format("{}: {} failed", cutter.name(), what));
+}
+
+// The sheet that cuts a torus (the corner arc `s` revolved) along its silhouette for a local
+// direction d that climbs or descends: n·d = 0 where tan ψ = −(|d_h|/d_z)·cos(θ − β) (ψ the
+// angle round the tube, θ round the axis, β d's azimuth), one curve over the half turn of θ
+// that faces up the ramp, from the equator through its lowest point back to the equator. The
+// sheet is ruled by horizontal segments through that curve, from inside the tube's hole to
+// beyond the tool, so it crosses the torus square to the axis's radial direction; its guide
+// curves interpolate 129 points of the curve (an error near 1e-9 mm).
+TopoDS_Face torus_ramp_sheet(const ProfileSegment& s, const Vec3& d, const Cutter& cutter) {
+  const double a = s.center.x(), c = s.center.y(), tube = s.radius;
+  const double h = std::hypot(d.x(), d.y()), beta = std::atan2(d.y(), d.x());
+  const double from = beta + (d.z() > 0.0 ? -0.5 * M_PI : 0.5 * M_PI);
+  const double inner = 0.5 * (a - tube > 0.0 ? a - tube : a), outer = 2.0 * (a + tube) + 1.0;
+  constexpr int kPoints = 129;
+  Handle(TColgp_HArray1OfPnt) near = new TColgp_HArray1OfPnt(1, kPoints);
+  Handle(TColgp_HArray1OfPnt) far = new TColgp_HArray1OfPnt(1, kPoints);
+  Handle(TColStd_HArray1OfReal) params = new TColStd_HArray1OfReal(1, kPoints);
+  const double lo = std::min(s.start_angle(), s.end_angle()),
+               hi = std::max(s.start_angle(), s.end_angle());
+  for (int k = 0; k < kPoints; ++k) {
+    const double theta = from + M_PI * k / (kPoints - 1);
+    const double psi = std::atan(-(h / d.z()) * std::cos(theta - beta));
+    if (psi < lo - 1e-12 || psi > hi + 1e-12) {
+      throw ComputationError(
+          fmt::format("{}: the silhouette leaves the corner arc's torus along this ramp (the B-rep "
+                      "workpiece sweeps corner arcs that run from the bottom to the equator)",
+                      cutter.name()));
+    }
+    const double z = c + tube * std::sin(psi);
+    near->SetValue(k + 1, gp_Pnt(inner * std::cos(theta), inner * std::sin(theta), z));
+    far->SetValue(k + 1, gp_Pnt(outer * std::cos(theta), outer * std::sin(theta), z));
+    params->SetValue(k + 1, theta);
+  }
+  GeomAPI_Interpolate near_curve(near, params, false, 1e-12), far_curve(far, params, false, 1e-12);
+  near_curve.Perform();
+  far_curve.Perform();
+  check_done(near_curve.IsDone() && far_curve.IsDone(), "the torus's silhouette curve", cutter);
+  const Handle(Geom_Surface) ruled = GeomFill::Surface(near_curve.Curve(), far_curve.Curve());
+  return BRepBuilderAPI_MakeFace(ruled, 1e-9).Face();
+}
+
 // The planes that cut the tool's faces along its silhouette for local direction d (see the
 // header): the plane through the axis square to d's horizontal part (it also halves the discs a
 // level move grazes), a sphere's plane through its centre square to d, a cone's plane through
 // its apex and rulings, a torus's equator under a plunge.
-std::vector<Plane> silhouette_planes(const Cutter& cutter, const Vec3& d) {
+std::vector<Plane> silhouette_planes(const Cutter& cutter, const Vec3& d,
+                                     std::vector<TopoDS_Face>& sheets) {
   const double length = d.norm();
   const double eps = 1e-12 * length;
   const Vec3 dh(d.x(), d.y(), 0.0);
@@ -136,10 +186,7 @@ std::vector<Plane> silhouette_planes(const Cutter& cutter, const Vec3& d) {
         planes.push_back({Vec3(0.0, 0.0, z), Vec3::UnitZ()});
       }
     } else {
-      throw ComputationError(fmt::format(
-          "{}: the B-rep workpiece does not yet sweep a torus along a ramp exactly (its "
-          "silhouette is not a plane curve)",
-          cutter.name()));
+      sheets.push_back(torus_ramp_sheet(s, d, cutter));
     }
   }
   // One of each plane.
@@ -184,10 +231,6 @@ bool face_sample(const TopoDS_Face& face, Vec3& at, Vec3& normal) {
   return false;
 }
 
-void check_done(bool done, const char* what, const Cutter& cutter) {
-  if (!done) throw ComputationError(fmt::format("{}: {} failed", cutter.name(), what));
-}
-
 // A swept solid whose volume is not the one its motion sweeps (OpenCASCADE's booleans can lose
 // part of a solid without a word) is refused.
 void check_volume(const TopoDS_Shape& swept, double expected, const Cutter& cutter,
@@ -222,10 +265,11 @@ namespace {
 
 // The tool's faces (`tool`, a solid) cut by the planes.
 TopoDS_Shape cut_faces(const TopoDS_Shape& tool, const std::vector<Plane>& planes, double big,
-                       const Cutter& cutter) {
-  if (planes.empty()) return tool;
+                       const Cutter& cutter, const std::vector<TopoDS_Face>& sheets = {}) {
+  if (planes.empty() && sheets.empty()) return tool;
   TopTools_ListOfShape skin, cuts;
   for (TopExp_Explorer e(tool, TopAbs_SHELL); e.More(); e.Next()) skin.Append(e.Current());
+  for (const TopoDS_Face& sheet : sheets) cuts.Append(sheet);
   for (const Plane& plane : planes) {
     cuts.Append(BRepBuilderAPI_MakeFace(gp_Pln(point(plane.origin), direction(plane.normal)), -big,
                                         big, -big, big)
@@ -341,7 +385,9 @@ TopoDS_Shape linear_sweep_solid(const Cutter& cutter, const Vec3& start, const V
     }
     const Vec3 dh(d.x(), d.y(), 0.0);
     const bool across = dh.norm() > 1e-12 * d.norm();
-    const TopoDS_Shape faces = cut_faces(tool, silhouette_planes(cutter, d), 4.0 * reach, cutter);
+    std::vector<TopoDS_Face> sheets;
+    const std::vector<Plane> planes = silhouette_planes(cutter, d, sheets);
+    const TopoDS_Shape faces = cut_faces(tool, planes, 4.0 * reach, cutter, sheets);
     // A face trails by the sign of n·d; one d runs along (a disc under a level move, the flank
     // under a plunge) by its side of the axial plane, or trailing under a plunge.
     const auto trails = [&](const Vec3& at, const Vec3& normal) {

@@ -17,8 +17,9 @@
 //  - where the normal jumps (a flat bottom's rim, a chamfer's top, the top disc) the silhouette
 //    runs along the joint circle, an edge T already has;
 //  - a torus (a bull-nose corner): the plane through the axis when d is square to the axis,
-//    the equator's plane when d is along it. Along a ramp its silhouette is not a plane curve,
-//    and linear_sweep_solid throws ComputationError.
+//    the equator's plane when d is along it. Along a ramp its silhouette is no plane curve
+//    (tan ψ = −(|d_h|/d_z)·cos(θ − β)): a sheet ruled by horizontal segments through it, whose
+//    guide curves interpolate it, cuts it there.
 // Under a plunge the flank that d runs along is kept at the start, and the rim below it swept.
 
 #include <TopoDS_Shape.hxx>
@@ -38,7 +39,7 @@ TopoDS_Solid tool_solid(const Cutter& cutter, const Vec3& tip, const Vec3& axis)
 
 // The volume the cutter sweeps from tip `start` to tip `end` with unit `axis`, exact (see
 // above): the tool at `start` when the two coincide. Throws ComputationError when OpenCASCADE
-// cannot build it, or for a torus along a ramp.
+// cannot build it, or when the solid's volume is not the one the motion sweeps.
 TopoDS_Shape linear_sweep_solid(const Cutter& cutter, const Vec3& start, const Vec3& end,
                                 const Vec3& axis);
 
