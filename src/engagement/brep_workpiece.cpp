@@ -23,14 +23,14 @@ double BrepWorkpiece::remove(const MoveSweep& sweep) {
   const Vec3 axis = move.start_axis.normalized();
   const bool constant_axis = move.axis_angle() <= tol::kAngle;
   if (!move.is_arc() && constant_axis) return stock_.cut_linear(cutter, move.start, move.end, axis);
-  if (move.is_arc() && constant_axis && move.axial == 0.0 &&
+  if (move.is_arc() && constant_axis &&
       std::abs(axis.dot(move.normal.normalized())) > 1.0 - 1e-12) {
-    return stock_.cut_planar_arc(cutter, move);
+    return move.axial == 0.0 ? stock_.cut_planar_arc(cutter, move) : stock_.cut_helix(cutter, move);
   }
   throw ComputationError(
       move.is_arc()
-          ? "B-rep removal: the B-rep workpiece does not yet sweep helices, or arcs with the "
-            "tool off the arc's normal"
+          ? "B-rep removal: the B-rep workpiece does not yet sweep arcs with the tool off the "
+            "arc's normal"
           : "B-rep removal: the B-rep workpiece does not yet sweep simultaneous 5-axis moves");
 }
 

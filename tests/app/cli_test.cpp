@@ -716,7 +716,8 @@ TEST(CliSimulate, StepStockOnBothWorkpieces) {
 // mill D = 10 at radius 10, 3 mm deep, take the ring π(15² − 5²)·3 exactly; the in-process
 // solid written to stock.step reads back as a STEP stock of the same volume (the round trip),
 // and a second run on it cuts on. What it cannot do yet is refused: without --stock-only
-// (exit 2), from an STL stock (exit 2), a helix (exit 3, the move's line named).
+// (exit 2), from an STL stock (exit 2), a bull-nose round a corner (exit 3, the move's line
+// named).
 TEST(CliSimulate, BrepWorkpieceCutsExactlyAndRoundTripsThroughStep) {
   const auto dir = scratch_dir("simulate-brep");
   std::filesystem::create_directories(dir);
@@ -771,12 +772,15 @@ TEST(CliSimulate, BrepWorkpieceCutsExactlyAndRoundTripsThroughStep) {
       simulate((dir / "cube.stl").string(), (dir / "ring.ngc").string(), (dir / "no2").string());
   EXPECT_EQ(from_stl.status, 2);
   EXPECT_NE(from_stl.err.find("a box or a STEP stock"), std::string::npos) << from_stl.err;
-  std::ofstream(dir / "helix.ngc") << "G21 G90\nG0 X40 Y20 Z25\nG0 Z21\n"
-                                      "G3 X40 Y20 I-10 J0 Z17 F400\nG0 Z25\nM2\n";
-  const Result helix =
-      simulate("box:0,0,0,60,40,20", (dir / "helix.ngc").string(), (dir / "no3").string());
-  EXPECT_EQ(helix.status, 3);
-  EXPECT_NE(helix.err.find("helix.ngc:4:"), std::string::npos) << helix.err;
+  // A bull-nose round a corner (R_arc 4 below its radius 5): the sweep fails its volume check.
+  std::ofstream(dir / "corner.ngc") << "G21 G90\nG0 X30 Y20 Z25\nG0 Z18\n"
+                                       "G2 X34 Y24 I0 J4 F400\nG0 Z25\nM2\n";
+  const Result corner = run_cwe({"simulate", "--stock", "box:0,0,0,60,40,20", "--tool",
+                                 "bull:10,2,30", "--path", (dir / "corner.ngc").string(), "--out",
+                                 (dir / "no3").string(), "--workpiece", "brep", "--stock-only"});
+  EXPECT_EQ(corner.status, 3);
+  EXPECT_NE(corner.err.find("corner.ngc:4:"), std::string::npos) << corner.err;
+  EXPECT_NE(corner.err.find("where the motion sweeps"), std::string::npos) << corner.err;
   for (const char* none : {"no1", "no2", "no3"}) EXPECT_FALSE(std::filesystem::exists(dir / none));
   std::filesystem::remove_all(dir);
 }

@@ -5,8 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <BRepCheck_Analyzer.hxx>
+#include <BRepGProp.hxx>
+#include <GProp_GProps.hxx>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -14,6 +17,7 @@
 #include "cwe/core/error.hpp"
 #include "cwe/core/numbers.hpp"
 #include "cwe/envelope/swept_volume.hpp"
+#include "cwe/simulation/simulation.hpp"
 #include "cwe/tool/tool_spec.hpp"
 #include "cwe/toolpath/move.hpp"
 #include "cwe/workpiece/brep/brep_shapes.hpp"
@@ -193,6 +197,48 @@ TEST(BrepShapes, SweepThatFailsItsVolumeCheckIsRefused) {
     ADD_FAILURE() << "expected a ComputationError";
   } catch (const ComputationError& e) {
     EXPECT_NE(std::string(e.what()).find("where the motion sweeps"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace cwe
+
+namespace cwe {
+namespace {
+
+// A helix (1.5 turns of radius 8, 3 mm down) of a flat and a ball end mill inside a block, cut in
+// three half turns, against the dexel workpiece's removal of the same move at s = 0.1: a ray's
+// s × s cell stands for the area round it, so the dexel volume lies within s/2 of the cavity's
+// surface (its area from the solid).
+TEST(BrepStock, HelixAgreesWithTheDexelWorkpiece) {
+  Move helix;
+  helix.shape = MoveShape::kArc;
+  helix.normal = -Vec3::UnitZ();  // G2
+  helix.center = Vec3(20, 20, 10);
+  helix.start = helix.center + Vec3(8, 0, 0);
+  helix.sweep = 3 * kPi;
+  helix.axial = 3.0;  // along the normal: down
+  helix.feed_rate = 500.0;
+  helix.end = helix.position(1.0);
+  const Aabb block{{0, 0, 0}, {40, 40, 40}};
+  for (const char* spec : {"flat:10,20", "ball:10,20"}) {
+    SCOPED_TRACE(spec);
+    const Cutter cutter = cutter_from_spec(spec);
+    BrepStock stock = BrepStock::from_box(block);
+    const double exact = stock.cut_helix(cutter, helix);
+    GProp_GProps props;
+    BRepGProp::SurfaceProperties(stock.solid().shape, props);
+    const double cavity = props.Mass() - 2.0 * 3.0 * 40.0 * 40.0;
+    TriDexel rays = TriDexel::from_box(block, 0.1);
+    Toolpath path;
+    path.sources = {"test"};
+    path.moves = {helix};
+    const RemovalSummary summary = remove_toolpath(rays, cutter, path, {0.1, 0.01});
+    double dexel = 0.0;
+    for (const double v : summary.removed_by_move) dexel += v;
+    EXPECT_NEAR(exact, dexel, 0.5 * 0.1 * cavity);
+    std::printf("%s helix: B-rep %.3f mm³, dexel %.3f mm³ (%+.4f %%), bound %.1f mm³\n", spec,
+                exact, dexel, 100.0 * (dexel - exact) / exact, 0.5 * 0.1 * cavity);
   }
 }
 

@@ -1,10 +1,10 @@
 #pragma once
 // The B-rep workpiece behind the workpiece seam: BrepStock (an exact OpenCASCADE solid,
 // cwe/workpiece/brep/brep_stock.hpp) cut move by move with exact swept volumes. Removal only so
-// far: lines with a constant axis (3-axis, 3+2) and planar arcs with the tool along the arc's
-// normal, for convex cutters; a helix, a simultaneous 5-axis move or a bull-nose round a corner
-// is refused with a ComputationError naming the move. The thesis's solid-model
-// CWE (§6.1) on it is still to come: engagement() throws InputError.
+// far: lines with a constant axis (3-axis, 3+2), planar arcs and helices with the tool along the
+// arc's normal, for convex cutters; a simultaneous 5-axis move, or a sweep that fails its checks
+// (a bull-nose round a corner), is refused with a ComputationError naming the move. The thesis's
+// solid-model CWE (§6.1) on it is still to come: engagement() throws InputError.
 
 #include <memory>
 #include <span>

@@ -18,14 +18,18 @@
 #include <BRepCheck_Analyzer.hxx>
 #include <BRepClass_FaceClassifier.hxx>
 #include <BRepGProp.hxx>
+#include <BRepLib.hxx>
+#include <BRepOffsetAPI_MakePipeShell.hxx>
 #include <BRepPrimAPI_MakePrism.hxx>
 #include <BRepPrimAPI_MakeRevol.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Tool.hxx>
 #include <GC_MakeArcOfCircle.hxx>
 #include <GProp_GProps.hxx>
+#include <Geom2d_Line.hxx>
 #include <GeomAPI_Interpolate.hxx>
 #include <GeomFill.hxx>
+#include <Geom_CylindricalSurface.hxx>
 #include <Geom_Surface.hxx>
 #include <ShapeUpgrade_UnifySameDomain.hxx>
 #include <Standard_Failure.hxx>
@@ -40,9 +44,12 @@
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shell.hxx>
+#include <TopoDS_Wire.hxx>
 #include <gp_Ax1.hxx>
 #include <gp_Ax3.hxx>
+#include <gp_Dir2d.hxx>
 #include <gp_Pln.hxx>
+#include <gp_Pnt2d.hxx>
 #include <gp_Trsf.hxx>
 
 #include "cwe/core/computation_error.hpp"
@@ -466,6 +473,112 @@ TopoDS_Shape planar_arc_sweep_solid(const Cutter& cutter, const Move& arc) {
     return swept;
   } catch (const Standard_Failure& e) {
     throw ComputationError(fmt::format("{}: OpenCASCADE could not build the arc's sweep ({})",
+                                       cutter.name(), e.GetMessageString()));
+  }
+}
+
+namespace {
+
+// The turn by `angle` about the line through `centre` along unit `normal`, then the rise along
+// it.
+// A direction moved by a rigid motion.
+Vec3 turned(const gp_Trsf& motion, const Vec3& v) {
+  const gp_Vec w = gp_Vec(v.x(), v.y(), v.z()).Transformed(motion);
+  return Vec3(w.X(), w.Y(), w.Z());
+}
+
+gp_Trsf screw_motion(const Vec3& centre, const Vec3& normal, double angle, double rise) {
+  gp_Trsf turn, lift;
+  turn.SetRotation(gp_Ax1(point(centre), direction(normal)), angle);
+  lift.SetTranslation(gp_Vec(rise * normal.x(), rise * normal.y(), rise * normal.z()));
+  return lift.Multiplied(turn);
+}
+
+}  // namespace
+
+std::vector<TopoDS_Shape> helix_sweep_solids(const Cutter& cutter, const Move& helix) {
+  try {
+    const Vec3 axis = helix.start_axis.normalized();
+    const Vec3 normal = helix.normal.normalized();
+    const Vec3 radial =
+        helix.start - helix.center - (helix.start - helix.center).dot(normal) * normal;
+    const double big_r = radial.norm();
+    const double rho = cutter.profile().max_radius();
+    const double reach = std::hypot(rho, cutter.profile().height());
+    if (!(big_r > rho + 1e-6 * reach)) {
+      throw ComputationError(fmt::format(
+          "{}: the B-rep workpiece sweeps helices whose radius exceeds the tool's ({:g} mm "
+          "against {:g} mm)",
+          cutter.name(), big_r, rho));
+    }
+    // Pieces short enough that no piece's sweep comes back over itself: with the end tools
+    // reaching asin(ρ/R) beyond its angles, at most half a turn.
+    const double most = std::min(M_PI, 2.0 * M_PI - 2.0 * std::asin(rho / big_r) - 1e-3);
+    const int pieces = static_cast<int>(std::ceil(helix.sweep / most));
+    const double angle = helix.sweep / pieces, rise = helix.axial / pieces;
+    // The tool axis's velocity per radian: ω × (A − C) plus the rise. Under a screw about an
+    // axis parallel to the tool's, n·v(p) = n·(that velocity) on the whole tool (ω × (p − A) is
+    // tangent to the tool's circles), so the silhouette is the one of a line along it.
+    const Vec3 travel = normal.cross(radial);
+    const Vec3 per_radian = travel + (helix.axial / helix.sweep) * normal;
+    const Frame frame = Frame::from_z(helix.start, axis, Vec3::UnitX());
+    const Vec3 d_local = frame.direction_to_local(angle * per_radian);
+    const gp_Trsf to_world = placement(helix.start, axis);
+    std::vector<TopoDS_Face> sheets;
+    const std::vector<Plane> planes = silhouette_planes(cutter, d_local, sheets);
+    const TopoDS_Shape local_faces =
+        cut_faces(local_tool(cutter), planes, 4.0 * (reach + big_r), cutter, sheets);
+    // `velocity` and `along`: the tool axis's velocity and direction of travel at the piece's
+    // start (they turn with the pieces).
+    const auto trails = [](const Vec3& at, const Vec3& n, const Vec3& start, const Vec3& velocity,
+                           const Vec3& along) {
+      const double lead = n.dot(velocity) / velocity.norm();
+      return std::abs(lead) > 1e-9 ? lead < 0.0 : (at - start).dot(along) < 0.0;
+    };
+    const double expected = line_swept_volume(cutter, d_local);
+    // The pipe shells approximate the screwed edges within 1e-7 mm; sewn within a relative
+    // 1e-6 of the tool's reach, as the other sweeps.
+    constexpr double kPipeTolerance = 1e-6;
+    std::vector<TopoDS_Shape> solids;
+    for (int k = 0; k < pieces; ++k) {
+      // The piece's start: the helix's start turned by k·angle and raised by k·rise.
+      const gp_Trsf advance = screw_motion(helix.center, normal, k * angle, k * rise);
+      const gp_Trsf screw = screw_motion(helix.center, normal, angle, rise);
+      const gp_Trsf place = advance.Multiplied(to_world);
+      const TopoDS_Shape faces = BRepBuilderAPI_Transform(local_faces, place, true).Shape();
+      const gp_Pnt tip = point(helix.start).Transformed(advance);
+      const Vec3 start(tip.X(), tip.Y(), tip.Z());
+      // The spine: the tip's helix on its cylinder, as a line in (angle, height).
+      const Vec3 piece_radial = start - helix.center - (start - helix.center).dot(normal) * normal;
+      const Handle(Geom_CylindricalSurface) cylinder = new Geom_CylindricalSurface(
+          gp_Ax3(point(start - piece_radial), direction(normal), direction(piece_radial)), big_r);
+      // (u, v) = (angle about the axis, height along it).
+      const Handle(Geom2d_Line) line = new Geom2d_Line(gp_Pnt2d(0.0, 0.0), gp_Dir2d(angle, rise));
+      const double length = std::hypot(angle, rise);
+      TopoDS_Edge spine_edge = BRepBuilderAPI_MakeEdge(line, cylinder, 0.0, length).Edge();
+      BRepLib::BuildCurves3d(spine_edge);
+      const TopoDS_Wire spine = BRepBuilderAPI_MakeWire(spine_edge).Wire();
+      const auto band = [&](const TopoDS_Edge& edge) {
+        BRepOffsetAPI_MakePipeShell pipe(spine);
+        pipe.SetMode(direction(normal));  // a fixed binormal: the screw motion
+        pipe.SetTolerance(1e-7, 1e-7, 1e-6);
+        pipe.Add(BRepBuilderAPI_MakeWire(edge).Wire(), false, false);
+        pipe.Build();
+        check_done(pipe.IsDone(), "sweeping the silhouette along the helix", cutter);
+        return pipe.Shape();
+      };
+      const TopoDS_Shape swept = sewn_sweep(
+          faces,
+          [&](const Vec3& at, const Vec3& n) {
+            return trails(at, n, start, turned(advance, per_radian), turned(advance, travel));
+          },
+          screw, band, kPipeTolerance * reach, cutter);
+      check_volume(swept, expected, cutter, "helix's swept volume");
+      solids.push_back(swept);
+    }
+    return solids;
+  } catch (const Standard_Failure& e) {
+    throw ComputationError(fmt::format("{}: OpenCASCADE could not build the helix's sweep ({})",
                                        cutter.name(), e.GetMessageString()));
   }
 }

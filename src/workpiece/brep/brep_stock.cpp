@@ -81,6 +81,16 @@ double BrepStock::cut_planar_arc(const Cutter& cutter, const Move& arc) {
   return cut(sweep);
 }
 
+double BrepStock::cut_helix(const Cutter& cutter, const Move& helix) {
+  double taken = 0.0;
+  for (const TopoDS_Shape& piece : helix_sweep_solids(cutter, helix)) {
+    Solid sweep;
+    sweep.shape = piece;
+    taken += cut(sweep);
+  }
+  return taken;
+}
+
 double BrepStock::cut(const Solid& cutter) {
   if (box_of(cutter.shape).IsOut(box_of(solid_->shape))) return 0.0;
   const double swept = shape_volume(cutter.shape);

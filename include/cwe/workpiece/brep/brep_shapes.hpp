@@ -25,6 +25,8 @@
 #include <TopoDS_Shape.hxx>
 #include <TopoDS_Solid.hxx>
 
+#include <vector>
+
 #include "cwe/geometry/vec.hpp"
 #include "cwe/tool/cutter.hpp"
 #include "cwe/toolpath/move.hpp"
@@ -49,6 +51,16 @@ TopoDS_Shape linear_sweep_solid(const Cutter& cutter, const Vec3& start, const V
 // ends (the points of the sweep outside the arc's angles are nearest one of them). Throws
 // ComputationError when OpenCASCADE cannot build it.
 TopoDS_Shape planar_arc_sweep_solid(const Cutter& cutter, const Move& arc);
+
+// The volume the cutter sweeps along a helix (an arc that advances along its normal) with its
+// axis along the helix's, in pieces of at most half a turn (no piece comes back over itself),
+// each sewn like a line's: under a screw about an axis parallel to the tool's, n·v(p) on the
+// whole tool is n·(the tool axis's velocity), so the silhouette is the one of a line along that
+// velocity; it is swept by a pipe shell along the tip's helix with the axis as fixed binormal
+// (the screw motion), and each piece's volume is the line's of length α·√(R² + a²) (a the rise
+// per radian). Throws ComputationError for a helix not wider than the tool, or when OpenCASCADE
+// cannot build a piece.
+std::vector<TopoDS_Shape> helix_sweep_solids(const Cutter& cutter, const Move& helix);
 
 // Volume of a shape, mm³ (BRepGProp).
 double shape_volume(const TopoDS_Shape& shape);

@@ -31,8 +31,10 @@ class BrepStock {
   // linear_sweep_solid) and returns the volume removed, mm³. Throws ComputationError when the
   // sweep cannot be built or the cut fails its checks; the stock is then unchanged.
   double cut_linear(const Cutter& cutter, const Vec3& start, const Vec3& end, const Vec3& axis);
-  // The same for a planar arc with the tool along its normal (planar_arc_sweep_solid).
+  // The same for a planar arc with the tool along its normal (planar_arc_sweep_solid), and for
+  // a helix (helix_sweep_solids: its pieces one after the other).
   double cut_planar_arc(const Cutter& cutter, const Move& arc);
+  double cut_helix(const Cutter& cutter, const Move& helix);
 
   struct Solid;  // the OpenCASCADE shape (brep_shapes.hpp)
   // Cuts a solid (a swept volume) and returns the volume removed, mm³, with the checks above.
