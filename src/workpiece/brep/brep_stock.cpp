@@ -117,9 +117,15 @@ double BrepStock::cut(const Solid& cutter) {
         failure = "BRepAlgoAPI_Cut reported an error";
         continue;
       }
-      ShapeUpgrade_UnifySameDomain unify(cut.Shape(), true, true, true);
-      unify.Build();
-      const TopoDS_Shape result = unify.Shape();
+      // Same-domain faces merged (a slot's floor pieces, one per cut, become one face); where
+      // OpenCASCADE cannot merge them, the cut as it is.
+      TopoDS_Shape result = cut.Shape();
+      try {
+        ShapeUpgrade_UnifySameDomain unify(result, true, true, true);
+        unify.Build();
+        result = unify.Shape();
+      } catch (const Standard_Failure&) {
+      }
       if (!BRepCheck_Analyzer(result).IsValid()) {
         failure = "the result is not a valid solid (BRepCheck)";
         continue;
