@@ -46,10 +46,13 @@ TopoDS_Shape linear_sweep_solid(const Cutter& cutter, const Vec3& start, const V
                                 const Vec3& axis);
 
 // The volume the cutter sweeps along a planar arc (no advance along its normal) with its axis
-// along the arc's normal: the tool's section by the plane through both axes, clamped at the
-// arc's axis, revolved through the arc's angle (a ring for a full circle), with the tool at both
-// ends (the points of the sweep outside the arc's angles are nearest one of them). Throws
-// ComputationError when OpenCASCADE cannot build it.
+// along the arc's normal. Off the arc's axis it is sewn like a line's, the tool's faces cut by
+// the plane through both axes (where the silhouette lies) and the silhouette revolved. A full
+// circle is the tool's section by that plane revolved into a ring; round a corner (the tool
+// over the arc's axis) the section clamped at the axis, revolved through the arc's angle and
+// unioned with the tool at both ends (the points of the sweep outside the arc's angles are
+// nearest one of them). Throws ComputationError when OpenCASCADE cannot build it, or when the
+// solid's volume is not planar_arc_swept_volume's.
 TopoDS_Shape planar_arc_sweep_solid(const Cutter& cutter, const Move& arc);
 
 // The volume the cutter sweeps along a helix (an arc that advances along its normal) with its
