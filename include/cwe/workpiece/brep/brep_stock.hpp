@@ -1,10 +1,12 @@
 #pragma once
 // The in-process workpiece as an exact solid (OpenCASCADE B-rep): the thesis's reference
 // representation (Aras 2008 §6.1). Each move's swept volume is built exactly
-// (cwe/workpiece/brep/brep_shapes.hpp) and cut from the solid with BRepAlgoAPI_Cut; after every
-// cut the solid must be valid (BRepCheck) and have lost between 0 and the swept volume's volume,
-// else the cut is tried again with a fuzzy value, and then the move is refused
-// (ComputationError): a run never goes on with a broken solid.
+// (cwe/workpiece/brep/brep_shapes.hpp) and cut from the solid with BRepAlgoAPI_Cut, with a fuzzy
+// value of 1e-6 of the stock's size (near-coincident faces taken as touching, so that cuts along
+// walls earlier passes left leave no slivers); after every cut the solid must be valid
+// (BRepCheck) and have lost between 0 and the swept volume's volume, else the cut is tried again
+// without the fuzzy value, and then the move is refused (ComputationError): a run never goes on
+// with a broken solid.
 //
 // OpenCASCADE's types stay behind this header; cwe/workpiece/brep/brep_shapes.hpp gives the
 // solid itself to the code that needs it (STEP output, tessellation, tests).
