@@ -15,6 +15,7 @@
 #include "cwe/geometry/mesh_sections.hpp"
 #include "cwe/geometry/tolerance.hpp"
 #include "cwe/geometry/triangle_mesh.hpp"
+#include "move_pieces.hpp"
 
 namespace cwe {
 namespace {
@@ -68,54 +69,14 @@ class FacetedTool {
 // axis is the same all along the move (3-axis and 3+2 moves): there, the cells of a disc are read
 // in the disc's plane (MeshSection, 2-D), else by a point-inside query in 3-D (MeshRegion).
 struct MoveRemoval {
-  MoveRemoval(const TriangleMesh& mesh, const MoveSweep& sweep) : region(mesh) {
-    if (sweep.pieces().empty()) return;
-    const Vec3 axis = sweep.pieces().front().axis().normalized();
-    for (const LinearSweep& piece : sweep.pieces()) {
-      if (!(piece.axis().normalized().dot(axis) > kSameAxis)) return;
+  MoveRemoval(const TriangleMesh& mesh, const MoveSweep& sweep) : region(mesh), pieces(sweep) {
+    if (pieces.axis() && !mesh.empty()) {
+      slicer.emplace(mesh, Frame::from_z(Vec3::Zero(), *pieces.axis(), Vec3::UnitX()));
     }
-    if (sweep.pieces().size() > 1) pieces = sweep.pieces();
-    if (!mesh.empty()) slicer.emplace(mesh, Frame::from_z(Vec3::Zero(), axis, Vec3::UnitX()));
-  }
-  // Axes closer than this (cosine) read the same sections: 1e-6 rad, under 1e-5 mm across a
-  // 10 mm cutter.
-  static constexpr double kSameAxis = 1.0 - 5e-13;
-  // The number of the move's pieces wholly before a step that starts at tip `start`: those
-  // before the piece nearest it (the first of equals: a circle's start is also its end, and a
-  // step there starts the circle; a step that starts on a joint starts the later piece, whose
-  // start is as near, but the piece before it holds no point the step cuts).
-  std::size_t pieces_before(const Vec3& start) const {
-    std::size_t nearest = 0;
-    double best = std::numeric_limits<double>::infinity();
-    for (std::size_t k = 0; k < pieces.size(); ++k) {
-      const Vec3 a = pieces[k].start(), d = pieces[k].end() - a;
-      const double along = d.squaredNorm() > 0.0 ? (start - a).dot(d) / d.squaredNorm() : 0.0;
-      const double gap = (a + std::clamp(along, 0.0, 1.0) * d - start).norm();
-      if (gap < best) {
-        best = gap;
-        nearest = k;
-      }
-    }
-    return nearest;
-  }
-  // Is `point` deeper than `margin` along the unit `normal` (both ways) inside one of the first
-  // `count` pieces?
-  bool swept_before(const Vec3& point, const Vec3& normal, std::size_t count, double margin) const {
-    for (std::size_t k = 0; k < count; ++k) {
-      if (!pieces[k].bounds().contains(point)) continue;
-      const Interval in = pieces[k].chord(Ray{point, normal});
-      if (in.lo < -margin && in.hi > margin) return true;
-    }
-    return false;
   }
   MeshRegion region;
   std::optional<MeshSlicer> slicer;
-  // A move in several pieces with one axis (an arc, a helix): its pieces, in order. Such a move
-  // can come back over its own path (a helix's turns), so the RV holds material that the move
-  // took before a location, in front of the tool there. (Not kept for simultaneous 5-axis
-  // moves, whose pieces' tips may all lie close together while the axis turns: which piece a
-  // step starts in is not told by its tip.)
-  std::vector<LinearSweep> pieces;
+  MovePieces pieces;
 };
 
 // A step's record: the removal volume of the move it lies on (shared by the move's steps).
@@ -155,8 +116,8 @@ class MeshStepEngagement : public StepEngagement {
     if (step != nullptr) {
       auto& record = static_cast<MeshStep&>(*step);
       record.removed = move_removed_;
-      record.before = move_removed_ && !move_removed_->pieces.empty() && !sweep.pieces().empty()
-                          ? move_removed_->pieces_before(sweep.pieces().front().start())
+      record.before = move_removed_ && !sweep.pieces().empty()
+                          ? move_removed_->pieces.before(sweep.pieces().front().start())
                           : 0;
     }
     return 0.0;
@@ -216,9 +177,9 @@ class MeshStepEngagement : public StepEngagement {
     const auto taken = [&](double s, double cs, const Vec3& q) {
       if (before == 0) return false;
       const Vec3 normal = band.normal.x() * (s * x + cs * y) + band.normal.y() * z;
-      return removed.swept_before(q, normal, before, covered_);
+      return removed.pieces.swept_before(q, normal, before, covered_);
     };
-    if (removed.slicer && removed.slicer->frame().z().dot(z) > MoveRemoval::kSameAxis) {
+    if (removed.slicer && removed.slicer->frame().z().dot(z) > MovePieces::kSameAxis) {
       // In the plane of Q's height, in the slicer's (u, v): the facets' frame up to the origin.
       const Frame& plane = removed.slicer->frame();
       const Vec3 c = plane.to_local(centre);
