@@ -17,6 +17,7 @@
 
 #include "cwe/core/error.hpp"
 #include "cwe/io/cl_sink.hpp"
+#include "cwe/io/step.hpp"
 #include "cwe/job/job.hpp"
 #include "cwe/job/run.hpp"
 #include "cwe/job/summary.hpp"
@@ -88,6 +89,7 @@ struct Run {
   std::shared_ptr<Columns> columns;
   std::shared_ptr<JobResult> result;
   std::string summary;
+  double deviation = 0.0;  // a B-rep stock's tessellation, mm (s/10, as stock.stl)
 };
 
 py::dict arrays(const std::map<std::string, std::vector<double>>& columns) {
@@ -130,7 +132,8 @@ Run run(Job job, bool engagement, const py::object& progress) {
   JobSummary extras;
   extras.stock = job.stock;
   extras.engagement = engagement;
-  return Run{columns, result, job_summary(prepared, *result, extras)};
+  return Run{columns, result, job_summary(prepared, *result, extras),
+             step_tessellation(prepared.simulation, false)};
 }
 
 }  // namespace
@@ -226,9 +229,11 @@ PYBIND11_MODULE(_cwe, m) {
       .def(
           "stock_mesh",
           [](const Run& r, int stride) {
-            // The rays contoured at `stride`, or the mesh workpiece itself.
-            const TriangleMesh mesh =
-                r.result->stock ? dexel_mesh(*r.result->stock, stride) : r.result->mesh->mesh();
+            // The rays contoured at `stride`, the mesh workpiece itself, or the solid
+            // tessellated within s/10 (`stride` applies to rays only).
+            const TriangleMesh mesh = r.result->stock  ? dexel_mesh(*r.result->stock, stride)
+                                      : r.result->mesh ? r.result->mesh->mesh()
+                                                       : tessellate(*r.result->brep, r.deviation);
             py::array_t<double> v({static_cast<py::ssize_t>(mesh.vertices.size()),
                                    static_cast<py::ssize_t>(3)});
             py::array_t<int> f({static_cast<py::ssize_t>(mesh.triangles.size()),

@@ -310,11 +310,6 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
                                         static_cast<std::size_t>(threads));
   std::vector<PreparedOperation>& operations = job.operations;
   const std::size_t cl_count = job.cl_count;
-  if (job.workpiece == WorkpieceKind::kBrep && !options.stock_only) {
-    throw options.error("workpiece",
-                        "the B-rep workpiece removes material only (its engagement is still to "
-                        "come): add --stock-only");
-  }
   if (options.stock_only && job.forces) {
     throw options.error("forces",
                         "forces need the engagement, which --stock-only skips; drop one of them");

@@ -1,17 +1,249 @@
 #include "cwe/engagement/brep_workpiece.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
+#include <optional>
+
+#include <fmt/format.h>
+#include <BRepBndLib.hxx>
+#include <BRepClass3d_SolidClassifier.hxx>
+#include <BRepIntCurveSurface_Inter.hxx>
+#include <BRepMesh_IncrementalMesh.hxx>
+#include <Bnd_Box.hxx>
+#include <GeomAdaptor_Curve.hxx>
+#include <Geom_Circle.hxx>
+#include <Standard_Failure.hxx>
+#include <gp_Ax2.hxx>
 
 #include "cwe/core/computation_error.hpp"
 #include "cwe/core/error.hpp"
+#include "cwe/engagement/engagement_grid.hpp"
 #include "cwe/geometry/tolerance.hpp"
+#include "cwe/workpiece/brep/brep_shapes.hpp"
+#include "move_pieces.hpp"
 
 namespace cwe {
+namespace {
 
-BrepWorkpiece::BrepWorkpiece(BrepStock& stock)
-    : stock_(stock), cell_(1e-7 * std::max(stock.volume(), 1.0)) {}
+gp_Pnt to_pnt(const Vec3& p) { return gp_Pnt(p.x(), p.y(), p.z()); }
+gp_Dir to_dir(const Vec3& d) { return gp_Dir(d.x(), d.y(), d.z()); }
 
-double BrepWorkpiece::remove(const MoveSweep& sweep) {
+// A move's removal volume RV = W ∩ SV as its cut found it (one or more solids; a helix's per
+// piece), and the move's pieces for the test that a point was taken earlier on the move.
+struct BrepRemoval {
+  struct Part {
+    TopoDS_Shape solid;
+    Bnd_Box box;
+  };
+  std::vector<Part> parts;
+  MovePieces pieces;
+};
+
+struct BrepStep : StepEngagement::Step {
+  std::shared_ptr<const BrepRemoval> removed;
+  std::size_t before = 0;  // the move's pieces wholly before the step (MovePieces::before)
+};
+
+// How close to a face a point or a crossing counts as on it, mm: OpenCASCADE's own precision
+// (Precision::Confusion).
+constexpr double kOnFace = 1e-7;
+
+// The solid-model CWE (Aras 2008 §6.1): at a location, the engaged part of each band's circle
+// (a disc or ring of the engagement grid) is where the circle, a hair outside the cutter, lies
+// inside the move's RV and moves into the material (f > 0), and was not taken earlier on the
+// move. The circle's crossings with the RV's faces (BRepIntCurveSurface_Inter, exact) and the
+// roots of f cut it into arcs, each wholly in or out: its midpoint is classified
+// (BRepClass3d_SolidClassifier). The intervals are exact up to OpenCASCADE's tolerances, not a
+// grid's cells; a crossing OpenCASCADE misses at a tangency drops an island thinner than its
+// tolerance.
+class BrepStepEngagement : public StepEngagement {
+ public:
+  BrepStepEngagement(BrepWorkpiece& workpiece, const Cutter& cutter, double spacing,
+                     const EngagementOptions& options)
+      : workpiece_(workpiece), grid_(cutter, spacing, options) {
+    covered_ = options.contact > 0.0 ? options.contact : spacing / 10.0;
+  }
+
+  std::unique_ptr<Step> new_step() const override { return std::make_unique<BrepStep>(); }
+
+  bool removes_whole_moves() const override { return true; }
+
+  double remove_move(const MoveSweep& sweep) override {
+    std::vector<BrepStock::Solid> removed;
+    const double volume = workpiece_.remove(sweep, &removed);
+    auto record = std::make_shared<BrepRemoval>();
+    record->pieces = MovePieces(sweep);
+    for (BrepStock::Solid& solid : removed) {
+      BrepRemoval::Part part{std::move(solid.shape), {}};
+      BRepMesh_IncrementalMesh(part.solid, 0.05, false, 0.5, false);
+      BRepBndLib::Add(part.solid, part.box, /*useTriangulation=*/true);
+      part.box.Enlarge(kOnFace);
+      record->parts.push_back(std::move(part));
+    }
+    move_removed_ = std::move(record);
+    return volume;
+  }
+
+  // The move was removed whole (remove_move): a step only records its move's RV.
+  double remove(const MoveSweep& sweep, Step* step) override {
+    if (step != nullptr) {
+      auto& record = static_cast<BrepStep&>(*step);
+      record.removed = move_removed_;
+      record.before = move_removed_ && !sweep.pieces().empty()
+                          ? move_removed_->pieces.before(sweep.pieces().front().start())
+                          : 0;
+    }
+    return 0.0;
+  }
+
+  EngagementMap at(const ToolState& state, const Step& step) const override {
+    const auto& record = static_cast<const BrepStep&>(step);
+    std::vector<std::vector<Interval>> found(grid_.bands());
+    if (record.removed && !record.removed->parts.empty()) {
+      // OpenCASCADE's intersectors and classifiers keep state: this call's own, made when first
+      // needed.
+      Readers readers(record.removed->parts.size());
+      try {
+        for (std::size_t k = 0; k < found.size(); ++k) {
+          found[k] = scan(*record.removed, record.before, readers, state, grid_.band(k));
+        }
+      } catch (const Standard_Failure& e) {
+        const Vec3& tip = state.tcs.origin;
+        throw ComputationError(fmt::format(
+            "B-rep engagement at the cutter location ({:.4f}, {:.4f}, {:.4f}): OpenCASCADE "
+            "failed ({}: {})",
+            tip.x(), tip.y(), tip.z(), e.DynamicType()->Name(), e.GetMessageString()));
+      }
+    }
+    return grid_.map(std::move(found));
+  }
+
+ private:
+  struct Reader {
+    BRepIntCurveSurface_Inter crossings;
+    BRepClass3d_SolidClassifier classifier;
+  };
+  using Readers = std::vector<std::optional<Reader>>;
+
+  static Reader& reader(Readers& readers, const BrepRemoval& removed, std::size_t part) {
+    std::optional<Reader>& r = readers[part];
+    if (!r) {
+      r.emplace();
+      r->crossings.Load(removed.parts[part].solid, kOnFace);
+      r->classifier.Load(removed.parts[part].solid);
+    }
+    return *r;
+  }
+
+  std::vector<Interval> scan(const BrepRemoval& removed, std::size_t before, Readers& readers,
+                             const ToolState& state, const EngagementGrid::Band& band) const {
+    const EngagementGrid::Front front =
+        EngagementGrid::front(band, state.tip_velocity_tcs(), state.angular_velocity_tcs());
+    if (!front.moves) return {};
+    const Frame& tcs = state.tcs;
+    const Vec3 x = tcs.x(), y = tcs.y(), z = tcs.z();
+    // The circle read: the band's, a hair outside the cutter along its normal.
+    const double radius = band.rho + offset_ * band.normal.x();
+    const Vec3 centre = tcs.origin + (band.z + offset_ * band.normal.y()) * z;
+    const Aabb reach = EngagementGrid::circle_bounds(band, tcs, 2.0 * offset_);
+    Bnd_Box circle_box;
+    circle_box.Update(reach.min.x(), reach.min.y(), reach.min.z(), reach.max.x(), reach.max.y(),
+                      reach.max.z());
+    std::vector<std::size_t> near;
+    for (std::size_t k = 0; k < removed.parts.size(); ++k) {
+      if (!removed.parts[k].box.IsOut(circle_box)) near.push_back(k);
+    }
+    if (near.empty()) return {};
+
+    // The arcs of the circle that move into the material (f > f_min), within [0, 2π]: φ runs
+    // from the frame's y towards its x (the grid's convention), the circle's own parameter
+    // about −z with y as its first axis.
+    std::vector<Interval> arcs;
+    const double amplitude = std::hypot(front.f.a, front.f.b);
+    const double cosine = amplitude > 0.0 ? (front.f_min - front.f.c) / amplitude : 2.0;
+    if (std::abs(cosine) < 1.0) {
+      // f = A cos(φ − mid) + c: above f_min within `half` of mid.
+      const double mid = std::atan2(front.f.a, front.f.b), half = std::acos(cosine);
+      const double lo = mid - half - kTwoPi * std::floor((mid - half) / kTwoPi), hi = lo + 2 * half;
+      arcs.push_back({lo, std::min(hi, kTwoPi)});
+      if (hi > kTwoPi) arcs.push_back({0.0, hi - kTwoPi});
+    } else if (front(0.0, 1.0)) {
+      arcs.push_back({0.0, kTwoPi});
+    }
+    // Each arc cut where it crosses the RV's faces.
+    const Handle(Geom_Circle) circle =
+        new Geom_Circle(gp_Ax2(to_pnt(centre), to_dir(-z), to_dir(y)), radius);
+    std::vector<double> ends;
+    for (const Interval& arc : arcs) {
+      ends.push_back(arc.lo);
+      ends.push_back(arc.hi);
+      const GeomAdaptor_Curve curve(circle, arc.lo, arc.hi);
+      for (const std::size_t k : near) {
+        BRepIntCurveSurface_Inter& crossings = reader(readers, removed, k).crossings;
+        for (crossings.Init(curve); crossings.More(); crossings.Next()) {
+          ends.push_back(std::clamp(crossings.W(), arc.lo, arc.hi));
+        }
+      }
+    }
+    std::sort(ends.begin(), ends.end());
+
+    const auto engaged = [&](double phi) {
+      const double s = std::sin(phi), c = std::cos(phi);
+      if (!front(s, c)) return false;
+      const Vec3 radial = s * x + c * y;
+      const Vec3 q = centre + radius * radial;
+      if (before > 0) {
+        const Vec3 normal = band.normal.x() * radial + band.normal.y() * z;
+        if (removed.pieces.swept_before(q, normal, before, covered_)) return false;
+      }
+      const gp_Pnt p = to_pnt(q);
+      for (const std::size_t k : near) {
+        if (removed.parts[k].box.IsOut(p)) continue;
+        BRepClass3d_SolidClassifier& classifier = reader(readers, removed, k).classifier;
+        classifier.Perform(p, kOnFace);
+        if (classifier.State() == TopAbs_IN) return true;
+      }
+      return false;
+    };
+    std::vector<Interval> found;
+    for (std::size_t k = 0; k + 1 < ends.size(); ++k) {
+      const double lo = ends[k], hi = ends[k + 1];
+      if (!(hi - lo > kArcTolerance) || !engaged(0.5 * (lo + hi))) continue;
+      if (!found.empty() && lo - found.back().hi <= kArcTolerance) {
+        found.back().hi = hi;
+      } else {
+        found.push_back({lo, hi});
+      }
+    }
+    return found;
+  }
+
+  // Arcs shorter than this (radians) are not classified: the crossings that bound them are one.
+  static constexpr double kArcTolerance = 1e-9;
+
+  BrepWorkpiece& workpiece_;
+  EngagementGrid grid_;
+  // How far outside the cutter surface the circles lie, mm: off the cutter's own faces (the
+  // RV's leading faces at the move's end), and little enough that where a wall the move leaves
+  // grazes the cutter (f = 0), the circle enters it within √(2·(offset + kOnFace)/ρ) ≈ 0.02° of
+  // the grazing line at ρ = 5.
+  static constexpr double offset_ = 2.0 * kOnFace;
+  double covered_ = 0.0;  // how deep inside an earlier piece a point was taken before, mm
+  std::shared_ptr<const BrepRemoval> move_removed_;
+};
+
+}  // namespace
+
+BrepWorkpiece::BrepWorkpiece(BrepStock& stock, double spacing)
+    : stock_(stock), cell_(1e-7 * std::max(stock.volume(), 1.0)), spacing_(spacing) {
+  if (!(spacing > 0.0) || !std::isfinite(spacing)) {
+    throw InputError(
+        fmt::format("B-rep workpiece: resolution {} mm, expected a positive length", spacing));
+  }
+}
+
+double BrepWorkpiece::remove(const MoveSweep& sweep, std::vector<BrepStock::Solid>* removed) {
   const Move& move = sweep.move();
   const ConvexParts& parts = sweep.parts();
   if (parts.parts().size() != 1 || parts.parts().front().offset != 0.0) {
@@ -22,10 +254,13 @@ double BrepWorkpiece::remove(const MoveSweep& sweep) {
   const Cutter& cutter = *parts.parts().front().cutter;
   const Vec3 axis = move.start_axis.normalized();
   const bool constant_axis = move.axis_angle() <= tol::kAngle;
-  if (!move.is_arc() && constant_axis) return stock_.cut_linear(cutter, move.start, move.end, axis);
+  if (!move.is_arc() && constant_axis) {
+    return stock_.cut_linear(cutter, move.start, move.end, axis, removed);
+  }
   if (move.is_arc() && constant_axis &&
       std::abs(axis.dot(move.normal.normalized())) > 1.0 - 1e-12) {
-    return move.axial == 0.0 ? stock_.cut_planar_arc(cutter, move) : stock_.cut_helix(cutter, move);
+    return move.axial == 0.0 ? stock_.cut_planar_arc(cutter, move, removed)
+                             : stock_.cut_helix(cutter, move, removed);
   }
   throw ComputationError(
       move.is_arc()
@@ -47,11 +282,9 @@ std::vector<double> BrepWorkpiece::remove(std::span<const MoveSweep> sweeps) {
   return volumes;
 }
 
-std::unique_ptr<StepEngagement> BrepWorkpiece::engagement(const Cutter& /*cutter*/,
-                                                          const EngagementOptions& /*options*/) {
-  throw InputError(SourceLocation{"--workpiece"},
-                   "the B-rep workpiece removes material only (its engagement is still to come): "
-                   "run it with --stock-only");
+std::unique_ptr<StepEngagement> BrepWorkpiece::engagement(const Cutter& cutter,
+                                                          const EngagementOptions& options) {
+  return std::make_unique<BrepStepEngagement>(*this, cutter, spacing_, options);
 }
 
 }  // namespace cwe

@@ -174,7 +174,7 @@ JobResult run_job(const PreparedJob& job, BrepStock stock, const RunOptions& opt
                   std::span<ClSink* const> sinks, const Progress& progress) {
   JobResult result(std::move(stock));
   result.initial_volume = volume_of(*result.brep);
-  BrepWorkpiece workpiece(*result.brep);
+  BrepWorkpiece workpiece(*result.brep, job.simulation.resolution);
   run_on(job, workpiece, options, sinks, progress, result);
   result.final_volume = volume_of(*result.brep);
   return result;

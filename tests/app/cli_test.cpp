@@ -712,12 +712,14 @@ TEST(CliSimulate, StepStockOnBothWorkpieces) {
   std::filesystem::remove_all(dir);
 }
 
-// The B-rep workpiece (--workpiece brep, removal only): a plunge and a full circle of a flat end
-// mill D = 10 at radius 10, 3 mm deep, take the ring π(15² − 5²)·3 exactly; the in-process
-// solid written to stock.step reads back as a STEP stock of the same volume (the round trip),
-// and a second run on it cuts on. What it cannot do yet is refused: without --stock-only
-// (exit 2), from an STL stock (exit 2), a bull-nose round a corner (exit 3, the move's line
-// named).
+// The B-rep workpiece (--workpiece brep): a plunge and a full circle of a flat end mill D = 10 at
+// radius 10, 3 mm deep, take the ring π(15² − 5²)·3 exactly; the in-process solid written to
+// stock.step reads back as a STEP stock of the same volume (the round trip), and a second run on
+// it cuts on. With engagement (the solid-model CWE), the plunge engages the whole bottom and
+// half-way round the circle the front half is engaged 3 mm deep (a full slot, entry 0°, exit
+// 180°), while at its end the circle comes back to where it started, which its start took. What
+// it cannot do is refused: an STL stock (exit 2), a bull-nose round a corner (exit 3, the move's
+// line named).
 TEST(CliSimulate, BrepWorkpieceCutsExactlyAndRoundTripsThroughStep) {
   const auto dir = scratch_dir("simulate-brep");
   std::filesystem::create_directories(dir);
@@ -761,11 +763,43 @@ TEST(CliSimulate, BrepWorkpieceCutsExactlyAndRoundTripsThroughStep) {
   const double segment = 225.0 * std::acos(10.0 / 15.0) - 10.0 * std::sqrt(125.0);
   const double slot = 1200.0 - 2.0 * segment;
   EXPECT_NEAR(second["removed_volume_mm3"].get<double>(), slot, 1e-6 * slot);
-  // Refused.
+  // The engagement, along the circle (line 5) and in the plunge (line 4).
   const Result engaging =
-      simulate("box:0,0,0,60,40,20", (dir / "ring.ngc").string(), (dir / "no1").string(), false);
-  EXPECT_EQ(engaging.status, 2);
-  EXPECT_NE(engaging.err.find("add --stock-only"), std::string::npos) << engaging.err;
+      simulate("box:0,0,0,60,40,20", (dir / "ring.ngc").string(), (dir / "cwe").string(), false);
+  ASSERT_EQ(engaging.status, 0) << engaging.err;
+  std::ifstream csv(dir / "cwe" / "engagement.csv");
+  std::string row;
+  std::getline(csv, row);
+  int plunging = 0, halfway = 0, closing = 0;
+  while (std::getline(csv, row)) {
+    std::vector<std::string> cells;
+    for (std::size_t at = 0, end = 0; end != std::string::npos; at = end + 1) {
+      end = row.find(',', at);
+      cells.push_back(row.substr(at, end == std::string::npos ? end : end - at));
+    }
+    // cl,move,line,x,y,z,i,j,k,feed_x,feed_y,feed_z,engaged,phi_entry_deg,phi_exit_deg,
+    // axial_depth_mm,area_mm2,u,…
+    ASSERT_GT(cells.size(), 17u) << row;
+    const int line = std::stoi(cells[2]);
+    const double z = std::stod(cells[5]), area = std::stod(cells[16]), u = std::stod(cells[17]);
+    if (line == 4 && z < 19.9 && z > 17.0) {
+      EXPECT_NEAR(area, kPi * 25.0, 1e-4) << row;  // the whole bottom (the CSV has 4 decimals)
+      ++plunging;
+    } else if (line == 5 && u > 0.4 && u < 0.6) {
+      EXPECT_EQ(cells[12], "1") << row;
+      EXPECT_NEAR(std::stod(cells[13]), 0.0, 0.1) << row;
+      EXPECT_NEAR(std::stod(cells[14]), 180.0, 0.1) << row;
+      EXPECT_NEAR(std::stod(cells[15]), 3.0, 1e-4) << row;
+      ++halfway;
+    } else if (line == 5 && u > 0.99) {
+      // Within a tool radius of its start the circle's front was cut by the start already.
+      EXPECT_LT(area, 0.5 * kPi * 5.0 * 3.0) << row;
+      ++closing;
+    }
+  }
+  EXPECT_EQ(plunging, 5);  // z = 19.5 … 17.5
+  EXPECT_GT(halfway, 10);
+  EXPECT_GT(closing, 0);
   write_file_atomically(dir / "cube.stl",
                         stl_binary(read_stl((dir / "ring" / "stock.stl").string()).mesh, "cube"));
   const Result from_stl =
@@ -781,7 +815,7 @@ TEST(CliSimulate, BrepWorkpieceCutsExactlyAndRoundTripsThroughStep) {
   EXPECT_EQ(corner.status, 3);
   EXPECT_NE(corner.err.find("corner.ngc:4:"), std::string::npos) << corner.err;
   EXPECT_NE(corner.err.find("where the motion sweeps"), std::string::npos) << corner.err;
-  for (const char* none : {"no1", "no2", "no3"}) EXPECT_FALSE(std::filesystem::exists(dir / none));
+  for (const char* none : {"no2", "no3"}) EXPECT_FALSE(std::filesystem::exists(dir / none));
   std::filesystem::remove_all(dir);
 }
 

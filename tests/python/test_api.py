@@ -58,6 +58,28 @@ def test_slot_engagement_is_the_closed_form(slot):
     assert np.all(forces["peak_resultant_n"][steady["cl"]] > 10.0)
 
 
+def test_brep_workpiece_engagement_and_stock(slot):
+    # The same slot on the exact solid (the solid-model method): the angles to 0.1°, the depth
+    # exactly, the removed volume exact, forces, and the solid's tessellation as the stock.
+    job = cwe.Job(stock=STOCK, tool="flat:10,20", path=str(slot), resolution=S, workpiece="brep")
+    run = cwe.run(job, forces="al7075-t6-carbide")
+    e = run.engagement
+    steady = e[(e["line"] == 5) & (e["x"] >= 10) & (e["x"] <= 40)]
+    assert len(steady) > 50
+    assert np.all(steady["engaged"] == 1)
+    assert np.allclose(steady["phi_entry_deg"], 0.0, atol=0.1)
+    assert np.allclose(steady["phi_exit_deg"], 180.0, atol=0.1)
+    assert np.allclose(steady["axial_depth_mm"], 3.0, atol=1e-9)
+    assert run.summary["workpiece"] == "brep"
+    assert run.summary["removed_volume_mm3"] == pytest.approx(1500.0, rel=1e-6)
+    assert np.all(run.forces["peak_resultant_n"][steady["cl"]] > 10.0)
+    v, f = run.stock_mesh()
+    assert v.shape[1] == 3 and f.shape[1] == 3 and f.max() < len(v)
+    # The block less the slot: its bounds are the block's.
+    assert np.allclose(v.min(axis=0), [0, 0, -10], atol=1e-6)
+    assert np.allclose(v.max(axis=0), [50, 20, 0], atol=1e-6)
+
+
 def read_csv(path):
     with open(path, newline="") as stream:
         rows = list(csv.reader(stream))

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <string>
 
 #include <fmt/format.h>
+#include <BRepAlgoAPI_Common.hxx>
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepBndLib.hxx>
 #include <BRepCheck_Analyzer.hxx>
@@ -69,29 +71,30 @@ int BrepStock::faces() const {
 }
 
 double BrepStock::cut_linear(const Cutter& cutter, const Vec3& start, const Vec3& end,
-                             const Vec3& axis) {
+                             const Vec3& axis, std::vector<Solid>* removed) {
   Solid sweep;
   sweep.shape = linear_sweep_solid(cutter, start, end, axis);
-  return cut(sweep);
+  return cut(sweep, removed);
 }
 
-double BrepStock::cut_planar_arc(const Cutter& cutter, const Move& arc) {
+double BrepStock::cut_planar_arc(const Cutter& cutter, const Move& arc,
+                                 std::vector<Solid>* removed) {
   Solid sweep;
   sweep.shape = planar_arc_sweep_solid(cutter, arc);
-  return cut(sweep);
+  return cut(sweep, removed);
 }
 
-double BrepStock::cut_helix(const Cutter& cutter, const Move& helix) {
+double BrepStock::cut_helix(const Cutter& cutter, const Move& helix, std::vector<Solid>* removed) {
   double taken = 0.0;
   for (const TopoDS_Shape& piece : helix_sweep_solids(cutter, helix)) {
     Solid sweep;
     sweep.shape = piece;
-    taken += cut(sweep);
+    taken += cut(sweep, removed);
   }
   return taken;
 }
 
-double BrepStock::cut(const Solid& cutter) {
+double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed) {
   if (box_of(cutter.shape).IsOut(box_of(solid_->shape))) return 0.0;
   const double swept = shape_volume(cutter.shape);
   const Aabb box = bounds();
@@ -141,6 +144,29 @@ double BrepStock::cut(const Solid& cutter) {
             -taken, swept);
         continue;
       }
+      std::vector<Solid> took;
+      if (removed != nullptr) {
+        // The removal volume from the same intersection (the cut's pave filler): its volume
+        // must be what the stock lost.
+        BRepAlgoAPI_Common common(solid_->shape, cutter.shape, *cut.DSFiller());
+        if (!common.IsDone() || common.HasErrors()) {
+          failure = "BRepAlgoAPI_Common (the removal volume) reported an error";
+          continue;
+        }
+        double in_rv = 0.0;
+        for (TopExp_Explorer e(common.Shape(), TopAbs_SOLID); e.More(); e.Next()) {
+          took.push_back(Solid{e.Current()});
+          in_rv += shape_volume(e.Current());
+        }
+        // Held to 1e-4 of the cut (it serves the engagement only): on a helix's pipe shells
+        // OpenCASCADE's common has been seen 4e-5 off a cut that every fuzzy value agrees on.
+        if (std::abs(in_rv - taken) > slack + 1e-4 * taken) {
+          failure = fmt::format("the removal volume holds {:g} mm³ where the stock lost {:g} mm³",
+                                in_rv, taken);
+          continue;
+        }
+      }
+      if (removed != nullptr) std::move(took.begin(), took.end(), std::back_inserter(*removed));
       solid_->shape = result;
       volume_ = after;
       return std::max(0.0, taken);

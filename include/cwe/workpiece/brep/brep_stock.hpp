@@ -12,6 +12,7 @@
 // solid itself to the code that needs it (STEP output, tessellation, tests).
 
 #include <memory>
+#include <vector>
 
 #include "cwe/geometry/aabb.hpp"
 #include "cwe/geometry/vec.hpp"
@@ -29,18 +30,23 @@ class BrepStock {
   BrepStock& operator=(BrepStock&&) noexcept;
   ~BrepStock();
 
+  struct Solid;  // the OpenCASCADE shape (brep_shapes.hpp)
+
   // Cuts the volume the cutter sweeps along a line with a constant axis (3-axis and 3+2 moves;
   // linear_sweep_solid) and returns the volume removed, mm³. Throws ComputationError when the
-  // sweep cannot be built or the cut fails its checks; the stock is then unchanged.
-  double cut_linear(const Cutter& cutter, const Vec3& start, const Vec3& end, const Vec3& axis);
+  // sweep cannot be built or the cut fails its checks; the stock is then unchanged. With
+  // `removed`, the solids of what the cut took (the removal volume W ∩ SV, from the same
+  // intersection; its volume checked against the stock's change) are appended to it.
+  double cut_linear(const Cutter& cutter, const Vec3& start, const Vec3& end, const Vec3& axis,
+                    std::vector<Solid>* removed = nullptr);
   // The same for a planar arc with the tool along its normal (planar_arc_sweep_solid), and for
   // a helix (helix_sweep_solids: its pieces one after the other).
-  double cut_planar_arc(const Cutter& cutter, const Move& arc);
-  double cut_helix(const Cutter& cutter, const Move& helix);
+  double cut_planar_arc(const Cutter& cutter, const Move& arc,
+                        std::vector<Solid>* removed = nullptr);
+  double cut_helix(const Cutter& cutter, const Move& helix, std::vector<Solid>* removed = nullptr);
 
-  struct Solid;  // the OpenCASCADE shape (brep_shapes.hpp)
   // Cuts a solid (a swept volume) and returns the volume removed, mm³, with the checks above.
-  double cut(const Solid& cutter);
+  double cut(const Solid& cutter, std::vector<Solid>* removed = nullptr);
 
   double volume() const { return volume_; }  // mm³, exact (BRepGProp)
   Aabb bounds() const;
