@@ -6,6 +6,7 @@
 
 #include <BRepCheck_Analyzer.hxx>
 #include <BRepGProp.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
 #include <GProp_GProps.hxx>
 
 #include <cmath>
@@ -134,6 +135,35 @@ TEST(BrepStock, MovesOffTheStockTakeNothing) {
   EXPECT_EQ(stock.cut_linear(flat, {-10, 20, 25}, {70, 20, 25}, Vec3::UnitZ()), 0.0);
   EXPECT_NEAR(stock.volume(), 48000.0, 1e-9 * 48000.0);
   EXPECT_THROW(BrepStock::from_box({{0, 0, 0}, {0, 1, 1}}), InputError);
+}
+
+// A boolean that goes wrong (constructed): a swept volume that is inside out (a box with its
+// faces reversed, of volume −2000 mm³, which OpenCASCADE cuts as the space outside it) takes
+// 47,000 mm³ of the stock, outside [0, the sweep's volume], with the fuzzy value and without:
+// the cut is refused with what was found, and the stock is left as it was.
+TEST(BrepStock, BooleanThatGoesWrongIsRefusedAndTheStockKept) {
+  BrepStock stock = BrepStock::from_box({{0, 0, 0}, {60, 40, 20}});
+  BrepStock::Solid inside_out;
+  inside_out.shape = BRepPrimAPI_MakeBox(gp_Pnt(10, 10, 10), gp_Pnt(20, 20, 30)).Shape().Reversed();
+  std::vector<BrepStock::Solid> removed;
+  try {
+    stock.cut(inside_out, &removed);
+    ADD_FAILURE() << "the inside-out cut was taken";
+  } catch (const ComputationError& e) {
+    EXPECT_NE(std::string(e.what()).find("B-rep removal:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("and without"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("changed by -47000 mm³"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(removed.empty());
+  EXPECT_NEAR(stock.volume(), 48000.0, 1e-9 * 48000.0);
+  EXPECT_EQ(stock.faces(), 6);
+  // The same box the right way out takes its 10 × 10 × 10 inside the stock, and its removal
+  // volume is that cube.
+  BrepStock::Solid box;
+  box.shape = BRepPrimAPI_MakeBox(gp_Pnt(10, 10, 10), gp_Pnt(20, 20, 30)).Shape();
+  EXPECT_NEAR(stock.cut(box, &removed), 1000.0, 1e-9 * 1000.0);
+  ASSERT_EQ(removed.size(), 1u);
+  EXPECT_NEAR(shape_volume(removed[0].shape), 1000.0, 1e-9 * 1000.0);
 }
 
 }  // namespace

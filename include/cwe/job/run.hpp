@@ -67,7 +67,7 @@ JobResult run_job(const PreparedJob& job, TriDexel stock, const RunOptions& opti
 JobResult run_job(const PreparedJob& job, MeshStock stock, const RunOptions& options,
                   std::span<ClSink* const> sinks, const Progress& progress = {});
 
-// The same on the B-rep workpiece (BrepWorkpiece: removal only, RunOptions::engagement false).
+// The same on the B-rep workpiece (BrepWorkpiece: exact sweeps, the solid-model engagement).
 // Throws ComputationError naming the move's file and line when a sweep or a cut fails.
 JobResult run_job(const PreparedJob& job, BrepStock stock, const RunOptions& options,
                   std::span<ClSink* const> sinks, const Progress& progress = {});
