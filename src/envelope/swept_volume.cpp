@@ -88,15 +88,42 @@ double shadow_area(const Cutter& cutter, const Vec3& d) {
 }
 
 // The area a disc of radius ρ sweeps with its centre on an arc of radius R through α: where
-// R ≥ ρ, the annular strip and the two end half discs (2αRρ + πρ², valid while they do not
-// overlap); where R < ρ the disc covers the arc's axis: the sector out to R + ρ and, beyond the
+// R ≥ ρ, the annular strip and the two end half discs (2αRρ + πρ²) while the half discs, each
+// asin(ρ/R) wide seen from the axis, do not overlap beyond the arc's angles; where they do, the
+// strip and, beyond the arc's angles, the union of the two discs' chords along each ray from the
+// axis. Where R < ρ the disc covers the arc's axis: the sector out to R + ρ and, beyond the
 // arc's angles, the farther reach of the two end discs along each ray from the axis.
 double arc_swept_area(double big_r, double rho, double alpha) {
   if (alpha >= 2.0 * M_PI) {
     const double inner = std::max(0.0, big_r - rho);
     return M_PI * ((big_r + rho) * (big_r + rho) - inner * inner);
   }
-  if (big_r >= rho) return 2.0 * alpha * big_r * rho + M_PI * rho * rho;
+  if (big_r >= rho) {
+    const double strip = 2.0 * alpha * big_r * rho;
+    if (!(rho > 0.0) || alpha + 2.0 * std::asin(rho / big_r) <= 2.0 * M_PI) {
+      return strip + M_PI * rho * rho;
+    }
+    // The chord [c − h, c + h] of the end disc centred at angle ψ along the ray at φ.
+    const auto chord = [&](double phi, double psi) {
+      const double s = big_r * std::sin(phi - psi), c = big_r * std::cos(phi - psi);
+      if (!(std::abs(s) < rho) || !(c > 0.0)) return std::pair{0.0, 0.0};
+      const double h = std::sqrt(rho * rho - s * s);
+      return std::pair{c - h, c + h};
+    };
+    return strip + simpson(
+                       [&](double phi) {
+                         auto [a0, b0] = chord(phi, 0.0);
+                         auto [a1, b1] = chord(phi, alpha);
+                         if (a1 < a0) {
+                           std::swap(a0, a1);
+                           std::swap(b0, b1);
+                         }
+                         // ½(b² − a²) over the union of [a0, b0] and [a1, b1] (a0 ≤ a1).
+                         if (a1 <= b0) return 0.5 * (std::max(b0, b1) * std::max(b0, b1) - a0 * a0);
+                         return 0.5 * (b0 * b0 - a0 * a0 + b1 * b1 - a1 * a1);
+                       },
+                       alpha, 2.0 * M_PI, 4000);
+  }
   const auto reach = [&](double phi) {
     const double s = std::sin(phi);
     return big_r * std::cos(phi) + std::sqrt(rho * rho - big_r * big_r * s * s);

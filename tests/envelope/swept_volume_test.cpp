@@ -334,6 +334,30 @@ TEST(SweptVolumeFormulas, PlanarArcsAgreeWithClosedFormsAndAGrid) {
     const double grid = h * static_cast<double>(inside) * step * step;
     EXPECT_NEAR(planar_arc_swept_volume(flat, big_r, alpha), grid, 2e-3 * grid) << big_r;
   }
+  // Arcs long enough that the end discs overlap beyond the arc's angles (α + 2 asin(ρ/R) > 2π)
+  // and corners of 270°: a point is swept when it lies within r of the arc (within r of the
+  // circle at an angle inside the arc's, or of either end).
+  for (const auto& [big_r, alpha] :
+       {std::pair{6.0, 300.0 * kPi / 180.0}, std::pair{5.5, 270.0 * kPi / 180.0},
+        std::pair{4.0, 270.0 * kPi / 180.0}}) {
+    const double step = 0.02, extent = big_r + r;
+    long inside = 0;
+    for (double x = -extent; x <= extent; x += step) {
+      for (double y = -extent; y <= extent; y += step) {
+        double polar = std::atan2(y, x);
+        if (polar < 0.0) polar += kTwoPi;
+        const double d = std::hypot(x, y) - big_r;
+        const bool along = polar <= alpha && std::abs(d) <= r;
+        const bool at_start = std::hypot(x - big_r, y) <= r;
+        const bool at_end =
+            std::hypot(x - big_r * std::cos(alpha), y - big_r * std::sin(alpha)) <= r;
+        if (along || at_start || at_end) ++inside;
+      }
+    }
+    const double grid = h * static_cast<double>(inside) * step * step;
+    EXPECT_NEAR(planar_arc_swept_volume(flat, big_r, alpha), grid, 2e-3 * grid)
+        << big_r << " " << alpha;
+  }
 }
 
 }  // namespace

@@ -7,8 +7,9 @@
 #include <fmt/format.h>
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepAlgoAPI_Common.hxx>
-#include <BRepAlgoAPI_Fuse.hxx>
+#include <BRepAlgoAPI_Cut.hxx>
 #include <BRepAlgoAPI_Splitter.hxx>
+#include <BRepBndLib.hxx>
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakeSolid.hxx>
@@ -20,10 +21,12 @@
 #include <BRepGProp.hxx>
 #include <BRepLib.hxx>
 #include <BRepOffsetAPI_MakePipeShell.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakePrism.hxx>
 #include <BRepPrimAPI_MakeRevol.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Tool.hxx>
+#include <Bnd_Box.hxx>
 #include <GC_MakeArcOfCircle.hxx>
 #include <GProp_GProps.hxx>
 #include <Geom2d_Line.hxx>
@@ -31,7 +34,6 @@
 #include <GeomFill.hxx>
 #include <Geom_CylindricalSurface.hxx>
 #include <Geom_Surface.hxx>
-#include <ShapeUpgrade_UnifySameDomain.hxx>
 #include <Standard_Failure.hxx>
 #include <TColStd_HArray1OfReal.hxx>
 #include <TColgp_HArray1OfPnt.hxx>
@@ -347,27 +349,6 @@ TopoDS_Shape sewn_sweep(const TopoDS_Shape& faces, Trails trails, const gp_Trsf&
   return solid;
 }
 
-// The union of solids, refused (ComputationError) unless it is valid; its volume is the caller's
-// to check (check_volume: OpenCASCADE's union can be valid and short of a third of its volume).
-TopoDS_Shape valid_union(const std::vector<TopoDS_Shape>& parts, const Cutter& cutter) {
-  TopTools_ListOfShape arguments, tools;
-  for (std::size_t k = 0; k < parts.size(); ++k) (k == 0 ? arguments : tools).Append(parts[k]);
-  BRepAlgoAPI_Fuse fuse;
-  fuse.SetArguments(arguments);
-  fuse.SetTools(tools);
-  fuse.SetRunParallel(false);
-  fuse.Build();
-  check_done(fuse.IsDone() && !fuse.HasErrors(), "the union of the sweep's parts", cutter);
-  ShapeUpgrade_UnifySameDomain unify(fuse.Shape(), true, true, true);
-  unify.Build();
-  const TopoDS_Shape joined = unify.Shape();
-  if (!BRepCheck_Analyzer(joined).IsValid()) {
-    throw ComputationError(
-        fmt::format("{}: the union of the sweep's parts is not a valid solid", cutter.name()));
-  }
-  return joined;
-}
-
 }  // namespace
 
 TopoDS_Shape linear_sweep_solid(const Cutter& cutter, const Vec3& start, const Vec3& end,
@@ -409,14 +390,14 @@ TopoDS_Shape linear_sweep_solid(const Cutter& cutter, const Vec3& start, const V
   }
 }
 
-TopoDS_Shape planar_arc_sweep_solid(const Cutter& cutter, const Move& arc) {
+std::vector<TopoDS_Shape> planar_arc_sweep_solids(const Cutter& cutter, const Move& arc) {
   try {
     const Vec3 axis = arc.start_axis.normalized();
     const Vec3 normal = arc.normal.normalized();
     const Vec3 radial = arc.start - arc.center - (arc.start - arc.center).dot(normal) * normal;
     const double big_r = radial.norm();
     const TopoDS_Solid start = tool_solid(cutter, arc.start, axis);
-    if (!(big_r > 1e-9)) return start;  // the tool turning on its own axis
+    if (!(big_r > 1e-9)) return {start};  // the tool turning on its own axis
     const double rho = cutter.profile().max_radius();
     const double reach = std::hypot(rho, cutter.profile().height());
     const double big = 4.0 * (reach + big_r);
@@ -445,7 +426,7 @@ TopoDS_Shape planar_arc_sweep_solid(const Cutter& cutter, const Move& arc) {
       const TopoDS_Shape swept = sewn_sweep(faces, trails, turn, band, 1e-6 * reach, cutter);
       check_volume(swept, planar_arc_swept_volume(cutter, big_r, angle), cutter,
                    "arc's swept volume");
-      return swept;
+      return {swept};
     }
     // A full circle, or a corner (the tool covers the arc's axis): the section on the tool's
     // side of the arc's axis, revolved, and the tool at both ends.
@@ -455,13 +436,37 @@ TopoDS_Shape planar_arc_sweep_solid(const Cutter& cutter, const Move& arc) {
     check_done(section.IsDone() && !section.HasErrors(), "the tool's section", cutter);
     BRepPrimAPI_MakeRevol ring(section.Shape(), arc_axis, angle);
     check_done(ring.IsDone(), "revolving the tool's section", cutter);
-    const TopoDS_Shape swept =
-        angle >= 2.0 * M_PI
-            ? ring.Shape()
-            : valid_union({ring.Shape(), start, tool_solid(cutter, arc.end, axis)}, cutter);
-    check_volume(swept, planar_arc_swept_volume(cutter, big_r, angle), cutter,
-                 "arc's swept volume");
-    return swept;
+    // A solid of revolution's volume is proportional to its angle (Pappus): the ring's is the full
+    // circle's sweep's share.
+    check_volume(ring.Shape(),
+                 planar_arc_swept_volume(cutter, big_r, 2.0 * M_PI) * angle / (2.0 * M_PI), cutter,
+                 "revolved section");
+    if (angle >= 2.0 * M_PI) return {ring.Shape()};
+    // The tools first, then the ring, one after the other: the other way round, OpenCASCADE cut
+    // a bull-nose's end tool as nothing after the ring (whose end sections lie on the tools'
+    // surfaces). Their union's volume is checked as what they cut, in this order, from a block
+    // holding them.
+    const std::vector<TopoDS_Shape> pieces{start, tool_solid(cutter, arc.end, axis), ring.Shape()};
+    Bnd_Box bounds;
+    for (const TopoDS_Shape& piece : pieces) BRepBndLib::Add(piece, bounds, false);
+    bounds.Enlarge(1.0);
+    double x0 = 0, y0 = 0, z0 = 0, x1 = 0, y1 = 0, z1 = 0;
+    bounds.Get(x0, y0, z0, x1, y1, z1);
+    TopoDS_Shape block = BRepPrimAPI_MakeBox(gp_Pnt(x0, y0, z0), gp_Pnt(x1, y1, z1)).Shape();
+    const double full = shape_volume(block);
+    for (const TopoDS_Shape& piece : pieces) {
+      BRepAlgoAPI_Cut cut(block, piece);
+      check_done(cut.IsDone() && !cut.HasErrors(), "cutting the arc's pieces from a block", cutter);
+      block = cut.Shape();
+    }
+    const double swept = full - shape_volume(block);
+    const double expected = planar_arc_swept_volume(cutter, big_r, angle);
+    if (!(std::abs(swept - expected) <= 1e-5 * expected)) {
+      throw ComputationError(fmt::format(
+          "{}: the arc's pieces cut {:.6g} mm³ from a block where the motion sweeps {:.6g} mm³",
+          cutter.name(), swept, expected));
+    }
+    return pieces;
   } catch (const Standard_Failure& e) {
     throw ComputationError(fmt::format("{}: OpenCASCADE could not build the arc's sweep ({})",
                                        cutter.name(), e.GetMessageString()));

@@ -30,6 +30,12 @@ Bnd_Box box_of(const TopoDS_Shape& shape) {
   return box;
 }
 
+std::vector<BrepStock::Solid> solids(const std::vector<TopoDS_Shape>& shapes) {
+  std::vector<BrepStock::Solid> out;
+  for (const TopoDS_Shape& shape : shapes) out.push_back({shape});
+  return out;
+}
+
 }  // namespace
 
 BrepStock::BrepStock(std::unique_ptr<Solid> solid)
@@ -70,6 +76,23 @@ int BrepStock::faces() const {
   return n;
 }
 
+double BrepStock::cut_all(const std::vector<Solid>& parts, std::vector<Solid>* removed) {
+  // All or nothing: a part that fails leaves the stock (and `removed`) as before the first.
+  const TopoDS_Shape before = solid_->shape;
+  const double volume = volume_;
+  const std::size_t recorded = removed != nullptr ? removed->size() : 0;
+  try {
+    double taken = 0.0;
+    for (const Solid& part : parts) taken += cut(part, removed);
+    return taken;
+  } catch (...) {
+    solid_->shape = before;
+    volume_ = volume;
+    if (removed != nullptr) removed->resize(recorded);
+    throw;
+  }
+}
+
 double BrepStock::cut_linear(const Cutter& cutter, const Vec3& start, const Vec3& end,
                              const Vec3& axis, std::vector<Solid>* removed) {
   Solid sweep;
@@ -79,19 +102,11 @@ double BrepStock::cut_linear(const Cutter& cutter, const Vec3& start, const Vec3
 
 double BrepStock::cut_planar_arc(const Cutter& cutter, const Move& arc,
                                  std::vector<Solid>* removed) {
-  Solid sweep;
-  sweep.shape = planar_arc_sweep_solid(cutter, arc);
-  return cut(sweep, removed);
+  return cut_all(solids(planar_arc_sweep_solids(cutter, arc)), removed);
 }
 
 double BrepStock::cut_helix(const Cutter& cutter, const Move& helix, std::vector<Solid>* removed) {
-  double taken = 0.0;
-  for (const TopoDS_Shape& piece : helix_sweep_solids(cutter, helix)) {
-    Solid sweep;
-    sweep.shape = piece;
-    taken += cut(sweep, removed);
-  }
-  return taken;
+  return cut_all(solids(helix_sweep_solids(cutter, helix)), removed);
 }
 
 double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed) {

@@ -46,14 +46,16 @@ TopoDS_Shape linear_sweep_solid(const Cutter& cutter, const Vec3& start, const V
                                 const Vec3& axis);
 
 // The volume the cutter sweeps along a planar arc (no advance along its normal) with its axis
-// along the arc's normal. Off the arc's axis it is sewn like a line's, the tool's faces cut by
-// the plane through both axes (where the silhouette lies) and the silhouette revolved. A full
-// circle is the tool's section by that plane revolved into a ring; round a corner (the tool
-// over the arc's axis) the section clamped at the axis, revolved through the arc's angle and
-// unioned with the tool at both ends (the points of the sweep outside the arc's angles are
-// nearest one of them). Throws ComputationError when OpenCASCADE cannot build it, or when the
-// solid's volume is not planar_arc_swept_volume's.
-TopoDS_Shape planar_arc_sweep_solid(const Cutter& cutter, const Move& arc);
+// along the arc's normal, as solids whose union it is. Off the arc's axis it is one solid, sewn
+// like a line's, the tool's faces cut by the plane through both axes (where the silhouette lies)
+// and the silhouette revolved. A full circle is the tool's section by that plane revolved into a
+// ring. Round a corner (the tool over the arc's axis) it is three: the section clamped at the
+// axis and revolved through the arc's angle, and the tool at both ends (the points of the sweep
+// outside the arc's angles are nearest one of them); they are cut one after the other, never
+// fused (OpenCASCADE's union of a bull-nose's pieces, whose tori touch along the end sections,
+// came out valid and a third short). Throws ComputationError when OpenCASCADE cannot build them,
+// or when a swept or revolved solid's volume is not the one planar_arc_swept_volume gives it.
+std::vector<TopoDS_Shape> planar_arc_sweep_solids(const Cutter& cutter, const Move& arc);
 
 // The volume the cutter sweeps along a helix (an arc that advances along its normal) with its
 // axis along the helix's, in pieces of at most half a turn (no piece comes back over itself),

@@ -39,8 +39,8 @@ class BrepStock {
   // intersection; its volume checked against the stock's change) are appended to it.
   double cut_linear(const Cutter& cutter, const Vec3& start, const Vec3& end, const Vec3& axis,
                     std::vector<Solid>* removed = nullptr);
-  // The same for a planar arc with the tool along its normal (planar_arc_sweep_solid), and for
-  // a helix (helix_sweep_solids: its pieces one after the other).
+  // The same for a planar arc with the tool along its normal (planar_arc_sweep_solids), and for
+  // a helix (helix_sweep_solids), their solids cut one after the other.
   double cut_planar_arc(const Cutter& cutter, const Move& arc,
                         std::vector<Solid>* removed = nullptr);
   double cut_helix(const Cutter& cutter, const Move& helix, std::vector<Solid>* removed = nullptr);
@@ -56,6 +56,8 @@ class BrepStock {
   explicit BrepStock(std::unique_ptr<Solid> solid);
 
  private:
+  // Cuts the solids one after the other, all or none.
+  double cut_all(const std::vector<Solid>& parts, std::vector<Solid>* removed);
   std::unique_ptr<Solid> solid_;
   double volume_ = 0.0;
 };
