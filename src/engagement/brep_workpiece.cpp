@@ -262,11 +262,15 @@ double BrepWorkpiece::remove(const MoveSweep& sweep, std::vector<BrepStock::Soli
     return move.axial == 0.0 ? stock_.cut_planar_arc(cutter, move, removed)
                              : stock_.cut_helix(cutter, move, removed);
   }
-  throw ComputationError(
-      move.is_arc()
-          ? "B-rep removal: the B-rep workpiece does not yet sweep arcs with the tool off the "
-            "arc's normal"
-          : "B-rep removal: the B-rep workpiece does not yet sweep simultaneous 5-axis moves");
+  // Anything else (a simultaneous 5-axis move, an arc with the tool off its normal): the move's
+  // linear pieces, each with the mean of its ends' axes (MoveSweep: the motion within the sweep
+  // tolerance, its deviation_bound in the summary), each swept exactly.
+  std::vector<BrepStock::Line> lines;
+  lines.reserve(sweep.pieces().size());
+  for (const LinearSweep& piece : sweep.pieces()) {
+    lines.push_back({piece.start(), piece.end(), piece.axis().normalized()});
+  }
+  return stock_.cut_lines(cutter, lines, removed);
 }
 
 std::vector<double> BrepWorkpiece::remove(std::span<const MoveSweep> sweeps) {

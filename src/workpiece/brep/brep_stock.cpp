@@ -105,6 +105,16 @@ double BrepStock::cut_planar_arc(const Cutter& cutter, const Move& arc,
   return cut_all(solids(planar_arc_sweep_solids(cutter, arc)), removed);
 }
 
+double BrepStock::cut_lines(const Cutter& cutter, const std::vector<Line>& lines,
+                            std::vector<Solid>* removed) {
+  std::vector<Solid> sweeps;
+  sweeps.reserve(lines.size());
+  for (const Line& line : lines) {
+    sweeps.push_back({linear_sweep_solid(cutter, line.start, line.end, line.axis)});
+  }
+  return cut_all(sweeps, removed);
+}
+
 double BrepStock::cut_helix(const Cutter& cutter, const Move& helix, std::vector<Solid>* removed) {
   return cut_all(solids(helix_sweep_solids(cutter, helix)), removed);
 }

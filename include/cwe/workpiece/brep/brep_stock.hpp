@@ -44,6 +44,13 @@ class BrepStock {
   double cut_planar_arc(const Cutter& cutter, const Move& arc,
                         std::vector<Solid>* removed = nullptr);
   double cut_helix(const Cutter& cutter, const Move& helix, std::vector<Solid>* removed = nullptr);
+  // The same for lines one after the other, all or none (a move the caller cut into linear
+  // pieces: a simultaneous 5-axis move, each piece with one axis).
+  struct Line {
+    Vec3 start, end, axis;
+  };
+  double cut_lines(const Cutter& cutter, const std::vector<Line>& lines,
+                   std::vector<Solid>* removed = nullptr);
 
   // Cuts a solid (a swept volume) and returns the volume removed, mm³, with the checks above.
   double cut(const Solid& cutter, std::vector<Solid>* removed = nullptr);
