@@ -199,7 +199,7 @@ void print_report(std::ostream& out, const SimulateCommandOptions& options, cons
   } else if (run.brep) {
     fmt::print(out, "  stock       {} as an exact solid (B-rep): {} faces\n", options.stock,
                run.brep->faces());
-    fmt::print(out, "  removed     {:.{}f} {}³ of {:.{}f} {}³, exact ({} moves cut material)\n",
+    fmt::print(out, "  removed     {:.{}f} {}³ of {:.{}f} {}³ ({} moves cut material)\n",
                (initial.mean() - final_volume.mean()) / cubed, 3 + 2 * unit.extra_decimals,
                unit.name, initial.mean() / cubed, 3 + 2 * unit.extra_decimals, unit.name,
                removal.cutting_moves);
@@ -231,6 +231,11 @@ void print_report(std::ostream& out, const SimulateCommandOptions& options, cons
                "  accuracy    exact sweeps for linear moves; arcs, helices, 5-axis within "
                "{:g} mm\n",
                removal.deviation_bound);
+  } else if (run.brep) {
+    fmt::print(out,
+               "  accuracy    exact sweeps for lines, planar arcs and helices; {} moves (5-axis, "
+               "or helices the booleans refused) as linear pieces within {:g} mm\n",
+               run.brep->moves_in_lines(), removal.deviation_bound);
   } else {
     fmt::print(out,
                "  accuracy    faceted sweeps ({:g} mm facets at the tool's largest radius); arcs, "

@@ -257,20 +257,36 @@ double BrepWorkpiece::remove(const MoveSweep& sweep, std::vector<BrepStock::Soli
   if (!move.is_arc() && constant_axis) {
     return stock_.cut_linear(cutter, move.start, move.end, axis, removed);
   }
-  if (move.is_arc() && constant_axis &&
-      std::abs(axis.dot(move.normal.normalized())) > 1.0 - 1e-12) {
-    return move.axial == 0.0 ? stock_.cut_planar_arc(cutter, move, removed)
-                             : stock_.cut_helix(cutter, move, removed);
-  }
   // Anything else (a simultaneous 5-axis move, an arc with the tool off its normal): the move's
   // linear pieces, each with the mean of its ends' axes (MoveSweep: the motion within the sweep
   // tolerance, its deviation_bound in the summary), each swept exactly.
-  std::vector<BrepStock::Line> lines;
-  lines.reserve(sweep.pieces().size());
-  for (const LinearSweep& piece : sweep.pieces()) {
-    lines.push_back({piece.start(), piece.end(), piece.axis().normalized()});
+  const auto in_lines = [&] {
+    std::vector<BrepStock::Line> lines;
+    lines.reserve(sweep.pieces().size());
+    for (const LinearSweep& piece : sweep.pieces()) {
+      lines.push_back({piece.start(), piece.end(), piece.axis().normalized()});
+    }
+    return stock_.cut_lines(cutter, lines, removed);
+  };
+  if (move.is_arc() && constant_axis &&
+      std::abs(axis.dot(move.normal.normalized())) > 1.0 - 1e-12) {
+    if (move.axial == 0.0) return stock_.cut_planar_arc(cutter, move, removed);
+    try {
+      return stock_.cut_helix(cutter, move, removed);
+    } catch (const ComputationError& exact) {
+      // A helix whose exact pieces the booleans cannot cut (a helical entry's second turn under
+      // its first: the floors' B-spline tubes against each other) is cut as its linear pieces,
+      // within the sweep tolerance like any other move; the stock is as before the helix (cuts
+      // are all or none). If those fail too, both reasons are given.
+      try {
+        return in_lines();
+      } catch (const ComputationError& lines) {
+        throw ComputationError(
+            fmt::format("{}; as its linear pieces: {}", exact.what(), lines.what()));
+      }
+    }
   }
-  return stock_.cut_lines(cutter, lines, removed);
+  return in_lines();
 }
 
 std::vector<double> BrepWorkpiece::remove(std::span<const MoveSweep> sweeps) {

@@ -125,8 +125,10 @@ std::string job_summary(const PreparedJob& job, const JobResult& run, const JobS
         static_cast<double>(memory.total()) / static_cast<double>(run.stock->ray_count());
   } else if (run.brep) {
     summary["workpiece"] = "brep";
-    summary["stock_solid"] = {
-        {"file", "stock.step"}, {"faces", run.brep->faces()}, {"volume_mm3", run.brep->volume()}};
+    summary["stock_solid"] = {{"file", "stock.step"},
+                              {"faces", run.brep->faces()},
+                              {"volume_mm3", run.brep->volume()},
+                              {"moves_in_linear_pieces", run.brep->moves_in_lines()}};
   } else {
     summary["workpiece"] = "mesh";
     summary["facet_mm"] = job.facet;

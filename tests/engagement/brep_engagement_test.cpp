@@ -293,5 +293,42 @@ TEST(BrepEngagement, SimultaneousFiveAxisAgreesWithTheDexelMethod) {
                            t, kSpacing / (std::sqrt(2.0) * r) + 0.1 * kDeg + kAngle + t / r);
 }
 
+// The bundled example's helical entry (3 turns of 1 mm pitch on a 6 mm radius from 1 mm above
+// the block, a 10 mm end mill): the booleans refuse its exact half-turn pieces from the fifth on
+// (the floors' B-spline tubes under the turn before's), so the helix is cut as its linear
+// pieces, within the sweep tolerance t, as the summary reports. Against the dexel workpiece at
+// s = 0.1 with the same pieces: within s/2 over the cavity's surface (about 400 mm²), the dexel's
+// own bound.
+TEST(BrepEngagement, HelixTheBooleansRefuseIsCutInLinearPieces) {
+  Move helix;
+  helix.shape = MoveShape::kArc;
+  helix.feed_rate = 400.0;
+  helix.normal = Vec3::UnitZ();
+  helix.center = Vec3(74, 30, 1);
+  helix.start = Vec3(80, 30, 1);
+  helix.sweep = 3 * kTwoPi;
+  helix.axial = -3.0;
+  helix.end = helix.position(1.0);
+  const Aabb block{{0, 0, -30}, {100, 60, 0}};
+  const Cutter cutter = cutter_from_spec("flat:10,30");
+  Toolpath path;
+  path.sources = {"test"};
+  path.moves = {helix};
+  const double t = 0.1;
+  BrepStock stock = BrepStock::from_box(block);
+  BrepWorkpiece workpiece(stock, kSpacing);
+  double exact = 0.0;
+  for (const double v : remove_toolpath(workpiece, cutter, path, {kSpacing, t}).removed_by_move) {
+    exact += v;
+  }
+  EXPECT_EQ(stock.moves_in_lines(), 1);
+  TriDexel rays = TriDexel::from_box(block, kSpacing);
+  double dexel = 0.0;
+  for (const double v : remove_toolpath(rays, cutter, path, {kSpacing, t}).removed_by_move) {
+    dexel += v;
+  }
+  EXPECT_NEAR(exact, dexel, 0.5 * kSpacing * 400.0);
+}
+
 }  // namespace
 }  // namespace cwe

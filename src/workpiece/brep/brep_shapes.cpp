@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include <fmt/format.h>
+#include <BRepAdaptor_Curve.hxx>
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepAlgoAPI_Common.hxx>
 #include <BRepAlgoAPI_Cut.hxx>
@@ -490,6 +492,45 @@ gp_Trsf screw_motion(const Vec3& centre, const Vec3& normal, double angle, doubl
   return lift.Multiplied(turn);
 }
 
+// The face a straight edge along unit `normal` sweeps under the screw about the line through
+// `centre` along `normal` by `angle` and `rise`: a piece of the cylinder about that line, bounded
+// by the edge, its screwed copy and the two helices their ends trace (lines in the cylinder's
+// (angle, height)). None for an edge that is not such a segment, or lies on the axis.
+std::optional<TopoDS_Face> screwed_ruling(const TopoDS_Edge& edge, const Vec3& centre,
+                                          const Vec3& normal, double angle, double rise) {
+  const BRepAdaptor_Curve curve(edge);
+  if (curve.GetType() != GeomAbs_Line) return std::nullopt;
+  const gp_Pnt a = curve.Value(curve.FirstParameter()), b = curve.Value(curve.LastParameter());
+  const Vec3 pa(a.X(), a.Y(), a.Z()), pb(b.X(), b.Y(), b.Z());
+  const Vec3 along = pb - pa;
+  if (!(along.norm() > 0.0) || along.normalized().cross(normal).norm() > 1e-12) {
+    return std::nullopt;
+  }
+  const Vec3 offset = pa - centre - (pa - centre).dot(normal) * normal;
+  if (!(offset.norm() > 1e-9)) return std::nullopt;
+  const gp_Ax3 frame(point(centre), direction(normal), direction(offset));
+  const Handle(Geom_CylindricalSurface) cylinder =
+      new Geom_CylindricalSurface(frame, offset.norm());
+  // (u, v) = (angle from `offset`, height along `normal` from `centre`).
+  const double v0 = (pa - centre).dot(normal), v1 = (pb - centre).dot(normal);
+  const gp_Pnt2d corners[4] = {gp_Pnt2d(0.0, v0), gp_Pnt2d(angle, v0 + rise),
+                               gp_Pnt2d(angle, v1 + rise), gp_Pnt2d(0.0, v1)};
+  BRepBuilderAPI_MakeWire wire;
+  for (int k = 0; k < 4; ++k) {
+    const gp_Pnt2d& p = corners[k];
+    const gp_Pnt2d& q = corners[(k + 1) % 4];
+    const double length = p.Distance(q);
+    const Handle(Geom2d_Line) line = new Geom2d_Line(p, gp_Dir2d(q.X() - p.X(), q.Y() - p.Y()));
+    TopoDS_Edge side = BRepBuilderAPI_MakeEdge(line, cylinder, 0.0, length).Edge();
+    BRepLib::BuildCurves3d(side);
+    wire.Add(side);
+  }
+  if (!wire.IsDone()) return std::nullopt;
+  BRepBuilderAPI_MakeFace face(cylinder, wire.Wire(), true);
+  if (!face.IsDone()) return std::nullopt;
+  return face.Face();
+}
+
 }  // namespace
 
 std::vector<TopoDS_Shape> helix_sweep_solids(const Cutter& cutter, const Move& helix) {
@@ -554,7 +595,16 @@ std::vector<TopoDS_Shape> helix_sweep_solids(const Cutter& cutter, const Move& h
       TopoDS_Edge spine_edge = BRepBuilderAPI_MakeEdge(line, cylinder, 0.0, length).Edge();
       BRepLib::BuildCurves3d(spine_edge);
       const TopoDS_Wire spine = BRepBuilderAPI_MakeWire(spine_edge).Wire();
-      const auto band = [&](const TopoDS_Edge& edge) {
+      const auto band = [&](const TopoDS_Edge& edge) -> TopoDS_Shape {
+        // A ruling of the tool's cylinder (a segment along the helix's axis) screws along the
+        // cylinder about that axis through it: that cylinder's face between the segment and its
+        // screwed copy, exactly (a parallelogram in its (angle, height)), so that the bore's walls
+        // of successive pieces and turns lie on one surface (their pipe shells, each its own
+        // B-spline, left the cut of a helical entry's fifth half turn invalid).
+        if (const std::optional<TopoDS_Face> wall =
+                screwed_ruling(edge, helix.center, normal, angle, rise)) {
+          return *wall;
+        }
         BRepOffsetAPI_MakePipeShell pipe(spine);
         pipe.SetMode(direction(normal));  // a fixed binormal: the screw motion
         pipe.SetTolerance(1e-7, 1e-7, 1e-6);

@@ -112,7 +112,9 @@ double BrepStock::cut_lines(const Cutter& cutter, const std::vector<Line>& lines
   for (const Line& line : lines) {
     sweeps.push_back({linear_sweep_solid(cutter, line.start, line.end, line.axis)});
   }
-  return cut_all(sweeps, removed);
+  const double taken = cut_all(sweeps, removed);
+  ++moves_in_lines_;
+  return taken;
 }
 
 double BrepStock::cut_helix(const Cutter& cutter, const Move& helix, std::vector<Solid>* removed) {
@@ -120,10 +122,24 @@ double BrepStock::cut_helix(const Cutter& cutter, const Move& helix, std::vector
 }
 
 double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed) {
-  if (box_of(cutter.shape).IsOut(box_of(solid_->shape))) return 0.0;
-  const double swept = shape_volume(cutter.shape);
   const Aabb box = bounds();
   const double size = box.is_empty() ? 1.0 : (box.max - box.min).norm();
+  // A sweep whose tight box at most touches the stock's (overlaps by no more than the fuzzy
+  // value along some axis) takes nothing: it is not cut, since a face lying on the stock's (a
+  // helix piece whose lowest line ends on the stock's top) can defeat the boolean.
+  {
+    Bnd_Box tight;
+    BRepBndLib::AddOptimal(cutter.shape, tight, /*useTriangulation=*/false,
+                           /*useShapeTolerance=*/false);
+    if (tight.IsVoid()) return 0.0;
+    double a[6], b[6];
+    tight.Get(a[0], a[1], a[2], a[3], a[4], a[5]);
+    box_of(solid_->shape).Get(b[0], b[1], b[2], b[3], b[4], b[5]);
+    for (int k = 0; k < 3; ++k) {
+      if (std::min(a[k + 3], b[k + 3]) - std::max(a[k], b[k]) <= 1e-6 * size) return 0.0;
+    }
+  }
+  const double swept = shape_volume(cutter.shape);
   // BRepGProp integrates curved faces numerically: a relative 1e-7 of the stock is far above
   // its error and far below any chip.
   const double slack = 1e-7 * std::max(volume_, 1.0);

@@ -51,6 +51,8 @@ class BrepStock {
   };
   double cut_lines(const Cutter& cutter, const std::vector<Line>& lines,
                    std::vector<Solid>* removed = nullptr);
+  // How many cut_lines calls (moves cut as linear pieces, within their sweep tolerance) took.
+  int moves_in_lines() const { return moves_in_lines_; }
 
   // Cuts a solid (a swept volume) and returns the volume removed, mm³, with the checks above.
   double cut(const Solid& cutter, std::vector<Solid>* removed = nullptr);
@@ -67,6 +69,7 @@ class BrepStock {
   double cut_all(const std::vector<Solid>& parts, std::vector<Solid>* removed);
   std::unique_ptr<Solid> solid_;
   double volume_ = 0.0;
+  int moves_in_lines_ = 0;
 };
 
 }  // namespace cwe
