@@ -232,40 +232,9 @@ TEST(BrepEngagement, NothingEngagedInAir) {
 void expect_agrees_with_dexel(const char* tool, const Aabb& block, const Move& pass,
                               const Vec3& probe, double subdivision, double tolerance) {
   const EngagementMap brep = brep_engagement_near(tool, block, {pass}, probe, -1, 0.5, subdivision);
-  Toolpath path;
-  path.sources = {"test"};
-  path.moves = {pass};
-  const std::vector<test::Sample> samples =
-      test::simulate_samples(path, tool, block, kSpacing, 0.5, subdivision);
-  const test::Sample* nearest = nullptr;
-  for (const test::Sample& sample : samples) {
-    if (!nearest || (sample.cl.position - probe).norm() < (nearest->cl.position - probe).norm()) {
-      nearest = &sample;
-    }
-  }
-  ASSERT_NE(nearest, nullptr);
-  const EngagementMap& dexel = nearest->map;
-  ASSERT_TRUE(dexel.engaged);
-  ASSERT_EQ(brep.discs.size(), dexel.discs.size());
-  int compared = 0;
-  for (std::size_t k = 0; k < dexel.discs.size(); ++k) {
-    const DiscEngagement& d = dexel.discs[k];
-    const DiscEngagement& b = brep.discs[k];
-    if (d.phi.empty() != b.phi.empty()) {
-      EXPECT_NEAR(d.z0, dexel.axial_depth, 2 * kSpacing) << "disc " << d.z0;
-      continue;
-    }
-    if (d.phi.empty()) continue;
-    SCOPED_TRACE(testing::Message() << "disc " << d.z0);
-    ASSERT_EQ(b.phi.size(), d.phi.size());
-    for (std::size_t i = 0; i < d.phi.size(); ++i) {
-      EXPECT_NEAR(b.phi[i].lo, d.phi[i].lo, tolerance);
-      EXPECT_NEAR(b.phi[i].hi, d.phi[i].hi, tolerance);
-    }
-    ++compared;
-  }
-  EXPECT_GT(compared, 20);
-  EXPECT_NEAR(brep.axial_depth, dexel.axial_depth, 2 * kSpacing);
+  test::expect_agrees_with_dexel(
+      brep, test::dexel_map_near({pass}, tool, block, kSpacing, subdivision, probe), tolerance,
+      kSpacing);
 }
 
 // A flat end mill D = 8 tilted 20° sideways (3+2), 3 mm deep along the block's edge: the same

@@ -63,4 +63,53 @@ inline void expect_discs(const EngagementMap& map, double z0, double z1, double 
   EXPECT_GT(checked, 0);
 }
 
+// The dexel workpiece's map at the location of `moves` nearest `probe` (on move `on_move` when it
+// is not negative), cut by `tool` through `block` at ray spacing `spacing`, CL step 0.5 mm.
+inline EngagementMap dexel_map_near(const std::vector<Move>& moves, const char* tool,
+                                    const Aabb& block, double spacing, double subdivision,
+                                    const Vec3& probe, int on_move = -1) {
+  Toolpath path;
+  path.sources = {"test"};
+  path.moves = moves;
+  const std::vector<Sample> samples =
+      simulate_samples(path, tool, block, spacing, 0.5, subdivision);
+  const Sample* nearest = nullptr;
+  for (const Sample& sample : samples) {
+    if (on_move >= 0 && sample.cl.move != on_move) continue;
+    if (!nearest || (sample.cl.position - probe).norm() < (nearest->cl.position - probe).norm()) {
+      nearest = &sample;
+    }
+  }
+  EXPECT_NE(nearest, nullptr);
+  return nearest ? nearest->map : EngagementMap{};
+}
+
+// `map` (another method's) agrees with the dexel method's `dexel` at the same location within
+// `tolerance` on every disc both engage; the disc at the top of the cut may be engaged by one
+// method only (depth within 2s, s the dexel's `spacing`). More than 20 discs are compared.
+inline void expect_agrees_with_dexel(const EngagementMap& map, const EngagementMap& dexel,
+                                     double tolerance, double spacing) {
+  ASSERT_TRUE(dexel.engaged);
+  ASSERT_EQ(map.discs.size(), dexel.discs.size());
+  int compared = 0;
+  for (std::size_t k = 0; k < dexel.discs.size(); ++k) {
+    const DiscEngagement& d = dexel.discs[k];
+    const DiscEngagement& m = map.discs[k];
+    if (d.phi.empty() != m.phi.empty()) {
+      EXPECT_NEAR(d.z0, dexel.axial_depth, 2 * spacing) << "disc " << d.z0;
+      continue;
+    }
+    if (d.phi.empty()) continue;
+    SCOPED_TRACE(testing::Message() << "disc " << d.z0);
+    ASSERT_EQ(m.phi.size(), d.phi.size());
+    for (std::size_t i = 0; i < d.phi.size(); ++i) {
+      EXPECT_NEAR(m.phi[i].lo, d.phi[i].lo, tolerance);
+      EXPECT_NEAR(m.phi[i].hi, d.phi[i].hi, tolerance);
+    }
+    ++compared;
+  }
+  EXPECT_GT(compared, 20);
+  EXPECT_NEAR(map.axial_depth, dexel.axial_depth, 2 * spacing);
+}
+
 }  // namespace cwe::test

@@ -446,9 +446,6 @@ TEST(MeshEngagement, AreaAtTheThesisFacetSizes) {
 // along Y into the block's side, against the dexel workpiece's maps at the same locations. The
 // two methods differ by their own bounds: the dexel's s/(√2ρ) + 0.1° (engagement_test.cpp) and
 // the mesh's 1° plus half a facet angle π/n where a ring grazes its own wall.
-// The mesh method's map at the location of `path` nearest `probe` against the dexel method's
-// there: every disc's boundaries within `tolerance`; the disc at the top of the cut may be
-// engaged by one method only (depth within 2s).
 // The maps of both methods at the location nearest `probe` (on move `on_move` of `moves` when
 // it is not negative) agree within `tolerance` on every disc both engage.
 void expect_agrees_with_dexel(const char* tool, const Aabb& block, const std::vector<Move>& moves,
@@ -456,41 +453,9 @@ void expect_agrees_with_dexel(const char* tool, const Aabb& block, const std::ve
                               int on_move = -1) {
   const EngagementMap mesh =
       mesh_engagement_near(tool, block, moves, probe, facet, subdivision, on_move);
-  Toolpath path;
-  path.sources = {"test"};
-  path.moves = moves;
-  const std::vector<test::Sample> samples =
-      test::simulate_samples(path, tool, block, kSpacing, 0.5, subdivision);
-  const test::Sample* nearest = nullptr;
-  for (const test::Sample& sample : samples) {
-    if (on_move >= 0 && sample.cl.move != on_move) continue;
-    if (!nearest || (sample.cl.position - probe).norm() < (nearest->cl.position - probe).norm()) {
-      nearest = &sample;
-    }
-  }
-  ASSERT_NE(nearest, nullptr);
-  const EngagementMap& dexel = nearest->map;
-  ASSERT_TRUE(dexel.engaged);
-  ASSERT_EQ(mesh.discs.size(), dexel.discs.size());
-  int compared = 0;
-  for (std::size_t k = 0; k < dexel.discs.size(); ++k) {
-    const DiscEngagement& d = dexel.discs[k];
-    const DiscEngagement& m = mesh.discs[k];
-    if (d.phi.empty() != m.phi.empty()) {
-      EXPECT_NEAR(d.z0, dexel.axial_depth, 2 * kSpacing) << "disc " << d.z0;
-      continue;
-    }
-    if (d.phi.empty()) continue;
-    SCOPED_TRACE(testing::Message() << "disc " << d.z0);
-    ASSERT_EQ(m.phi.size(), d.phi.size());
-    for (std::size_t i = 0; i < d.phi.size(); ++i) {
-      EXPECT_NEAR(m.phi[i].lo, d.phi[i].lo, tolerance);
-      EXPECT_NEAR(m.phi[i].hi, d.phi[i].hi, tolerance);
-    }
-    ++compared;
-  }
-  EXPECT_GT(compared, 20);
-  EXPECT_NEAR(mesh.axial_depth, dexel.axial_depth, 2 * kSpacing);
+  test::expect_agrees_with_dexel(
+      mesh, test::dexel_map_near(moves, tool, block, kSpacing, subdivision, probe, on_move),
+      tolerance, kSpacing);
 }
 
 // A flat end mill D = 8 tilted 20° sideways, 3 mm deep along the block's edge (3+2): the same
