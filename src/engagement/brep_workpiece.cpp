@@ -270,14 +270,15 @@ double BrepWorkpiece::remove(const MoveSweep& sweep, std::vector<BrepStock::Soli
   };
   if (move.is_arc() && constant_axis &&
       std::abs(axis.dot(move.normal.normalized())) > 1.0 - 1e-12) {
-    if (move.axial == 0.0) return stock_.cut_planar_arc(cutter, move, removed);
     try {
-      return stock_.cut_helix(cutter, move, removed);
+      return move.axial == 0.0 ? stock_.cut_planar_arc(cutter, move, removed)
+                               : stock_.cut_helix(cutter, move, removed);
     } catch (const ComputationError& exact) {
-      // A helix whose exact pieces the booleans cannot cut (a helical entry's second turn under
-      // its first: the floors' B-spline tubes against each other) is cut as its linear pieces,
-      // within the sweep tolerance like any other move; the stock is as before the helix (cuts
-      // are all or none). If those fail too, both reasons are given.
+      // An arc whose exact sweep the cut refuses (a helical entry's second turn under its first:
+      // the floors' B-spline tubes against each other; then the circle after it, along the
+      // walls those left) is cut as its linear pieces, within the sweep tolerance like any other
+      // move; the stock is as before the arc (cuts are all or none). If those fail too, both
+      // reasons are given.
       try {
         return in_lines();
       } catch (const ComputationError& lines) {

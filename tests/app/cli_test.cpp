@@ -718,8 +718,9 @@ TEST(CliSimulate, StepStockOnBothWorkpieces) {
 // it cuts on. With engagement (the solid-model CWE), the plunge engages the whole bottom and
 // half-way round the circle the front half is engaged 3 mm deep (a full slot, entry 0°, exit
 // 180°), while at its end the circle comes back to where it started, which its start took. What
-// it cannot do is refused: an STL stock (exit 2), a helix narrower than the tool (exit 3, the
-// move's line named). A bull-nose round a corner is cut like the dexel workpiece cuts it.
+// it cannot do is refused: an STL stock (exit 2), a concave cutter (exit 3, the move's line
+// named). A bull-nose round a corner, and a helix narrower than the tool (as linear pieces), are
+// cut like the dexel workpiece cuts them.
 TEST(CliSimulate, BrepWorkpieceCutsExactlyAndRoundTripsThroughStep) {
   const auto dir = scratch_dir("simulate-brep");
   std::filesystem::create_directories(dir);
@@ -823,15 +824,38 @@ TEST(CliSimulate, BrepWorkpieceCutsExactlyAndRoundTripsThroughStep) {
         nlohmann::json::parse(in_corner)["removed_volume_mm3"].get<double>();
   }
   EXPECT_NEAR(corner_volume[1], corner_volume[0], 5e-3 * corner_volume[0]);
-  // A helix narrower than the tool is refused, exit 3, with the move's line.
+  // A helix narrower than the tool (which the exact helix sweeps refuse) is cut as its linear
+  // pieces, within the sweep tolerance, and the summary counts it; the same volume as the dexel
+  // workpiece's within 0.5 %.
   std::ofstream(dir / "bore.ngc") << "G21 G90\nG0 X30 Y20 Z25\nG0 Z20\n"
                                      "G2 X30 Y20 Z16 I1 J0 F400\nG0 Z25\nM2\n";
-  const Result bore =
-      simulate("box:0,0,0,60,40,20", (dir / "bore.ngc").string(), (dir / "no3").string());
-  EXPECT_EQ(bore.status, 3);
-  EXPECT_NE(bore.err.find("bore.ngc:4:"), std::string::npos) << bore.err;
-  EXPECT_NE(bore.err.find("helices whose radius exceeds the tool's"), std::string::npos)
-      << bore.err;
+  double bore_volume[2] = {0.0, 0.0};
+  for (const std::string workpiece : {"dexel", "brep"}) {
+    const Result bore =
+        run_cwe({"simulate", "--stock", "box:0,0,0,60,40,20", "--tool", "flat:10,30", "--path",
+                 (dir / "bore.ngc").string(), "--out", (dir / ("bore-" + workpiece)).string(),
+                 "--workpiece", workpiece, "--stock-only"});
+    ASSERT_EQ(bore.status, 0) << bore.err;
+    std::ifstream in_bore(dir / ("bore-" + workpiece) / "summary.json");
+    const nlohmann::json bored = nlohmann::json::parse(in_bore);
+    bore_volume[workpiece == "brep"] = bored["removed_volume_mm3"].get<double>();
+    if (workpiece == "brep") {
+      EXPECT_EQ(bored["stock_solid"]["moves_in_linear_pieces"], 1);
+      EXPECT_NE(bore.out.find("1 moves (5-axis, or helices the booleans refused) as linear "
+                              "pieces"),
+                std::string::npos)
+          << bore.out;
+    }
+  }
+  EXPECT_NEAR(bore_volume[1], bore_volume[0], 5e-3 * bore_volume[0]);
+  // A cutter with a concave profile is refused, exit 3, with the move's line.
+  const Result concave = run_cwe(
+      {"simulate", "--stock", "box:0,0,0,60,40,20", "--tool",
+       (test::source_dir() / "examples/tools/corner-rounding.json").string(), "--path",
+       (dir / "slot.ngc").string(), "--out", (dir / "no3").string(), "--workpiece", "brep"});
+  EXPECT_EQ(concave.status, 3);
+  EXPECT_NE(concave.err.find("slot.ngc:2:"), std::string::npos) << concave.err;  // its first move
+  EXPECT_NE(concave.err.find("concave"), std::string::npos) << concave.err;
   for (const char* none : {"no2", "no3"}) EXPECT_FALSE(std::filesystem::exists(dir / none));
   std::filesystem::remove_all(dir);
 }
