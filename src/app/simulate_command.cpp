@@ -236,6 +236,12 @@ void print_report(std::ostream& out, const SimulateCommandOptions& options, cons
                "  accuracy    exact sweeps for lines, planar arcs and helices; {} moves (5-axis, "
                "or helices the booleans refused) as linear pieces within {:g} mm\n",
                run.brep->moves_in_lines(), removal.deviation_bound);
+    if (run.brep->removal_volumes_off() > 0) {
+      fmt::print(out,
+                 "  warning     {} cuts' removal volumes (what the engagement reads) are off what "
+                 "the stock lost by up to {:.2g} %\n",
+                 run.brep->removal_volumes_off(), 100.0 * run.brep->worst_removal_volume());
+    }
   } else {
     fmt::print(out,
                "  accuracy    faceted sweeps ({:g} mm facets at the tool's largest radius); arcs, "

@@ -53,6 +53,10 @@ class BrepStock {
                    std::vector<Solid>* removed = nullptr);
   // How many cut_lines calls (moves cut as linear pieces, within their sweep tolerance) took.
   int moves_in_lines() const { return moves_in_lines_; }
+  // Cuts whose removal volume (for the engagement) came out more than 1e-4, at most 1 %, off
+  // what the stock lost, and the largest such difference relative to the loss.
+  int removal_volumes_off() const { return removal_volumes_off_; }
+  double worst_removal_volume() const { return worst_removal_volume_; }
 
   // Cuts a solid (a swept volume) and returns the volume removed, mm³, with the checks above.
   double cut(const Solid& cutter, std::vector<Solid>* removed = nullptr);
@@ -70,6 +74,8 @@ class BrepStock {
   std::unique_ptr<Solid> solid_;
   double volume_ = 0.0;
   int moves_in_lines_ = 0;
+  int removal_volumes_off_ = 0;
+  double worst_removal_volume_ = 0.0;
 };
 
 }  // namespace cwe
