@@ -841,6 +841,9 @@ TEST(CliSimulate, BrepWorkpieceCutsExactlyAndRoundTripsThroughStep) {
     bore_volume[workpiece == "brep"] = bored["removed_volume_mm3"].get<double>();
     if (workpiece == "brep") {
       EXPECT_EQ(bored["stock_solid"]["moves_in_linear_pieces"], 1);
+      // Every cut's removal volume within 1e-4 of what the stock lost.
+      EXPECT_EQ(bored["stock_solid"]["removal_volumes_off"], 0);
+      EXPECT_EQ(bored["stock_solid"]["worst_removal_volume_relative"], 0.0);
       EXPECT_NE(bore.out.find("1 moves (5-axis, or helices the booleans refused) as linear "
                               "pieces"),
                 std::string::npos)
