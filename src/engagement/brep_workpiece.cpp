@@ -76,6 +76,9 @@ class BrepStepEngagement : public StepEngagement {
     record->pieces = MovePieces(sweep);
     for (BrepStock::Solid& solid : removed) {
       BrepRemoval::Part part{std::move(solid.shape), {}};
+      // A coarse triangulation (0.05 mm, 0.5 rad) makes the boxes tight: without it a B-spline
+      // face's box is its control points', and a helix's RV then met every disc's circle (five
+      // times the circles read, and crossings with each face's box in them).
       BRepMesh_IncrementalMesh(part.solid, 0.05, false, 0.5, false);
       BRepBndLib::Add(part.solid, part.box, /*useTriangulation=*/true);
       part.box.Enlarge(kOnFace);
@@ -90,9 +93,7 @@ class BrepStepEngagement : public StepEngagement {
     if (step != nullptr) {
       auto& record = static_cast<BrepStep&>(*step);
       record.removed = move_removed_;
-      record.before = move_removed_ && !sweep.pieces().empty()
-                          ? move_removed_->pieces.before(sweep.pieces().front().start())
-                          : 0;
+      record.before = move_removed_ ? move_removed_->pieces.before(sweep) : 0;
     }
     return 0.0;
   }

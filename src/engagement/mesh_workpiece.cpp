@@ -116,9 +116,7 @@ class MeshStepEngagement : public StepEngagement {
     if (step != nullptr) {
       auto& record = static_cast<MeshStep&>(*step);
       record.removed = move_removed_;
-      record.before = move_removed_ && !sweep.pieces().empty()
-                          ? move_removed_->pieces.before(sweep.pieces().front().start())
-                          : 0;
+      record.before = move_removed_ ? move_removed_->pieces.before(sweep) : 0;
     }
     return 0.0;
   }

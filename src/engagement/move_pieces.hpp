@@ -56,6 +56,11 @@ class MovePieces {
     return nearest;
   }
 
+  // The same for the step `step` (a part of the move): 0 when either has no pieces.
+  std::size_t before(const MoveSweep& step) const {
+    return step.pieces().empty() ? 0 : before(step.pieces().front().start());
+  }
+
   // Is `point` deeper than `margin` along the unit `normal` (both ways) inside one of the first
   // `count` pieces?
   bool swept_before(const Vec3& point, const Vec3& normal, std::size_t count, double margin) const {

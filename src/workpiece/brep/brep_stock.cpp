@@ -77,9 +77,12 @@ int BrepStock::faces() const {
 }
 
 double BrepStock::cut_all(const std::vector<Solid>& parts, std::vector<Solid>* removed) {
-  // All or nothing: a part that fails leaves the stock (and `removed`) as before the first.
+  // All or nothing: a part that fails leaves the stock, `removed` and the counts as before the
+  // first.
   const TopoDS_Shape before = solid_->shape;
   const double volume = volume_;
+  const int off = removal_volumes_off_;
+  const double worst = worst_removal_volume_;
   const std::size_t recorded = removed != nullptr ? removed->size() : 0;
   try {
     double taken = 0.0;
@@ -88,6 +91,8 @@ double BrepStock::cut_all(const std::vector<Solid>& parts, std::vector<Solid>* r
   } catch (...) {
     solid_->shape = before;
     volume_ = volume;
+    removal_volumes_off_ = off;
+    worst_removal_volume_ = worst;
     if (removed != nullptr) removed->resize(recorded);
     throw;
   }
@@ -122,24 +127,10 @@ double BrepStock::cut_helix(const Cutter& cutter, const Move& helix, std::vector
 }
 
 double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed) {
+  if (box_of(cutter.shape).IsOut(box_of(solid_->shape))) return 0.0;
+  const double swept = shape_volume(cutter.shape);
   const Aabb box = bounds();
   const double size = box.is_empty() ? 1.0 : (box.max - box.min).norm();
-  // A sweep whose tight box at most touches the stock's (overlaps by no more than the fuzzy
-  // value along some axis) takes nothing: it is not cut, since a face lying on the stock's (a
-  // helix piece whose lowest line ends on the stock's top) can defeat the boolean.
-  {
-    Bnd_Box tight;
-    BRepBndLib::AddOptimal(cutter.shape, tight, /*useTriangulation=*/false,
-                           /*useShapeTolerance=*/false);
-    if (tight.IsVoid()) return 0.0;
-    double a[6], b[6];
-    tight.Get(a[0], a[1], a[2], a[3], a[4], a[5]);
-    box_of(solid_->shape).Get(b[0], b[1], b[2], b[3], b[4], b[5]);
-    for (int k = 0; k < 3; ++k) {
-      if (std::min(a[k + 3], b[k + 3]) - std::max(a[k], b[k]) <= 1e-6 * size) return 0.0;
-    }
-  }
-  const double swept = shape_volume(cutter.shape);
   // BRepGProp integrates curved faces numerically: a relative 1e-7 of the stock is far above
   // its error and far below any chip.
   const double slack = 1e-7 * std::max(volume_, 1.0);
