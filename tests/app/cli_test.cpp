@@ -887,6 +887,45 @@ TEST(CliSimulate, BrepWorkpieceRunsAFreeCadPocket) {
   std::filesystem::remove_all(dir);
 }
 
+// The end mill's part of FreeCAD's two-tool program (lines 1-99 of freecad_two_tools.ngc) on the
+// B-rep workpiece: its fuzzy cuts leave edges and vertices tolerant, and the two faces on such an
+// edge stored their copies of its points 5.3e-4 mm apart, beyond the welder's tolerance (the
+// edges' largest, 4.0e-4): stock.stl had 15 open edges of 4,599 and the run wrote nothing. Faces
+// are joined on their edges by topology now; the mesh is closed and within the deviation (s/10)
+// times its area of the solid.
+TEST(CliSimulate, BrepStockOfAFreeCadPocketTessellatesClosed) {
+  const auto dir = scratch_dir("simulate-brep-freecad-endmill");
+  std::filesystem::create_directories(dir);
+  const std::filesystem::path data = test::source_dir() / "tests/app/data";
+  {
+    std::ifstream in(data / "freecad_two_tools.ngc");
+    std::ofstream out(dir / "endmill.ngc");
+    std::string line;
+    for (int n = 0; n < 99 && std::getline(in, line); ++n) out << line << "\n";
+    out << "M2\n";
+  }
+  const Result r =
+      run_cwe({"simulate", "--path", (dir / "endmill.ngc").string(), "--tools",
+               (data / "freecad/Library/Default.fctl").string(), "--stock", "box:-1,-1,-1,61,41,16",
+               "--workpiece", "brep", "--stock-only", "--out", (dir / "out").string(), "--quiet"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json summary = nlohmann::json::parse(std::ifstream(dir / "out" / "summary.json"));
+  const double solid = summary["stock_solid"]["volume_mm3"].get<double>();
+  EXPECT_GT(summary["removed_volume_mm3"].get<double>(), 30.0 * 16.0 * 6.0);  // the pocket at least
+  const StlMesh stl = read_stl((dir / "out" / "stock.stl").string());
+  ASSERT_TRUE(check_closure(stl.mesh).closed());
+  double area = 0.0;
+  for (const auto& t : stl.mesh.triangles) {
+    const Vec3& a = stl.mesh.vertices[static_cast<std::size_t>(t[0])];
+    area += 0.5 * (stl.mesh.vertices[static_cast<std::size_t>(t[1])] - a)
+                      .cross(stl.mesh.vertices[static_cast<std::size_t>(t[2])] - a)
+                      .norm();
+  }
+  EXPECT_NEAR(stl.mesh.volume(), solid, 0.01 * area);
+  EXPECT_TRUE(std::filesystem::exists(dir / "out" / "stock.step"));
+  std::filesystem::remove_all(dir);
+}
+
 // A mesh boolean that cannot give a solid: the second slot leaves the two remaining blocks
 // touching along the line y = 10, z = 5 (the rings' vertices lie exactly on the slots' sides),
 // which no 2-manifold can hold. The run stops with exit 3 naming the move's line, in the
