@@ -165,6 +165,47 @@ TEST(BrepEngagement, BallEndRamp) {
   }
 }
 
+// The thesis's figure 6.11 (a flat end mill on a linear descending 3-axis move; its dimensions are
+// not given, these are ours): the side engages its front half, 0 to π, down to the tip; the
+// bottom, a front face all over (the tool moves down), engages every ring whole, 0 to 2π (the
+// material under it was not taken by the higher positions before; the lower ones after take it).
+TEST(BrepEngagement, ThesisFlatEndMillDescendingRamp) {
+  const double tan_g = std::tan(15.0 * kDeg);
+  const Vec3 start(12, 20, 21), end(40, 20, 21 - 28 * tan_g);
+  const Vec3 probe(30, 20, 21 - 18 * tan_g);  // 3.8 mm deep, the tool's back 9 mm in
+  const EngagementMap map = brep_engagement_near("flat:10,20", {{0, 0, 0}, {60, 40, kTop}},
+                                                 {test::line(start, end)}, probe, -1, 1.0);
+  ASSERT_TRUE(map.engaged);
+  // Sampled every 1 mm: the CL read is within 0.5 mm of the probe, its depth within 0.5 tan γ.
+  EXPECT_NEAR(map.axial_depth, kTop - probe.z(), 0.5 * tan_g + 1e-6);
+  test::expect_discs(map, 0.0, map.axial_depth - kSpacing, 0.0, kPi, kAngle);
+  ASSERT_FALSE(map.rings.empty());
+  for (const RingEngagement& ring : map.rings) {
+    ASSERT_EQ(ring.phi.size(), 1u) << ring.r0;
+    EXPECT_EQ(ring.phi[0].lo, 0.0);
+    EXPECT_EQ(ring.phi[0].hi, 2 * kPi);
+  }
+}
+
+// The thesis's figure 6.12 (a tapered end mill ramping up; dimensions ours): only the front of
+// the cone engages. A cone of half-angle β moving at γ upwards has n·v > 0 where cos θ >
+// tan β tan γ (θ from the feed), and there only: the positions before, lower and behind, are
+// wider at each height by d tan γ tan β, which covers the points with cos θ < tan β tan γ and no
+// others. So each disc engages φ within ψ = acos(tan β tan γ) of the feed (φ = 90°), narrower
+// than the flat end's half (87.3° at β = 10°, γ = 15°), and the bottom, a back face, nothing.
+TEST(BrepEngagement, ThesisTaperedEndMillAscendingRamp) {
+  const double tan_g = std::tan(15.0 * kDeg);
+  const Vec3 start(5, 20, 10), end(45, 20, 10 + 40 * tan_g);
+  const Vec3 probe = start + (end - start) * 0.5;  // x = 25, 4.6 mm deep
+  const double depth = kTop - probe.z();
+  const EngagementMap map = brep_engagement_near("taper-flat:8,10,20", {{0, 0, 0}, {60, 40, kTop}},
+                                                 {test::line(start, end)}, probe);
+  ASSERT_TRUE(map.engaged);
+  const double psi = std::acos(std::tan(10.0 * kDeg) * tan_g);
+  test::expect_discs(map, 0.0, depth - 0.5, kPi / 2 - psi, kPi / 2 + psi, kAngle);
+  for (const RingEngagement& ring : map.rings) EXPECT_TRUE(ring.phi.empty()) << ring.r0;
+}
+
 // A helix passes over its own path: at a location on its second turn, the RV in front of the
 // tool above the first turn's floor (1 mm pitch higher) was taken a turn before, and is not
 // engaged. Only the bore's wall at radius R_helix + r touches the side there, along a grazing
