@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "cli_checks.hpp"
+#include "compare_command.hpp"
 #include "cwe/core/assert.hpp"
 #include "cwe/core/computation_error.hpp"
 #include "cwe/core/error.hpp"
@@ -35,6 +36,8 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   add_simulate_command(app, simulate_options);
   ScheduleCommandOptions schedule_options;
   add_schedule_command(app, schedule_options);
+  CompareCommandOptions compare_options;
+  add_compare_command(app, compare_options);
   app.add_subcommand("materials",
                      "List the bundled cutting-coefficient sets (for --forces) with their "
                      "sources");
@@ -46,7 +49,8 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
                                    [&](const CLI::App* c) { return c->get_name() == args[1]; });
     if (!known) {
       err << "cwe: error: '" << args[1]
-          << "' is not a command; expected tool, path, envelope, simulate, schedule or materials "
+          << "' is not a command; expected tool, path, envelope, simulate, schedule, compare or "
+             "materials "
              "(cwe --help)\n";
       return 2;
     }
@@ -72,6 +76,9 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
     }
     if (app.got_subcommand("schedule")) {
       return run_schedule_command(schedule_options, out, terminal ? &err : nullptr);
+    }
+    if (app.got_subcommand("compare")) {
+      return run_compare_command(compare_options, out, terminal ? &err : nullptr);
     }
     if (app.got_subcommand("materials")) {
       for (const std::string& name : bundled_materials()) {

@@ -72,8 +72,8 @@ std::string cli_error_message(const CLI::ParseError& e) {
   }
   if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr) {
     if (message.starts_with("A subcommand")) {
-      return "cwe: error: expected a command: tool, path, envelope, simulate, schedule or "
-             "materials (cwe --help)";
+      return "cwe: error: expected a command: tool, path, envelope, simulate, schedule, "
+             "compare or materials (cwe --help)";
     }
     if (const std::size_t is = message.find(" is required"); is != std::string::npos) {
       return message.substr(0, is) + ": error: required (see --help)";

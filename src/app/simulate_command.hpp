@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cstddef>
+#include <filesystem>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -44,6 +45,10 @@ void add_job_options(CLI::App* cmd, SimulateCommandOptions& options);
 void read_job(SimulateCommandOptions& options);
 
 void add_simulate_command(CLI::App& app, SimulateCommandOptions& options);
+// InputError at --out when an input of the job (stock, program, table, …) lies inside `folder`,
+// which a run replaces whole.
+void check_output_folder(const std::filesystem::path& folder, const SimulateCommandOptions& options,
+                         const PreparedJob& job);
 // `progress` receives the progress bar (stderr when it is a terminal), or nullptr.
 int run_simulate_command(SimulateCommandOptions options, std::ostream& out, std::ostream* progress);
 

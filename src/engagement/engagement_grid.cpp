@@ -20,20 +20,6 @@ int patch_of_segment(const Cutter& cutter, int segment) {
   return 0;
 }
 
-// ∫ ρ ds of the profile between heights z0 and z1 (the area of the revolved band per radian).
-double side_area_per_radian(const Profile& profile, double z0, double z1) {
-  constexpr int kSteps = 16;
-  double area = 0.0;
-  Vec2 previous(profile.radius_at(z0), z0);
-  for (int k = 1; k <= kSteps; ++k) {
-    const double z = z0 + (z1 - z0) * k / kSteps;
-    const Vec2 p(profile.radius_at(z), z);
-    area += 0.5 * (previous.x() + p.x()) * (p - previous).norm();
-    previous = p;
-  }
-  return area;
-}
-
 // The smallest-angle merge of intervals on [0, 2π] and the ends of their largest gap.
 void entry_exit(std::vector<Interval> all, double& entry, double& exit) {
   entry = exit = 0.0;
@@ -72,6 +58,19 @@ void entry_exit(std::vector<Interval> all, double& entry, double& exit) {
 constexpr double kGrazingRelative = 1e-9;
 
 }  // namespace
+
+double side_area_per_radian(const Profile& profile, double z0, double z1) {
+  constexpr int kSteps = 16;
+  double area = 0.0;
+  Vec2 previous(profile.radius_at(z0), z0);
+  for (int k = 1; k <= kSteps; ++k) {
+    const double z = z0 + (z1 - z0) * k / kSteps;
+    const Vec2 p(profile.radius_at(z), z);
+    area += 0.5 * (previous.x() + p.x()) * (p - previous).norm();
+    previous = p;
+  }
+  return area;
+}
 
 EngagementGrid::EngagementGrid(const Cutter& cutter, double spacing,
                                const EngagementOptions& options)

@@ -1,4 +1,5 @@
 #include "cwe/app/cli.hpp"
+#include "cli_testing.hpp"
 #include "source_dir.hpp"
 #include "step_fixtures.hpp"
 
@@ -27,25 +28,6 @@
 
 namespace cwe::app {
 namespace {
-
-struct Result {
-  int status = 0;
-  std::string out;
-  std::string err;
-};
-
-Result run_cwe(std::vector<std::string> args) {
-  args.insert(args.begin(), "cwe");
-  std::ostringstream out, err;
-  const int status = run(args, out, err);
-  return {status, out.str(), err.str()};
-}
-
-std::filesystem::path scratch_dir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("cwe-cli-test-" + name);
-  std::filesystem::remove_all(dir);
-  return dir;
-}
 
 TEST(CliTool, DescribesACutter) {
   const Result r = run_cwe({"tool", "bull:10,2"});
@@ -490,18 +472,6 @@ TEST(CliSimulate, WritesStockAndSummary) {
 
 namespace cwe::app {
 namespace {
-
-std::vector<std::vector<std::string>> read_csv(const std::filesystem::path& file) {
-  std::ifstream stream(file);
-  std::vector<std::vector<std::string>> rows;
-  for (std::string line; std::getline(stream, line);) {
-    std::vector<std::string> cells;
-    std::stringstream cells_in(line);
-    for (std::string cell; std::getline(cells_in, cell, ',');) cells.push_back(cell);
-    rows.push_back(cells);
-  }
-  return rows;
-}
 
 // A 3 mm deep slot then a 1 mm side cut, flat end mill D = 10 with 4 flutes at 10,000 rev/min.
 const char* const kForceProgram =

@@ -17,6 +17,10 @@
 
 namespace cwe {
 
+// ∫ ρ ds of the profile between heights z0 and z1: the area of the revolved band per radian of
+// φ, mm² (16 chords; the discs' and the maps' area).
+double side_area_per_radian(const Profile& profile, double z0, double z1);
+
 class EngagementGrid {
  public:
   // A line of cells round the cutter: a side disc or a bottom ring.

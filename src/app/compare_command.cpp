@@ -1,0 +1,308 @@
+#include "compare_command.hpp"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <vector>
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+#include <tbb/global_control.h>
+#include <nlohmann/json.hpp>
+
+#include "cwe/core/computation_error.hpp"
+#include "cwe/core/error.hpp"
+#include "cwe/io/atomic_file.hpp"
+#include "cwe/io/output_set.hpp"
+#include "cwe/job/compare.hpp"
+#include "cwe/job/run.hpp"
+#include "job_file.hpp"
+
+namespace cwe::app {
+
+void add_compare_command(CLI::App& app, CompareCommandOptions& options) {
+  CLI::App* cmd = app.add_subcommand(
+      "compare",
+      "Run one job on several in-process workpieces and compare their engagement at every "
+      "cutter location against the reference (B-rep when it runs, else the first): writes "
+      "compare.csv and compare.json (docs/accuracy.md).");
+  add_job_options(cmd, options);
+  cmd->add_option("--workpieces", options.workpieces,
+                  "The workpieces to run, comma-separated: dexel, mesh, brep (one may come twice, "
+                  "as a check); default dexel,mesh,brep");
+  cmd->add_option("--out", options.out, "Output folder");
+}
+
+namespace {
+
+const std::vector<std::string> kCompareOutputs = {"compare.csv", "compare.json"};
+
+double cpu_seconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  const auto seconds = [](const timeval& t) {
+    return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec);
+  };
+  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+}
+
+// The process's peak resident memory (VmHWM), bytes; 0 where /proc does not tell.
+std::size_t peak_memory() {
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);) {
+    if (line.rfind("VmHWM:", 0) == 0) return std::stoull(line.substr(6)) * 1024;
+  }
+  return 0;
+}
+
+// Starts the peak over (Linux: writing 5 to clear_refs); false where it cannot, when each run's
+// peak is the process's so far.
+bool reset_peak_memory() {
+  std::ofstream clear("/proc/self/clear_refs");
+  clear << "5";
+  clear.flush();
+  return static_cast<bool>(clear);
+}
+
+struct Method {
+  std::string workpiece;  // dexel, mesh, brep
+  std::string label;      // the workpiece, with _2, _3 when it comes again
+  std::optional<PreparedJob> job;
+  std::vector<ClRecord> records;
+  double removed = 0.0;  // mm³
+  double seconds = 0.0, cpu = 0.0;
+  std::size_t peak = 0;
+  bool peak_of_run = false;
+};
+
+std::vector<Method> methods_of(const CompareCommandOptions& options) {
+  std::vector<Method> methods;
+  std::stringstream list(options.workpieces);
+  for (std::string name; std::getline(list, name, ',');) {
+    if (name != "dexel" && name != "mesh" && name != "brep") {
+      throw InputError(SourceLocation{"--workpieces"},
+                       fmt::format("'{}' is not a workpiece; expected dexel, mesh or brep", name));
+    }
+    int seen = 1;
+    for (const Method& m : methods) seen += m.workpiece == name;
+    Method method;
+    method.workpiece = name;
+    method.label = seen == 1 ? name : fmt::format("{}_{}", name, seen);
+    methods.push_back(std::move(method));
+  }
+  if (methods.size() < 2) {
+    throw InputError(
+        SourceLocation{"--workpieces"},
+        fmt::format("'{}': expected at least two workpieces to compare", options.workpieces));
+  }
+  return methods;
+}
+
+nlohmann::json stats_json(const DifferenceStats& s) {
+  return {{"count", s.count}, {"p50", s.p50}, {"p95", s.p95},
+          {"p99", s.p99},     {"max", s.max}, {"max_cl", s.max_cl}};
+}
+
+constexpr double kDeg = 180.0 / kPi;
+// The smallest reference area, relative to the job's largest, whose CLs count in the relative
+// area differences' percentiles.
+constexpr double kLeastArea = 0.01;
+
+}  // namespace
+
+int run_compare_command(CompareCommandOptions options, std::ostream& out, std::ostream* progress) {
+  read_job(options);
+  require(options.out, "output folder", "--out");
+  std::vector<Method> methods = methods_of(options);
+  // Every run prepared (and so checked) before the first starts.
+  for (Method& m : methods) {
+    Job job = options;
+    job.workpiece = m.workpiece;
+    m.job = prepare_job(job);
+  }
+  std::size_t reference = 0;
+  for (std::size_t k = 0; k < methods.size(); ++k) {
+    if (methods[k].workpiece == "brep") {
+      reference = k;
+      break;
+    }
+  }
+  check_output_folder(options.out, options, *methods[0].job);
+  OutputSet outputs(options.out, kCompareOutputs, options.origin("out"));
+  const tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
+                                        static_cast<std::size_t>(methods[0].job->threads));
+
+  for (Method& m : methods) {
+    if (progress != nullptr && !options.quiet) fmt::print(*progress, "{}:\n", m.label);
+    ProgressBar bar(options.quiet ? nullptr : progress);
+    m.peak_of_run = reset_peak_memory();
+    const auto started = std::chrono::steady_clock::now();
+    const double cpu_before = cpu_seconds();
+    RecordingSink sink;
+    std::vector<ClSink*> sinks = {&sink};
+    JobResult run = run_job(*m.job, make_job_stock(*m.job), RunOptions{true, false}, sinks,
+                            [&](std::size_t done, std::size_t total) { bar(done, total); });
+    m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    m.cpu = cpu_seconds() - cpu_before;
+    m.peak = peak_memory();
+    m.removed = run.initial_volume.mean() - run.final_volume.mean();
+    m.records = std::move(sink.records);
+  }
+
+  const Method& ref = methods[reference];
+  std::vector<std::vector<ClDifference>> differences(methods.size());
+  for (std::size_t k = 0; k < methods.size(); ++k) {
+    if (k == reference) continue;
+    try {
+      differences[k] = compare_runs(*ref.job, ref.records, methods[k].records);
+    } catch (const ComputationError& e) {
+      throw ComputationError(
+          fmt::format("comparing {} with {}: {}", methods[k].label, ref.label, e.what()));
+    }
+  }
+
+  // compare.csv: a row per CL.
+  std::string csv = "cl,operation,file,line,x_mm,y_mm,z_mm";
+  for (const Method& m : methods) {
+    csv += fmt::format(",{0}_engaged,{0}_entry_deg,{0}_exit_deg,{0}_axial_depth_mm,{0}_area_mm2",
+                       m.label);
+  }
+  for (std::size_t k = 0; k < methods.size(); ++k) {
+    if (k == reference) continue;
+    csv += fmt::format(
+        ",{0}_d_entry_deg,{0}_d_exit_deg,{0}_d_axial_depth_mm,{0}_d_area_mm2,"
+        "{0}_exclusive_area_mm2,{0}_exclusive_relative",
+        methods[k].label);
+  }
+  csv += "\n";
+  for (std::size_t cl = 0; cl < ref.records.size(); ++cl) {
+    const ClRecord& r = ref.records[cl];
+    csv += fmt::format("{},{},\"{}\",{},{:.6f},{:.6f},{:.6f}", cl, r.operation, r.file, r.line,
+                       r.position.x(), r.position.y(), r.position.z());
+    for (const Method& m : methods) {
+      const EngagementMap& map = m.records[cl].map;
+      csv += fmt::format(",{},{:.4f},{:.4f},{:.4f},{:.5f}", map.engaged ? 1 : 0,
+                         map.phi_entry * kDeg, map.phi_exit * kDeg, map.axial_depth, map.area);
+    }
+    for (std::size_t k = 0; k < methods.size(); ++k) {
+      if (k == reference) continue;
+      const ClDifference& d = differences[k][cl];
+      const MapDifference& m = d.difference;
+      if (m.both_engaged) {
+        csv += fmt::format(",{:.4f},{:.4f}", m.entry * kDeg, m.exit * kDeg);
+      } else {
+        csv += ",,";
+      }
+      csv += fmt::format(",{:.4f},{:.5f},{:.5f},", m.axial_depth, m.area, m.exclusive_area);
+      if (d.reference_area > 0.0) csv += fmt::format("{:.6f}", m.exclusive_area / d.reference_area);
+    }
+    csv += "\n";
+  }
+
+  // compare.json.
+  nlohmann::json summary;
+  summary["reference"] = ref.label;
+  summary["cl_points"] = ref.records.size();
+  summary["resolution_mm"] = ref.job->simulation.resolution;
+  summary["facet_mm"] = ref.job->facet;
+  summary["threads"] = ref.job->threads;
+  nlohmann::json runs = nlohmann::json::array();
+  for (const Method& m : methods) {
+    std::size_t engaged = 0;
+    for (const ClRecord& r : m.records) engaged += r.map.engaged;
+    runs.push_back({{"label", m.label},
+                    {"workpiece", m.workpiece},
+                    {"removed_volume_mm3", m.removed},
+                    {"removed_volume_difference_mm3", m.removed - ref.removed},
+                    {"removed_volume_relative",
+                     ref.removed > 0.0 ? (m.removed - ref.removed) / ref.removed : 0.0},
+                    {"engaged_cl_points", engaged},
+                    {"seconds", m.seconds},
+                    {"cpu_seconds", m.cpu},
+                    {"peak_memory_bytes", m.peak},
+                    {"peak_memory_of", m.peak_of_run ? "this run" : "the process so far"}});
+  }
+  summary["runs"] = runs;
+  nlohmann::json against = nlohmann::json::object();
+  const auto both = [](const ClDifference& d) { return d.difference.both_engaged; };
+  const auto either = [](const ClDifference& d) { return d.reference_engaged || d.other_engaged; };
+  for (std::size_t k = 0; k < methods.size(); ++k) {
+    if (k == reference) continue;
+    const std::vector<ClDifference>& ds = differences[k];
+    std::size_t one_only = 0;
+    // Per CL, the surface engaged by one only relative to the reference's engaged area, where
+    // that is at least 1 % of the job's largest (at first contact a sliver of either is all of
+    // it); over the job, their sums.
+    double largest = 0.0, total_exclusive = 0.0, total_reference = 0.0;
+    for (const ClDifference& d : ds) {
+      one_only += d.reference_engaged != d.other_engaged;
+      largest = std::max(largest, d.reference_area);
+      total_exclusive += d.difference.exclusive_area;
+      total_reference += d.reference_area;
+    }
+    against[methods[k].label] = {
+        {"entry_deg",
+         stats_json(difference_stats(
+             ds, [](const ClDifference& d) { return d.difference.entry * kDeg; }, both))},
+        {"exit_deg",
+         stats_json(difference_stats(
+             ds, [](const ClDifference& d) { return d.difference.exit * kDeg; }, both))},
+        {"axial_depth_mm",
+         stats_json(difference_stats(
+             ds, [](const ClDifference& d) { return d.difference.axial_depth; }, either))},
+        {"area_mm2", stats_json(difference_stats(
+                         ds, [](const ClDifference& d) { return d.difference.area; }, either))},
+        {"exclusive_area_mm2",
+         stats_json(difference_stats(
+             ds, [](const ClDifference& d) { return d.difference.exclusive_area; }, either))},
+        {"exclusive_relative",
+         stats_json(difference_stats(
+             ds,
+             [](const ClDifference& d) { return d.difference.exclusive_area / d.reference_area; },
+             [&](const ClDifference& d) { return d.reference_area >= kLeastArea * largest; }))},
+        {"exclusive_total_relative",
+         total_reference > 0.0 ? total_exclusive / total_reference : 0.0},
+        {"engaged_by_one_only", one_only}};
+  }
+  summary["differences"] = against;
+  const std::string json_text = summary.dump(2) + "\n";
+
+  write_file_atomically(outputs.staging() / "compare.csv", csv);
+  write_file_atomically(outputs.staging() / "compare.json", json_text);
+  outputs.publish();
+
+  fmt::print(out, "cwe compare: {} cutter locations, reference {}\n", ref.records.size(),
+             ref.label);
+  for (const Method& m : methods) {
+    fmt::print(out, "  {:<8} removed {:.3f} mm³ ({:+.3g} %), {:.2f} s ({:.2f} s CPU), {:.0f} MiB\n",
+               m.label, m.removed,
+               ref.removed > 0.0 ? 100.0 * (m.removed - ref.removed) / ref.removed : 0.0, m.seconds,
+               m.cpu, static_cast<double>(m.peak) / (1024.0 * 1024.0));
+  }
+  for (std::size_t k = 0; k < methods.size(); ++k) {
+    if (k == reference) continue;
+    const nlohmann::json& d = against[methods[k].label];
+    fmt::print(out,
+               "  {} against {}: entry p95 {:.3f}°, exit p95 {:.3f}°, engaged area off p95 "
+               "{:.3g} % (largest {:.3g} % at CL {}; over the job {:.3g} %); {} CLs engaged by "
+               "one only\n",
+               methods[k].label, ref.label, d["entry_deg"]["p95"].get<double>(),
+               d["exit_deg"]["p95"].get<double>(),
+               100.0 * d["exclusive_relative"]["p95"].get<double>(),
+               100.0 * d["exclusive_relative"]["max"].get<double>(),
+               d["exclusive_relative"]["max_cl"].get<std::size_t>(),
+               100.0 * d["exclusive_total_relative"].get<double>(),
+               d["engaged_by_one_only"].get<std::size_t>());
+  }
+  fmt::print(out, "  outputs  {}, {}\n",
+             (std::filesystem::path(options.out) / "compare.csv").string(),
+             (std::filesystem::path(options.out) / "compare.json").string());
+  return 0;
+}
+
+}  // namespace cwe::app
