@@ -18,6 +18,7 @@
 #include "cwe/core/computation_error.hpp"
 #include "cwe/core/error.hpp"
 #include "cwe/io/atomic_file.hpp"
+#include "cwe/io/line_plot.hpp"
 #include "cwe/io/output_set.hpp"
 #include "cwe/job/compare.hpp"
 #include "cwe/job/run.hpp"
@@ -35,12 +36,22 @@ void add_compare_command(CLI::App& app, CompareCommandOptions& options) {
   cmd->add_option("--workpieces", options.workpieces,
                   "The workpieces to run, comma-separated: dexel, mesh, brep (one may come twice, "
                   "as a check); default dexel,mesh,brep");
+  cmd->add_option("--sweep-resolution", options.sweep_resolution,
+                  "Convergence: run each workpiece but the reference at each of these resolutions "
+                  "(mm, comma-separated; the reference at the finest) and write convergence.csv "
+                  "and its figures");
+  cmd->add_option("--sweep-facet", options.sweep_facet,
+                  "Convergence: run the mesh workpiece at each of these facet sizes (mm, "
+                  "comma-separated) against the reference");
   cmd->add_option("--out", options.out, "Output folder");
 }
 
 namespace {
 
-const std::vector<std::string> kCompareOutputs = {"compare.csv", "compare.json"};
+const std::vector<std::string> kCompareOutputs = {
+    "compare.csv",     "compare.json",         "differences.png",
+    "differences.svg", "convergence.csv",      "convergence.png",
+    "convergence.svg", "convergence_time.png", "convergence_time.svg"};
 
 double cpu_seconds() {
   rusage usage{};
@@ -71,7 +82,8 @@ bool reset_peak_memory() {
 
 struct Method {
   std::string workpiece;  // dexel, mesh, brep
-  std::string label;      // the workpiece, with _2, _3 when it comes again
+  std::string label;      // the workpiece, with _2, _3 when it comes again, or its setting
+  std::optional<double> resolution, facet;  // a sweep's setting (else the job's)
   std::optional<PreparedJob> job;
   std::vector<ClRecord> records;
   double removed = 0.0;  // mm³
@@ -80,26 +92,92 @@ struct Method {
   bool peak_of_run = false;
 };
 
-std::vector<Method> methods_of(const CompareCommandOptions& options) {
-  std::vector<Method> methods;
+// The positive lengths of a comma-separated list given to `option`.
+std::vector<double> lengths(const std::string& text, const char* option) {
+  std::vector<double> values;
+  std::stringstream list(text);
+  for (std::string item; std::getline(list, item, ',');) {
+    double value = 0.0;
+    std::size_t used = 0;
+    try {
+      value = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size() || !(value > 0.0) || !std::isfinite(value)) {
+      throw InputError(SourceLocation{option},
+                       fmt::format("'{}' in '{}': expected positive lengths in mm, "
+                                   "comma-separated",
+                                   item, text));
+    }
+    values.push_back(value);
+  }
+  if (values.empty()) {
+    throw InputError(SourceLocation{option}, "expected positive lengths in mm, comma-separated");
+  }
+  return values;
+}
+
+// The runs: the workpieces listed, or with a sweep the reference once and each other workpiece
+// at each setting. The reference is the B-rep run when there is one, else the first.
+std::vector<Method> methods_of(const CompareCommandOptions& options, std::size_t& reference) {
+  std::vector<std::string> names;
   std::stringstream list(options.workpieces);
   for (std::string name; std::getline(list, name, ',');) {
     if (name != "dexel" && name != "mesh" && name != "brep") {
       throw InputError(SourceLocation{"--workpieces"},
                        fmt::format("'{}' is not a workpiece; expected dexel, mesh or brep", name));
     }
-    int seen = 1;
-    for (const Method& m : methods) seen += m.workpiece == name;
-    Method method;
-    method.workpiece = name;
-    method.label = seen == 1 ? name : fmt::format("{}_{}", name, seen);
-    methods.push_back(std::move(method));
+    names.push_back(name);
   }
-  if (methods.size() < 2) {
+  if (names.size() < 2) {
     throw InputError(
         SourceLocation{"--workpieces"},
         fmt::format("'{}': expected at least two workpieces to compare", options.workpieces));
   }
+  const auto brep = std::find(names.begin(), names.end(), "brep");
+  reference = brep != names.end() ? static_cast<std::size_t>(brep - names.begin()) : 0;
+  const bool by_resolution = !options.sweep_resolution.empty();
+  const bool by_facet = !options.sweep_facet.empty();
+  std::vector<Method> methods;
+  const auto add = [&](const std::string& name, const std::string& label) {
+    Method m;
+    m.workpiece = name;
+    m.label = label;
+    methods.push_back(std::move(m));
+    return &methods.back();
+  };
+  if (!by_resolution && !by_facet) {
+    for (const std::string& name : names) {
+      const auto seen = std::count(names.begin(), names.begin() + (&name - names.data()), name);
+      add(name, seen == 0 ? name : fmt::format("{}_{}", name, seen + 1));
+    }
+    return methods;
+  }
+  if (by_resolution && by_facet) {
+    throw InputError(SourceLocation{"--sweep-facet"},
+                     "one sweep at a time: give --sweep-resolution or --sweep-facet");
+  }
+  const char* option = by_resolution ? "--sweep-resolution" : "--sweep-facet";
+  const std::vector<double> settings =
+      lengths(by_resolution ? options.sweep_resolution : options.sweep_facet, option);
+  Method* ref = add(names[reference], names[reference]);
+  if (by_resolution) ref->resolution = *std::min_element(settings.begin(), settings.end());
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    if (k == reference) continue;
+    if (by_facet && names[k] != "mesh") {
+      throw InputError(SourceLocation{option},
+                       fmt::format("the facet size is the mesh workpiece's; {} has none (list "
+                                   "mesh and the reference in --workpieces)",
+                                   names[k]));
+    }
+    for (const double value : settings) {
+      Method* m =
+          add(names[k], fmt::format("{}_{}{:g}", names[k], by_resolution ? "s" : "f", value));
+      (by_resolution ? m->resolution : m->facet) = value;
+    }
+  }
+  reference = 0;
   return methods;
 }
 
@@ -118,19 +196,15 @@ constexpr double kLeastArea = 0.01;
 int run_compare_command(CompareCommandOptions options, std::ostream& out, std::ostream* progress) {
   read_job(options);
   require(options.out, "output folder", "--out");
-  std::vector<Method> methods = methods_of(options);
+  std::size_t reference = 0;
+  std::vector<Method> methods = methods_of(options, reference);
   // Every run prepared (and so checked) before the first starts.
   for (Method& m : methods) {
     Job job = options;
     job.workpiece = m.workpiece;
+    if (m.resolution) job.resolution = m.resolution;
+    if (m.facet) job.facet = m.facet;
     m.job = prepare_job(job);
-  }
-  std::size_t reference = 0;
-  for (std::size_t k = 0; k < methods.size(); ++k) {
-    if (methods[k].workpiece == "brep") {
-      reference = k;
-      break;
-    }
   }
   check_output_folder(options.out, options, *methods[0].job);
   OutputSet outputs(options.out, kCompareOutputs, options.origin("out"));
@@ -272,7 +346,83 @@ int run_compare_command(CompareCommandOptions options, std::ostream& out, std::o
   summary["differences"] = against;
   const std::string json_text = summary.dump(2) + "\n";
 
+  // The differences along the path: the surface engaged by one method only, at every CL.
+  LinePlot along;
+  along.title = fmt::format("Engaged surface that differs from {}", ref.label);
+  along.x_label = "CL index";
+  along.y_label = "engaged by one only (mm²)";
+  for (std::size_t k = 0; k < methods.size(); ++k) {
+    if (k == reference) continue;
+    PlotSeries series{methods[k].label, {}, {}};
+    for (const ClDifference& d : differences[k]) {
+      series.x.push_back(static_cast<double>(d.cl));
+      series.y.push_back(d.difference.exclusive_area);
+    }
+    along.series.push_back(std::move(series));
+  }
+
+  // A sweep: each setting's error and cost, as a table and log-log figures.
+  const bool sweep = !options.sweep_resolution.empty() || !options.sweep_facet.empty();
+  std::string table;
+  LinePlot error, cost;
+  if (sweep) {
+    const bool by_resolution = !options.sweep_resolution.empty();
+    const std::string setting = by_resolution ? "resolution (mm)" : "facet size (mm)";
+    table =
+        "workpiece,resolution_mm,facet_mm,exclusive_total_relative,exclusive_relative_p95,"
+        "entry_p95_deg,exit_p95_deg,axial_depth_p95_mm,removed_volume_relative,seconds,"
+        "cpu_seconds,peak_memory_bytes\n";
+    error.title = fmt::format("Engaged surface that differs from {} (over the job)", ref.label);
+    error.x_label = setting;
+    error.y_label = "engaged by one only / engaged (%)";
+    error.log_x = error.log_y = true;
+    cost.title = "Cost of each run";
+    cost.x_label = setting;
+    cost.y_label = "CPU time (s)";
+    cost.log_x = cost.log_y = true;
+    for (std::size_t k = 0; k < methods.size(); ++k) {
+      if (k == reference) continue;
+      const Method& m = methods[k];
+      const nlohmann::json& d = against[m.label];
+      table += fmt::format(
+          "{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.3f},{:.3f},{}\n", m.workpiece,
+          m.job->simulation.resolution, m.job->facet, d["exclusive_total_relative"].get<double>(),
+          d["exclusive_relative"]["p95"].get<double>(), d["entry_deg"]["p95"].get<double>(),
+          d["exit_deg"]["p95"].get<double>(), d["axial_depth_mm"]["p95"].get<double>(),
+          ref.removed > 0.0 ? (m.removed - ref.removed) / ref.removed : 0.0, m.seconds, m.cpu,
+          m.peak);
+      const double x = by_resolution ? m.job->simulation.resolution : m.job->facet;
+      const auto series_of = [&](LinePlot& plot) -> PlotSeries& {
+        for (PlotSeries& s : plot.series) {
+          if (s.label == m.workpiece) return s;
+        }
+        plot.series.push_back({m.workpiece, {}, {}, true});
+        return plot.series.back();
+      };
+      PlotSeries& e = series_of(error);
+      e.x.push_back(x);
+      e.y.push_back(100.0 * d["exclusive_total_relative"].get<double>());
+      PlotSeries& c = series_of(cost);
+      c.x.push_back(x);
+      c.y.push_back(m.cpu);
+    }
+    PlotSeries reference_cost{ref.label + " (reference)", {}, {}, true};
+    const double at = by_resolution ? ref.job->simulation.resolution : ref.job->facet;
+    reference_cost.x = {at};
+    reference_cost.y = {ref.cpu};
+    cost.series.push_back(std::move(reference_cost));
+  }
+
   write_file_atomically(outputs.staging() / "compare.csv", csv);
+  write_file_atomically(outputs.staging() / "differences.png", line_plot_png(along));
+  write_file_atomically(outputs.staging() / "differences.svg", line_plot_svg(along));
+  if (sweep) {
+    write_file_atomically(outputs.staging() / "convergence.csv", table);
+    write_file_atomically(outputs.staging() / "convergence.png", line_plot_png(error));
+    write_file_atomically(outputs.staging() / "convergence.svg", line_plot_svg(error));
+    write_file_atomically(outputs.staging() / "convergence_time.png", line_plot_png(cost));
+    write_file_atomically(outputs.staging() / "convergence_time.svg", line_plot_svg(cost));
+  }
   write_file_atomically(outputs.staging() / "compare.json", json_text);
   outputs.publish();
 
@@ -299,9 +449,12 @@ int run_compare_command(CompareCommandOptions options, std::ostream& out, std::o
                100.0 * d["exclusive_total_relative"].get<double>(),
                d["engaged_by_one_only"].get<std::size_t>());
   }
-  fmt::print(out, "  outputs  {}, {}\n",
-             (std::filesystem::path(options.out) / "compare.csv").string(),
-             (std::filesystem::path(options.out) / "compare.json").string());
+  const std::filesystem::path folder(options.out);
+  fmt::print(out, "  outputs  {} (per CL), {} (runs, percentiles), {} (along the path){}\n",
+             (folder / "compare.csv").string(), (folder / "compare.json").string(),
+             (folder / "differences.png").string(),
+             sweep ? fmt::format(", {} and its figures", (folder / "convergence.csv").string())
+                   : std::string());
   return 0;
 }
 
