@@ -18,6 +18,7 @@
 #include "cwe/core/computation_error.hpp"
 #include "cwe/core/error.hpp"
 #include "cwe/io/atomic_file.hpp"
+#include "cwe/io/engagement_plot.hpp"
 #include "cwe/io/line_plot.hpp"
 #include "cwe/io/output_set.hpp"
 #include "cwe/job/compare.hpp"
@@ -423,14 +424,43 @@ int run_compare_command(CompareCommandOptions options, std::ostream& out, std::o
     write_file_atomically(outputs.staging() / "convergence_time.png", line_plot_png(cost));
     write_file_atomically(outputs.staging() / "convergence_time.svg", line_plot_svg(cost));
   }
+  // The maps of the CL where each method differs most from the reference, one over the other.
+  std::filesystem::create_directories(outputs.staging() / "maps");
+  std::vector<std::string> worst;
+  for (std::size_t k = 0; k < methods.size(); ++k) {
+    if (k == reference) continue;
+    const nlohmann::json& largest = against[methods[k].label]["exclusive_area_mm2"];
+    if (largest["max"].get<double>() <= 0.0) continue;
+    const std::size_t cl = largest["max_cl"].get<std::size_t>();
+    const ClRecord& at = ref.records[cl];
+    const Cutter& cutter = ref.job->operations[at.operation].cutter;
+    MapPlotInfo info;
+    info.title = fmt::format("CL {} ({} line {}): {} over {}", cl,
+                             std::filesystem::path(at.file).filename().string(), at.line,
+                             methods[k].label, ref.label);
+    info.tool_radius = cutter.profile().max_radius();
+    info.flute_height = cutter.profile().height();
+    info.overlay = &methods[k].records[cl].map;
+    info.label = ref.label;
+    info.overlay_label = methods[k].label;
+    const std::string name = fmt::format("cl_{:06d}_{}", cl, methods[k].label);
+    write_file_atomically(outputs.staging() / "maps" / (name + ".png"),
+                          engagement_map_png(at.map, info));
+    write_file_atomically(outputs.staging() / "maps" / (name + ".svg"),
+                          engagement_map_svg(at.map, info));
+    worst.push_back(name);
+  }
   write_file_atomically(outputs.staging() / "compare.json", json_text);
   outputs.publish();
 
   fmt::print(out, "cwe compare: {} cutter locations, reference {}\n", ref.records.size(),
              ref.label);
+  std::size_t width = 0;
+  for (const Method& m : methods) width = std::max(width, m.label.size());
   for (const Method& m : methods) {
-    fmt::print(out, "  {:<8} removed {:.3f} mm³ ({:+.3g} %), {:.2f} s ({:.2f} s CPU), {:.0f} MiB\n",
-               m.label, m.removed,
+    fmt::print(out,
+               "  {:<{}} removed {:.3f} mm³ ({:+.3g} %), {:.2f} s ({:.2f} s CPU), {:.0f} MiB\n",
+               m.label, width, m.removed,
                ref.removed > 0.0 ? 100.0 * (m.removed - ref.removed) / ref.removed : 0.0, m.seconds,
                m.cpu, static_cast<double>(m.peak) / (1024.0 * 1024.0));
   }
@@ -450,9 +480,11 @@ int run_compare_command(CompareCommandOptions options, std::ostream& out, std::o
                d["engaged_by_one_only"].get<std::size_t>());
   }
   const std::filesystem::path folder(options.out);
-  fmt::print(out, "  outputs  {} (per CL), {} (runs, percentiles), {} (along the path){}\n",
+  fmt::print(out,
+             "  outputs  {} (per CL), {} (runs, percentiles), {} (along the path), {} ({} maps "
+             "where the methods differ most, overlaid){}\n",
              (folder / "compare.csv").string(), (folder / "compare.json").string(),
-             (folder / "differences.png").string(),
+             (folder / "differences.png").string(), (folder / "maps").string(), worst.size(),
              sweep ? fmt::format(", {} and its figures", (folder / "convergence.csv").string())
                    : std::string());
   return 0;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstddef>
 #include <numeric>
+#include <tuple>
 #include <utility>
 
 #include <cairo.h>
@@ -34,8 +35,9 @@ struct MapFigure {
   std::string title;
   bool has_discs = false;
   bool has_rings = false;
-  std::vector<SideRect> side;
-  std::vector<BottomSector> bottom;
+  std::vector<SideRect> side, overlay_side;
+  std::vector<BottomSector> bottom, overlay_bottom;
+  std::string label, overlay_label;
   double depth_top = 1.0;    // mm, top of the φ–depth axis
   double polar_scale = 1.0;  // mm at kPolarRadius
 };
@@ -65,33 +67,44 @@ MapFigure prepare_map(const EngagementMap& map, const MapPlotInfo& info) {
   }
   MapFigure figure;
   figure.title = info.title;
+  figure.label = info.label;
+  figure.overlay_label = info.overlay_label;
   figure.has_discs = !map.discs.empty();
   figure.has_rings = !map.rings.empty();
 
   double highest = 0.0;  // top of the highest engaged disc
-  for (std::size_t d = 0; d < map.discs.size(); ++d) {
-    const DiscEngagement& disc = map.discs[d];
-    if (!std::isfinite(disc.z0) || !std::isfinite(disc.z1)) {
-      throw InputError(fmt::format("engagement map: disc {} has a non-finite height", d));
-    }
-    const double z0 = std::min(disc.z0, disc.z1), z1 = std::max(disc.z0, disc.z1);
-    clipped_intervals(disc.phi, fmt::format("disc {}", d), [&](double lo, double hi) {
-      figure.side.push_back({lo, hi, z0, z1});
-      highest = std::max(highest, z1);
-    });
-  }
   double largest_radius = 0.0;
-  for (std::size_t r = 0; r < map.rings.size(); ++r) {
-    const RingEngagement& ring = map.rings[r];
-    if (!std::isfinite(ring.r0) || !std::isfinite(ring.r1)) {
-      throw InputError(fmt::format("engagement map: ring {} has a non-finite radius", r));
+  const auto add = [&](const EngagementMap& m, std::vector<SideRect>& side,
+                       std::vector<BottomSector>& bottom) {
+    for (std::size_t d = 0; d < m.discs.size(); ++d) {
+      const DiscEngagement& disc = m.discs[d];
+      if (!std::isfinite(disc.z0) || !std::isfinite(disc.z1)) {
+        throw InputError(fmt::format("engagement map: disc {} has a non-finite height", d));
+      }
+      const double z0 = std::min(disc.z0, disc.z1), z1 = std::max(disc.z0, disc.z1);
+      clipped_intervals(disc.phi, fmt::format("disc {}", d), [&](double lo, double hi) {
+        side.push_back({lo, hi, z0, z1});
+        highest = std::max(highest, z1);
+      });
     }
-    const double r0 = std::max(0.0, std::min(ring.r0, ring.r1));
-    const double r1 = std::max(0.0, std::max(ring.r0, ring.r1));
-    largest_radius = std::max(largest_radius, r1);
-    clipped_intervals(ring.phi, fmt::format("ring {}", r), [&](double lo, double hi) {
-      figure.bottom.push_back({lo, hi, r0, r1});
-    });
+    for (std::size_t r = 0; r < m.rings.size(); ++r) {
+      const RingEngagement& ring = m.rings[r];
+      if (!std::isfinite(ring.r0) || !std::isfinite(ring.r1)) {
+        throw InputError(fmt::format("engagement map: ring {} has a non-finite radius", r));
+      }
+      const double r0 = std::max(0.0, std::min(ring.r0, ring.r1));
+      const double r1 = std::max(0.0, std::max(ring.r0, ring.r1));
+      largest_radius = std::max(largest_radius, r1);
+      clipped_intervals(ring.phi, fmt::format("ring {}", r), [&](double lo, double hi) {
+        bottom.push_back({lo, hi, r0, r1});
+      });
+    }
+  };
+  add(map, figure.side, figure.bottom);
+  if (info.overlay != nullptr) {
+    add(*info.overlay, figure.overlay_side, figure.overlay_bottom);
+    figure.has_discs = figure.has_discs || !info.overlay->discs.empty();
+    figure.has_rings = figure.has_rings || !info.overlay->rings.empty();
   }
 
   if (highest > 0.0) {
@@ -129,21 +142,26 @@ void draw_side_panel(cairo_t* cr, const MapFigure& figure) {
   cairo_stroke(cr);
 
   // Engaged rectangles as one path, filled once: neighbouring discs meet without seams. Each is
-  // at least a pixel wide and high so that grazing contacts and thin discs stay visible.
-  for (const SideRect& r : figure.side) {
-    double x0 = X(r.phi0), x1 = X(r.phi1), y0 = Y(r.z1), y1 = Y(r.z0);
-    if (x1 - x0 < 1.0) {
-      x0 = std::clamp(0.5 * (x0 + x1) - 0.5, left, right - 1.0);
-      x1 = x0 + 1.0;
+  // at least a pixel wide and high so that grazing contacts and thin discs stay visible. An
+  // overlay's, translucent, over them.
+  for (const auto& [rects, color, alpha] :
+       {std::tuple{&figure.side, layout::kEngagedColor, 1.0},
+        std::tuple{&figure.overlay_side, layout::kOverlayColor, layout::kOverlayAlpha}}) {
+    for (const SideRect& r : *rects) {
+      double x0 = X(r.phi0), x1 = X(r.phi1), y0 = Y(r.z1), y1 = Y(r.z0);
+      if (x1 - x0 < 1.0) {
+        x0 = std::clamp(0.5 * (x0 + x1) - 0.5, left, right - 1.0);
+        x1 = x0 + 1.0;
+      }
+      if (y1 - y0 < 1.0) {
+        y0 = std::clamp(0.5 * (y0 + y1) - 0.5, top, bottom - 1.0);
+        y1 = y0 + 1.0;
+      }
+      cairo_rectangle(cr, x0, y0, x1 - x0, y1 - y0);
     }
-    if (y1 - y0 < 1.0) {
-      y0 = std::clamp(0.5 * (y0 + y1) - 0.5, top, bottom - 1.0);
-      y1 = y0 + 1.0;
-    }
-    cairo_rectangle(cr, x0, y0, x1 - x0, y1 - y0);
+    set_color(cr, color, alpha);
+    cairo_fill(cr);
   }
-  set_color(cr, layout::kEngagedColor);
-  cairo_fill(cr);
 
   // Front | back divide.
   const double x_divide = X(kPi);
@@ -209,27 +227,32 @@ void draw_bottom_panel(cairo_t* cr, const MapFigure& figure) {
   }
   cairo_stroke(cr);
 
-  // Engaged sectors as one path (same orientation for all, so overlaps add, never cancel).
-  for (const BottomSector& s : figure.bottom) {
-    const double r1 = s.r1 * px_per_mm, r0 = s.r0 * px_per_mm;
-    double phi0 = s.phi0, phi1 = s.phi1;
-    if (r1 <= 0.0) continue;         // a ring of radius 0 has no area to show
-    if ((phi1 - phi0) * r1 < 1.0) {  // grazing: one pixel wide at the outer radius
-      const double mid = 0.5 * (phi0 + phi1), half = 0.5 / r1;
-      phi0 = mid - half;
-      phi1 = mid + half;
+  // Engaged sectors as one path (same orientation for all, so overlaps add, never cancel); an
+  // overlay's, translucent, over them.
+  for (const auto& [sectors, color, alpha] :
+       {std::tuple{&figure.bottom, layout::kEngagedColor, 1.0},
+        std::tuple{&figure.overlay_bottom, layout::kOverlayColor, layout::kOverlayAlpha}}) {
+    for (const BottomSector& s : *sectors) {
+      const double r1 = s.r1 * px_per_mm, r0 = s.r0 * px_per_mm;
+      double phi0 = s.phi0, phi1 = s.phi1;
+      if (r1 <= 0.0) continue;         // a ring of radius 0 has no area to show
+      if ((phi1 - phi0) * r1 < 1.0) {  // grazing: one pixel wide at the outer radius
+        const double mid = 0.5 * (phi0 + phi1), half = 0.5 / r1;
+        phi0 = mid - half;
+        phi1 = mid + half;
+      }
+      cairo_new_sub_path(cr);
+      cairo_arc(cr, cx, cy, r1, angle(phi0), angle(phi1));
+      if (r0 > 0.0) {
+        cairo_arc_negative(cr, cx, cy, r0, angle(phi1), angle(phi0));
+      } else {
+        cairo_line_to(cr, cx, cy);  // a sector of the innermost ring is a pie slice
+      }
+      cairo_close_path(cr);
     }
-    cairo_new_sub_path(cr);
-    cairo_arc(cr, cx, cy, r1, angle(phi0), angle(phi1));
-    if (r0 > 0.0) {
-      cairo_arc_negative(cr, cx, cy, r0, angle(phi1), angle(phi0));
-    } else {
-      cairo_line_to(cr, cx, cy);  // a sector of the innermost ring is a pie slice
-    }
-    cairo_close_path(cr);
+    set_color(cr, color, alpha);
+    cairo_fill(cr);
   }
-  set_color(cr, layout::kEngagedColor);
-  cairo_fill(cr);
 
   // Scale circle, angle labels, radius labels.
   set_color(cr, kBlack);
@@ -267,6 +290,21 @@ void draw_map(cairo_t* cr, const MapFigure& figure) {
   text(cr, 0.5 * layout::kMapWidth, 34, figure.title, Anchor::kMiddle, 17, true);
   draw_side_panel(cr, figure);
   if (figure.has_rings) draw_bottom_panel(cr, figure);
+  if (!figure.overlay_label.empty()) {
+    // Legend of the two maps, under the title.
+    double x = 0.5 * layout::kMapWidth -
+               0.5 * (text_width(cr, figure.label) + text_width(cr, figure.overlay_label) + 100);
+    for (const auto& [name, color, alpha] :
+         {std::tuple{&figure.label, layout::kEngagedColor, 1.0},
+          std::tuple{&figure.overlay_label, layout::kOverlayColor, layout::kOverlayAlpha}}) {
+      set_color(cr, color, alpha);
+      cairo_rectangle(cr, x, 46, 14, 10);
+      cairo_fill(cr);
+      set_color(cr, kBlack);
+      text(cr, x + 20, 56, *name);
+      x += 20 + text_width(cr, *name) + 30;
+    }
+  }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "cli_testing.hpp"
@@ -53,6 +54,8 @@ TEST(CliCompare, AWorkpieceAgainstItselfDiffersByNothing) {
     EXPECT_EQ(d[key]["max"].get<double>(), 0.0) << key;
   }
   EXPECT_EQ(d["engaged_by_one_only"], 0);
+  // No map where nothing differs.
+  EXPECT_TRUE(std::filesystem::is_empty(dir / "out" / "maps"));
   // compare.csv: a header and a row per CL, the methods' columns and the differences'.
   const auto rows = read_csv(dir / "out" / "compare.csv");
   ASSERT_EQ(rows.size(), c["cl_points"].get<std::size_t>() + 1);
@@ -149,6 +152,12 @@ TEST(CliCompare, ResolutionSweepConverges) {
   for (const char* file : {"convergence.png", "convergence.svg", "convergence_time.png",
                            "convergence_time.svg", "differences.png", "differences.svg"}) {
     EXPECT_TRUE(std::filesystem::exists(dir / "out" / file)) << file;
+  }
+  // The maps where each run differs most from the reference, named by CL and run.
+  for (const char* run : {"dexel_s0.4", "dexel_s0.2", "dexel_s0.1", "dexel_s0.05"}) {
+    const std::size_t cl = c["differences"][run]["exclusive_area_mm2"]["max_cl"];
+    const auto map = dir / "out" / "maps" / fmt::format("cl_{:06d}_{}.png", cl, run);
+    EXPECT_TRUE(std::filesystem::exists(map)) << map;
   }
   std::filesystem::remove_all(dir);
 }

@@ -83,6 +83,53 @@ TEST(EngagementPlot, MapPngHasStatedSizeAndFillsEngagedRectangles) {
   EXPECT_NE(polar(30, 1), layout::kEngagedColor);
 }
 
+// `cwe compare`'s maps: a second map over the first, translucent. Where only the first engages,
+// its colour; where both, the overlay's over it; where only the overlay, the overlay's over the
+// white background; elsewhere neither.
+TEST(EngagementPlot, OverlayIsDrawnTranslucentOverTheMap) {
+  const EngagementMap map = sample_map(true);
+  EngagementMap other = sample_map(true);
+  for (int k = 0; k < 2; ++k) {
+    other.discs[k].phi = {{degrees_to_radians(60), degrees_to_radians(160)}};
+  }
+  MapPlotInfo info = kInfo;
+  info.overlay = &other;
+  info.label = "dexel";
+  info.overlay_label = "brep";
+  const Image image(engagement_map_png(map, info));
+  ASSERT_TRUE(image.ok());
+  const auto blend = [](unsigned over, unsigned under) {
+    unsigned rgb = 0;
+    for (int shift : {16, 8, 0}) {
+      const double a = (over >> shift) & 0xff, b = (under >> shift) & 0xff;
+      const auto c = static_cast<unsigned>(
+          std::lround(layout::kOverlayAlpha * a + (1.0 - layout::kOverlayAlpha) * b));
+      rgb |= c << shift;
+    }
+    return rgb;
+  };
+  const auto near = [](unsigned a, unsigned b) {
+    for (int shift : {16, 8, 0}) {
+      if (std::abs(static_cast<int>((a >> shift) & 0xff) - static_cast<int>((b >> shift) & 0xff)) >
+          2) {
+        return false;
+      }
+    }
+    return true;
+  };
+  const double w = layout::kSideWidthWithBottom;
+  const SidePoint first = side_point(40, 0.75, w, 2.0);
+  EXPECT_EQ(image.rgb(first.x, first.y), layout::kEngagedColor);
+  const SidePoint both = side_point(80, 0.75, w, 2.0);
+  EXPECT_TRUE(near(image.rgb(both.x, both.y), blend(layout::kOverlayColor, layout::kEngagedColor)))
+      << std::hex << image.rgb(both.x, both.y);
+  const SidePoint second = side_point(130, 0.75, w, 2.0);
+  EXPECT_TRUE(near(image.rgb(second.x, second.y), blend(layout::kOverlayColor, 0xffffff)))
+      << std::hex << image.rgb(second.x, second.y);
+  const SidePoint neither = side_point(200, 0.75, w, 2.0);
+  EXPECT_EQ(image.rgb(neither.x, neither.y), 0xffffffu);
+}
+
 TEST(EngagementPlot, MapWithoutRingsUsesTheWholeWidthForTheSide) {
   const EngagementMap map = sample_map(false);
   const Image image(engagement_map_png(map, kInfo));

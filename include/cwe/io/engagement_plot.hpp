@@ -27,6 +27,11 @@ struct MapPlotInfo {
   double tool_radius = 0;   // mm, the cutter's largest radius (polar plot scale); <= 0: unknown
   double flute_height = 0;  // mm, the side map's full height (top of the φ–depth axis); <= 0:
                             // unknown
+  // A second map of the same CL drawn over this one, translucent in plot_layout::kOverlayColor
+  // (`cwe compare`: another workpiece's), with the legend's names of the two; none: the map
+  // alone.
+  const EngagementMap* overlay = nullptr;
+  std::string label, overlay_label;
 };
 
 // The engagement map of one cutter location as a figure of plot_layout::kMapWidth ×
@@ -98,6 +103,8 @@ inline constexpr unsigned kEngagedColor = 0xd62728;
 inline constexpr unsigned kEntryColor = 0x1f77b4;
 inline constexpr unsigned kExitColor = 0xff7f0e;
 inline constexpr unsigned kDepthColor = 0x2ca02c;
+inline constexpr unsigned kOverlayColor = 0x1f77b4;  // at kOverlayAlpha over kEngagedColor
+inline constexpr double kOverlayAlpha = 0.5;
 
 // Top of the φ–depth axis, mm: the top of the highest engaged disc rounded up to a nice value
 // (multiple of a 1-2-2.5-5 step), at least 1 mm, but not above flute_height when that still
