@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# The runs behind docs/accuracy.md: `cwe compare` on the analytic cases (examples/accuracy/: a
+# slot, a side cut and a ramp, each with a flat, a ball and a bull-nose end mill of 10 mm) and
+# on the bundled example, each table printed as the document shows it. About 15 minutes on two
+# cores (the B-rep bull-nose runs are most of it).
+#   scripts/accuracy.sh [OUT]    outputs in OUT (default out/accuracy)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/build.sh > /dev/null
+out="$(realpath -m "${1:-out/accuracy}")"
+mkdir -p "$out"
+cwe="$PWD/build/cwe"
+
+# A row of convergence.csv's columns: setting, error over the job (%), its 95th percentile per CL
+# (%), entry and exit 95th percentiles (deg), CPU seconds.
+table() {
+  awk -F, -v setting="$2" 'NR > 1 {
+      printf "| %s | %s | %.3g | %.3g | %.3g | %.3g | %.2f |\n", $1, $(setting == "s" ? 2 : 3),
+             100 * $4, 100 * $5, $6, $7, $11 }' "$1/convergence.csv"
+}
+
+echo "Analytic cases against the B-rep workpiece (reference at the finest setting):"
+echo "| case | workpiece | s or facet (mm) | over the job (%) | p95 per CL (%) | entry p95 (°) | exit p95 (°) | CPU (s) |"
+for program in slot side ramp; do
+  for tool in flat:10,30 ball:10,30 bull:10,2,30; do
+    name="${program}_${tool%%:*}"
+    common=(--stock box:0,0,0,60,40,20 --tool "$tool" --path "examples/accuracy/$program.ngc"
+            --quiet)
+    $cwe compare "${common[@]}" --workpieces dexel,brep --sweep-resolution 0.4,0.2,0.1,0.05 \
+      --out "$out/resolution_$name" > "$out/resolution_$name.txt"
+    $cwe compare "${common[@]}" --workpieces mesh,brep --sweep-facet 4,2,1,0.5 \
+      --out "$out/facet_$name" > "$out/facet_$name.txt"
+    table "$out/resolution_$name" s | sed "s/^/| $name /"
+    table "$out/facet_$name" f | sed "s/^/| $name /"
+  done
+done
+
+echo
+echo "The bundled example (examples/jobs/example.json):"
+(cd examples/jobs &&
+  $cwe compare example.json --workpieces dexel,mesh --out "$out/example" --quiet &&
+  $cwe compare example.json --workpieces dexel,dexel --sweep-resolution 0.4,0.2,0.1,0.05 \
+    --out "$out/example_resolution" --quiet)
+table "$out/example_resolution" s
