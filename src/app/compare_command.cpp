@@ -49,10 +49,11 @@ void add_compare_command(CLI::App& app, CompareCommandOptions& options) {
 
 namespace {
 
-const std::vector<std::string> kCompareOutputs = {
-    "compare.csv",     "compare.json",         "differences.png",
-    "differences.svg", "convergence.csv",      "convergence.png",
-    "convergence.svg", "convergence_time.png", "convergence_time.svg"};
+const std::vector<std::string> kCompareOutputs = {"compare.csv",          "compare.json",
+                                                  "differences.png",      "differences.svg",
+                                                  "convergence.csv",      "convergence.png",
+                                                  "convergence.svg",      "convergence_time.png",
+                                                  "convergence_time.svg", "maps"};
 
 double cpu_seconds() {
   rusage usage{};
@@ -182,6 +183,13 @@ std::vector<Method> methods_of(const CompareCommandOptions& options, std::size_t
   return methods;
 }
 
+// A CSV cell holding `text` whatever it holds: quoted, quotes doubled (RFC 4180).
+std::string csv_text(const std::string& text) {
+  std::string cell = "\"";
+  for (const char c : text) cell += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return cell + "\"";
+}
+
 nlohmann::json stats_json(const DifferenceStats& s) {
   return {{"count", s.count}, {"p50", s.p50}, {"p95", s.p95},
           {"p99", s.p99},     {"max", s.max}, {"max_cl", s.max_cl}};
@@ -220,12 +228,17 @@ int run_compare_command(CompareCommandOptions options, std::ostream& out, std::o
     const double cpu_before = cpu_seconds();
     RecordingSink sink;
     std::vector<ClSink*> sinks = {&sink};
-    JobResult run = run_job(*m.job, make_job_stock(*m.job), RunOptions{true, false}, sinks,
-                            [&](std::size_t done, std::size_t total) { bar(done, total); });
+    std::optional<JobResult> run;
+    try {
+      run.emplace(run_job(*m.job, make_job_stock(*m.job), RunOptions{true, false}, sinks,
+                          [&](std::size_t done, std::size_t total) { bar(done, total); }));
+    } catch (const ComputationError& e) {
+      throw ComputationError(fmt::format("the {} run: {}", m.label, e.what()));
+    }
     m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     m.cpu = cpu_seconds() - cpu_before;
     m.peak = peak_memory();
-    m.removed = run.initial_volume.mean() - run.final_volume.mean();
+    m.removed = run->initial_volume.mean() - run->final_volume.mean();
     m.records = std::move(sink.records);
   }
 
@@ -257,8 +270,8 @@ int run_compare_command(CompareCommandOptions options, std::ostream& out, std::o
   csv += "\n";
   for (std::size_t cl = 0; cl < ref.records.size(); ++cl) {
     const ClRecord& r = ref.records[cl];
-    csv += fmt::format("{},{},\"{}\",{},{:.6f},{:.6f},{:.6f}", cl, r.operation, r.file, r.line,
-                       r.position.x(), r.position.y(), r.position.z());
+    csv += fmt::format("{},{},{},{},{:.6f},{:.6f},{:.6f}", cl, r.operation, csv_text(r.file),
+                       r.line, r.position.x(), r.position.y(), r.position.z());
     for (const Method& m : methods) {
       const EngagementMap& map = m.records[cl].map;
       csv += fmt::format(",{},{:.4f},{:.4f},{:.4f},{:.5f}", map.engaged ? 1 : 0,

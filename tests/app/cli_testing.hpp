@@ -32,7 +32,7 @@ inline std::filesystem::path scratch_dir(const std::string& name) {
   return dir;
 }
 
-// A CSV file's rows and cells (no quoting: cwe's CSV cells hold no commas).
+// A CSV file's rows and cells, split at every comma (the files read hold no commas in cells).
 inline std::vector<std::vector<std::string>> read_csv(const std::filesystem::path& file) {
   std::ifstream stream(file);
   std::vector<std::vector<std::string>> rows;

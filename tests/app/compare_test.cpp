@@ -18,6 +18,7 @@
 #include "cwe/engagement/engagement_grid.hpp"
 #include "cwe/job/compare.hpp"
 #include "cwe/job/run.hpp"
+#include "source_dir.hpp"
 
 namespace cwe::app {
 namespace {
@@ -56,6 +57,11 @@ TEST(CliCompare, AWorkpieceAgainstItselfDiffersByNothing) {
   EXPECT_EQ(d["engaged_by_one_only"], 0);
   // No map where nothing differs.
   EXPECT_TRUE(std::filesystem::is_empty(dir / "out" / "maps"));
+  // Run again into the same folder: the outputs are replaced.
+  const Result again = run_cwe({"compare", "--stock", "box:0,0,0,60,40,20", "--tool", "flat:10,30",
+                                "--path", (dir / "slot.ngc").string(), "--workpieces",
+                                "dexel,dexel", "--out", (dir / "out").string(), "--quiet"});
+  EXPECT_EQ(again.status, 0) << again.err;
   // compare.csv: a header and a row per CL, the methods' columns and the differences'.
   const auto rows = read_csv(dir / "out" / "compare.csv");
   ASSERT_EQ(rows.size(), c["cl_points"].get<std::size_t>() + 1);
@@ -193,6 +199,24 @@ TEST(CliCompare, BadSweepsAreNamed) {
     EXPECT_NE(r.err.find(c.expected), std::string::npos) << r.err;
     EXPECT_FALSE(std::filesystem::exists(dir / "out"));
   }
+  std::filesystem::remove_all(dir);
+}
+
+// A run that fails (the B-rep workpiece refuses a concave cutter) stops the comparison with
+// exit 3, naming the run and the move, and nothing is written.
+TEST(CliCompare, AFailingRunIsNamedAndNothingIsWritten) {
+  const auto dir = scratch_dir("compare-fails");
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "slot.ngc") << kSlot;
+  const Result r = run_cwe({"compare", "--stock", "box:0,0,0,60,40,20", "--tool",
+                            (test::source_dir() / "examples/tools/corner-rounding.json").string(),
+                            "--path", (dir / "slot.ngc").string(), "--workpieces", "dexel,brep",
+                            "--out", (dir / "out").string(), "--quiet"});
+  EXPECT_EQ(r.status, 3);
+  EXPECT_NE(r.err.find("the brep run: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("slot.ngc:2:"), std::string::npos) << r.err;  // its first move
+  EXPECT_NE(r.err.find("concave"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out"));
   std::filesystem::remove_all(dir);
 }
 
