@@ -38,7 +38,10 @@ done
 echo
 echo "The bundled example (examples/jobs/example.json):"
 (cd examples/jobs &&
-  $cwe compare example.json --workpieces dexel,mesh --out "$out/example" --quiet &&
+  $cwe compare example.json --workpieces dexel,mesh --out "$out/example" --quiet \
+    > "$out/example.txt" &&
   $cwe compare example.json --workpieces dexel,dexel --sweep-resolution 0.4,0.2,0.1,0.05 \
-    --out "$out/example_resolution" --quiet)
+    --out "$out/example_resolution" --quiet > "$out/example_resolution.txt")
+grep -E "removed|against" "$out/example.txt"
+echo "| workpiece | s (mm) | over the job (%) | p95 per CL (%) | entry p95 (°) | exit p95 (°) | CPU (s) |"
 table "$out/example_resolution" s
