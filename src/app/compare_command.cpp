@@ -150,9 +150,9 @@ std::vector<Method> methods_of(const CompareCommandOptions& options, std::size_t
     return &methods.back();
   };
   if (!by_resolution && !by_facet) {
-    for (const std::string& name : names) {
-      const auto seen = std::count(names.begin(), names.begin() + (&name - names.data()), name);
-      add(name, seen == 0 ? name : fmt::format("{}_{}", name, seen + 1));
+    for (std::size_t k = 0; k < names.size(); ++k) {
+      const auto seen = std::count(names.begin(), names.begin() + static_cast<long>(k), names[k]);
+      add(names[k], seen == 0 ? names[k] : fmt::format("{}_{}", names[k], seen + 1));
     }
     return methods;
   }

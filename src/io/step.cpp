@@ -307,7 +307,9 @@ TriangleMesh StepModel::tessellate(double deviation) const {
   // face on it stores the points as its own nodes, and where booleans left the edge and its
   // vertices tolerant the copies lie apart by up to their tolerance (seen: 5.3e-4 mm on a FreeCAD
   // pocket's stock whose edges' largest tolerance was 4.0e-4, the welder's). The k-th point of an
-  // edge's polygon on each of its faces is one vertex.
+  // edge's polygon on each of its faces is one vertex, where the two copies lie within the
+  // deviation of each other (copies farther apart are not the same point: they stay apart, and
+  // the closure check below reports them).
   std::vector<int> same(mesh.vertices.size());
   std::iota(same.begin(), same.end(), 0);
   const auto root = [&same](int v) {
@@ -339,6 +341,9 @@ TriangleMesh StepModel::tessellate(double deviation) const {
         first = std::move(points);
       } else if (points.size() == first.size()) {
         for (std::size_t k = 0; k < points.size(); ++k) {
+          const Vec3& pa = mesh.vertices[static_cast<std::size_t>(first[k])];
+          const Vec3& pb = mesh.vertices[static_cast<std::size_t>(points[k])];
+          if ((pa - pb).norm() > deviation) continue;
           const int a = root(first[k]), b = root(points[k]);
           if (a != b) same[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
         }

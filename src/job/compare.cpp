@@ -43,29 +43,27 @@ std::vector<ClDifference> compare_runs(const PreparedJob& job,
 DifferenceStats difference_stats(const std::vector<ClDifference>& differences,
                                  const std::function<double(const ClDifference&)>& value,
                                  const std::function<bool(const ClDifference&)>& counted) {
-  std::vector<std::pair<double, std::size_t>> values;
-  for (const ClDifference& d : differences) {
-    if (counted(d)) values.emplace_back(std::abs(value(d)), d.cl);
-  }
   DifferenceStats stats;
+  std::vector<double> values;
+  for (const ClDifference& d : differences) {
+    if (!counted(d)) continue;
+    const double v = std::abs(value(d));
+    if (values.empty() || v > stats.max) {  // the first CL with the largest
+      stats.max = v;
+      stats.max_cl = d.cl;
+    }
+    values.push_back(v);
+  }
   stats.count = values.size();
   if (values.empty()) return stats;
   std::sort(values.begin(), values.end());
   const auto rank = [&](double p) {
-    const auto n = static_cast<double>(values.size());
-    const auto k = static_cast<std::size_t>(std::max(1.0, std::ceil(p * n))) - 1;
-    return values[std::min(k, values.size() - 1)].first;
+    const auto k = static_cast<std::size_t>(std::ceil(p * static_cast<double>(values.size())));
+    return values[std::clamp<std::size_t>(k, 1, values.size()) - 1];
   };
   stats.p50 = rank(0.50);
   stats.p95 = rank(0.95);
   stats.p99 = rank(0.99);
-  // The first CL with the largest value.
-  const double largest = values.back().first;
-  stats.max = largest;
-  stats.max_cl = values.back().second;
-  for (const auto& [v, cl] : values) {
-    if (v == largest) stats.max_cl = std::min(stats.max_cl, cl);
-  }
   return stats;
 }
 
