@@ -64,11 +64,12 @@ double cpu_seconds() {
   return seconds(usage.ru_utime) + seconds(usage.ru_stime);
 }
 
-// The process's peak resident memory (VmHWM), bytes; 0 where /proc does not tell.
-std::size_t peak_memory() {
+// The process's resident memory, bytes, as /proc/self/status gives it under `field` ("VmRSS:"
+// now, "VmHWM:" at its peak); 0 where it does not tell.
+std::size_t resident_memory(const std::string& field) {
   std::ifstream status("/proc/self/status");
   for (std::string line; std::getline(status, line);) {
-    if (line.rfind("VmHWM:", 0) == 0) return std::stoull(line.substr(6)) * 1024;
+    if (line.rfind(field, 0) == 0) return std::stoull(line.substr(field.size())) * 1024;
   }
   return 0;
 }
@@ -90,8 +91,11 @@ struct Method {
   std::vector<ClRecord> records;
   double removed = 0.0;  // mm³
   double seconds = 0.0, cpu = 0.0;
-  std::size_t peak = 0;
+  // The process's resident memory when the run started (the runs before keep their maps) and
+  // at its peak during the run (or since the process started, where it cannot be reset).
+  std::size_t held = 0, peak = 0;
   bool peak_of_run = false;
+  std::size_t own() const { return peak > held ? peak - held : 0; }
 };
 
 // The positive lengths of a comma-separated list given to `option`.
@@ -223,6 +227,7 @@ int run_compare_command(CompareCommandOptions options, std::ostream& out, std::o
   for (Method& m : methods) {
     if (progress != nullptr && !options.quiet) fmt::print(*progress, "{}:\n", m.label);
     ProgressBar bar(options.quiet ? nullptr : progress);
+    m.held = resident_memory("VmRSS:");
     m.peak_of_run = reset_peak_memory();
     const auto started = std::chrono::steady_clock::now();
     const double cpu_before = cpu_seconds();
@@ -237,7 +242,7 @@ int run_compare_command(CompareCommandOptions options, std::ostream& out, std::o
     }
     m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     m.cpu = cpu_seconds() - cpu_before;
-    m.peak = peak_memory();
+    m.peak = resident_memory("VmHWM:");
     m.removed = run->initial_volume.mean() - run->final_volume.mean();
     m.records = std::move(sink.records);
   }
@@ -313,7 +318,9 @@ int run_compare_command(CompareCommandOptions options, std::ostream& out, std::o
                     {"seconds", m.seconds},
                     {"cpu_seconds", m.cpu},
                     {"peak_memory_bytes", m.peak},
-                    {"peak_memory_of", m.peak_of_run ? "this run" : "the process so far"}});
+                    {"peak_memory_of", m.peak_of_run ? "this run" : "the process so far"},
+                    {"memory_held_before_bytes", m.held},
+                    {"run_memory_bytes", m.own()}});
   }
   summary["runs"] = runs;
   nlohmann::json against = nlohmann::json::object();
@@ -385,7 +392,7 @@ int run_compare_command(CompareCommandOptions options, std::ostream& out, std::o
     table =
         "workpiece,resolution_mm,facet_mm,exclusive_total_relative,exclusive_relative_p95,"
         "entry_p95_deg,exit_p95_deg,axial_depth_p95_mm,removed_volume_relative,seconds,"
-        "cpu_seconds,peak_memory_bytes\n";
+        "cpu_seconds,run_memory_bytes\n";
     error.title = fmt::format("Engaged surface that differs from {} (over the job)", ref.label);
     error.x_label = setting;
     error.y_label = "engaged by one only / engaged (%)";
@@ -404,7 +411,7 @@ int run_compare_command(CompareCommandOptions options, std::ostream& out, std::o
           d["exclusive_relative"]["p95"].get<double>(), d["entry_deg"]["p95"].get<double>(),
           d["exit_deg"]["p95"].get<double>(), d["axial_depth_mm"]["p95"].get<double>(),
           ref.removed > 0.0 ? (m.removed - ref.removed) / ref.removed : 0.0, m.seconds, m.cpu,
-          m.peak);
+          m.own());
       const double x = by_resolution ? m.job->simulation.resolution : m.job->facet;
       const auto series_of = [&](LinePlot& plot) -> PlotSeries& {
         for (PlotSeries& s : plot.series) {
@@ -475,7 +482,7 @@ int run_compare_command(CompareCommandOptions options, std::ostream& out, std::o
                "  {:<{}} removed {:.3f} mm³ ({:+.3g} %), {:.2f} s ({:.2f} s CPU), {:.0f} MiB\n",
                m.label, width, m.removed,
                ref.removed > 0.0 ? 100.0 * (m.removed - ref.removed) / ref.removed : 0.0, m.seconds,
-               m.cpu, static_cast<double>(m.peak) / (1024.0 * 1024.0));
+               m.cpu, static_cast<double>(m.own()) / (1024.0 * 1024.0));
   }
   for (std::size_t k = 0; k < methods.size(); ++k) {
     if (k == reference) continue;

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -48,6 +49,14 @@ TEST(CliCompare, AWorkpieceAgainstItselfDiffersByNothing) {
   EXPECT_EQ(c["runs"][1]["label"], "dexel_2");
   EXPECT_NEAR(c["runs"][0]["removed_volume_mm3"].get<double>(), 1800.0, 1.0);
   EXPECT_EQ(c["runs"][1]["removed_volume_difference_mm3"].get<double>(), 0.0);
+  // Each run's own memory: its peak less what the process held when it started (the first
+  // run's maps, for the second).
+  for (const nlohmann::json& run : c["runs"]) {
+    EXPECT_EQ(run["run_memory_bytes"].get<std::size_t>(),
+              run["peak_memory_bytes"].get<std::size_t>() -
+                  std::min(run["peak_memory_bytes"].get<std::size_t>(),
+                           run["memory_held_before_bytes"].get<std::size_t>()));
+  }
   const nlohmann::json& d = c["differences"]["dexel_2"];
   for (const char* key : {"entry_deg", "exit_deg", "axial_depth_mm", "area_mm2",
                           "exclusive_area_mm2", "exclusive_relative"}) {
