@@ -275,11 +275,11 @@ double BrepWorkpiece::remove(const MoveSweep& sweep, std::vector<BrepStock::Soli
       return move.axial == 0.0 ? stock_.cut_planar_arc(cutter, move, removed)
                                : stock_.cut_helix(cutter, move, removed);
     } catch (const ComputationError& exact) {
-      // An arc whose exact sweep the cut refuses (a helical entry's second turn under its first:
-      // the floors' B-spline tubes against each other; then the circle after it, along the
-      // walls those left) is cut as its linear pieces, within the sweep tolerance like any other
-      // move; the stock is as before the arc (cuts are all or none). If those fail too, both
-      // reasons are given.
+      // An arc whose exact sweep cannot be built or cut (a helix narrower than the tool; a
+      // ball end's helix going up, whose sewn faces do not close; a bull-nose's, whose ruled
+      // sheets can miss the volume check by 1e-5) is cut as its linear pieces, within the sweep
+      // tolerance like any other move; the stock is as before the arc (cuts are all or none). If
+      // those fail too, both reasons are given.
       try {
         return in_lines();
       } catch (const ComputationError& lines) {

@@ -304,12 +304,12 @@ TEST(BrepEngagement, SimultaneousFiveAxisAgreesWithTheDexelMethod) {
 }
 
 // The bundled example's helical entry (3 turns of 1 mm pitch on a 6 mm radius from 1 mm above
-// the block, a 10 mm end mill): the booleans refuse its exact half-turn pieces from the fifth on
-// (the floors' B-spline tubes under the turn before's), so the helix is cut as its linear
-// pieces, within the sweep tolerance t, as the summary reports. Against the dexel workpiece at
-// s = 0.1 with the same pieces: within s/2 over the cavity's surface, the dexel's own bound (the
+// the block, a 10 mm end mill), cut exactly: as its last turn with the tool lengthened by the two
+// turns over it (helix_sweep_solids). Cut in half turns along the whole helix, the booleans
+// refused it from the fifth on (the floors' B-spline tubes under the turn before's). Against the
+// dexel workpiece at s = 0.1: within s/2 over the cavity's surface, the dexel's own bound (the
 // floor π(11² − 1²) = 377 mm² and walls of radius 11 and 1 at most 2 mm high: under 530 mm²).
-TEST(BrepEngagement, HelixTheBooleansRefuseIsCutInLinearPieces) {
+TEST(BrepEngagement, HelixOfSeveralTurnsIsCutExactly) {
   Move helix;
   helix.shape = MoveShape::kArc;
   helix.feed_rate = 400.0;
@@ -331,13 +331,13 @@ TEST(BrepEngagement, HelixTheBooleansRefuseIsCutInLinearPieces) {
   for (const double v : remove_toolpath(workpiece, cutter, path, {kSpacing, t}).removed_by_move) {
     exact += v;
   }
-  EXPECT_EQ(stock.moves_in_lines(), 1);
+  EXPECT_EQ(stock.moves_in_lines(), 0);
   TriDexel rays = TriDexel::from_box(block, kSpacing);
   double dexel = 0.0;
   for (const double v : remove_toolpath(rays, cutter, path, {kSpacing, t}).removed_by_move) {
     dexel += v;
   }
-  EXPECT_NEAR(exact, dexel, 0.5 * kSpacing * 530.0);  // measured: 0.18 mm³
+  EXPECT_NEAR(exact, dexel, 0.5 * kSpacing * 530.0);  // measured: 0.1 mm³
 }
 
 }  // namespace

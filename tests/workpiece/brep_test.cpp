@@ -5,15 +5,18 @@
 #include <gtest/gtest.h>
 
 #include <BRepCheck_Analyzer.hxx>
+#include <BRepClass3d_SolidClassifier.hxx>
 #include <BRepGProp.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <GProp_GProps.hxx>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
 
+#include "../random.hpp"
 #include "cwe/core/computation_error.hpp"
 #include "cwe/core/error.hpp"
 #include "cwe/core/numbers.hpp"
@@ -259,6 +262,89 @@ TEST(BrepStock, HelixAgreesWithTheDexelWorkpiece) {
     EXPECT_NEAR(exact, dexel, 0.5 * 0.1 * cavity);
     std::printf("%s helix: B-rep %.3f mm³, dexel %.3f mm³ (%+.4f %%), bound %.1f mm³\n", spec,
                 exact, dexel, 100.0 * (dexel - exact) / exact, 0.5 * 0.1 * cavity);
+  }
+}
+
+}  // namespace
+}  // namespace cwe
+
+namespace cwe {
+namespace {
+
+// The signed distance from a point (ρ, z in the tool's frame) to the tool's solid: positive
+// inside.
+double signed_distance(const Profile& profile, double rho, double z) {
+  const double top = rho <= profile.top_radius()
+                         ? std::abs(z - profile.height())
+                         : std::hypot(rho - profile.top_radius(), z - profile.height());
+  const double d = std::min(profile.closest(Vec2(rho, z)).distance, top);
+  return profile.contains(rho, z) ? d : -d;
+}
+
+// A helix of more than a turn is swept as its turn at the low end with the tools lengthened
+// (helix_sweep_solids; tools without a straight side as tall as the pitch in half turns along
+// the whole helix): the union of its solids must be the union of the tool at every pose.
+// Points round the helix are classified in the solids and against 20,000 poses along it, each
+// by the distance to the posed tool. Between two poses no tool point moves more than
+// δ = Δθ·(r + R) + Δz (under 0.014 mm here), so a point whose largest distance over the poses is
+// below −(δ + 1e-3) is outside every pose and one above 1e-3 inside one; points in between are
+// left out (a few percent).
+TEST(BrepShapes, HelixOfSeveralTurnsIsTheUnionOfItsPoses) {
+  struct Case {
+    const char* spec;
+    double turns;
+    double axial;  // along the normal
+    Vec3 normal;
+    std::size_t most_solids;
+  };
+  const std::vector<Case> cases = {
+      {"flat:10,20", 3.0, 3.0, -Vec3::UnitZ(), 2},          // G2 down, whole turns: the last turn
+      {"ball:10,20", 2.5, -2.5, Vec3::UnitZ(), 3},          // G3 down, the last turn in two parts
+      {"flat:10,20", 1.25, 2.0, Vec3::UnitZ(), 3},          // G3 up: the first turn in two parts
+      {"taper-flat:6,5,25", 1.25, -1.0, Vec3::UnitZ(), 3},  // no straight side: half turns
+  };
+  test::Random random;
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.spec);
+    const Cutter cutter = cutter_from_spec(c.spec);
+    Move helix;
+    helix.shape = MoveShape::kArc;
+    helix.normal = c.normal;
+    helix.center = Vec3(20, 20, 10);
+    helix.start = helix.center + Vec3(8, 0, 0);
+    helix.sweep = c.turns * kTwoPi;
+    helix.axial = c.axial;
+    helix.end = helix.position(1.0);
+    const std::vector<TopoDS_Shape> solids = helix_sweep_solids(cutter, helix);
+    EXPECT_LE(solids.size(), c.most_solids);
+    std::vector<BRepClass3d_SolidClassifier> classifiers(solids.size());
+    for (std::size_t i = 0; i < solids.size(); ++i) classifiers[i].Load(solids[i]);
+    const Profile& profile = cutter.profile();
+    const double reach = 8.0 + profile.max_radius();
+    constexpr int kPoses = 20000;
+    const double delta = helix.sweep / kPoses * reach + std::abs(helix.axial) / kPoses;
+    ASSERT_LT(delta, 1.4e-2);
+    const double z0 = std::min(helix.start.z(), helix.end.z()) - 1.0;
+    const double z1 = std::max(helix.start.z(), helix.end.z()) + profile.height() + 1.0;
+    int compared = 0;
+    for (int k = 0; k < 250; ++k) {
+      const Vec3 p(random.uniform(20 - reach, 20 + reach), random.uniform(20 - reach, 20 + reach),
+                   random.uniform(z0, z1));
+      double best = -1e300;
+      for (int i = 0; i <= kPoses && best <= 1e-3; ++i) {
+        const Vec3 q = p - helix.position(static_cast<double>(i) / kPoses);
+        best = std::max(best, signed_distance(profile, std::hypot(q.x(), q.y()), q.z()));
+      }
+      if (best > -(delta + 1e-3) && best <= 1e-3) continue;
+      bool inside = false;
+      for (BRepClass3d_SolidClassifier& classify : classifiers) {
+        classify.Perform(gp_Pnt(p.x(), p.y(), p.z()), 1e-7);
+        inside = inside || classify.State() == TopAbs_IN;
+      }
+      ++compared;
+      EXPECT_EQ(inside, best > 0.0) << "at " << p.transpose() << ", distance " << best;
+    }
+    EXPECT_GT(compared, 220);
   }
 }
 

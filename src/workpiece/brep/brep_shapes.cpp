@@ -533,7 +533,10 @@ std::optional<TopoDS_Face> screwed_ruling(const TopoDS_Edge& edge, const Vec3& c
 
 }  // namespace
 
-std::vector<TopoDS_Shape> helix_sweep_solids(const Cutter& cutter, const Move& helix) {
+namespace {
+
+// The helix's sweep in pieces of at most half a turn, each sewn from the tool's faces.
+std::vector<TopoDS_Shape> helix_piece_solids(const Cutter& cutter, const Move& helix) {
   try {
     const Vec3 axis = helix.start_axis.normalized();
     const Vec3 normal = helix.normal.normalized();
@@ -627,6 +630,67 @@ std::vector<TopoDS_Shape> helix_sweep_solids(const Cutter& cutter, const Move& h
     throw ComputationError(fmt::format("{}: OpenCASCADE could not build the helix's sweep ({})",
                                        cutter.name(), e.GetMessageString()));
   }
+}
+
+}  // namespace
+
+std::vector<TopoDS_Shape> helix_sweep_solids(const Cutter& cutter, const Move& helix) {
+  // Over more than a turn, the poses a whole turn apart differ by a shift of δ (the pitch)
+  // along the tool's axis. For a tool whose radius never shrinks upwards (a convex profile that
+  // ends in a straight side at its largest radius) and whose side is at least δ tall, the poses of
+  // the turn at the low end of the helix, each with its tool lengthened to the top of the highest
+  // pose over it, hold every other pose, and their union is that of the poses over them. So the
+  // sweep is that turn's, with taller tools: exactly the same solid, without the turns' floors cut
+  // under one another (OpenCASCADE's cuts along such B-spline floors gave invalid solids from the
+  // fifth half turn on).
+  const double turns = helix.sweep / (2.0 * M_PI);
+  const Vec3 axis = helix.start_axis.normalized();
+  const double rise = helix.axial * helix.normal.normalized().dot(axis);  // along the tool axis
+  const double pitch = std::abs(rise) / turns;
+  const Profile& profile = cutter.profile();
+  const ProfileSegment& top = profile.segments().back();
+  const double rho = profile.max_radius();
+  const bool straight_side = top.kind == ProfileSegment::Kind::kLine &&
+                             std::abs(top.start.x() - rho) <= 1e-12 * rho &&
+                             std::abs(top.end.x() - rho) <= 1e-12 * rho;
+  if (turns <= 1.0 || pitch == 0.0 || !straight_side || top.end.y() - top.start.y() < pitch) {
+    return helix_piece_solids(cutter, helix);
+  }
+  const auto taller = [&](int turns_over) {
+    std::vector<ProfileSegment> segments = profile.segments();
+    segments.back() =
+        ProfileSegment::line(top.start, Vec2(top.end.x(), top.end.y() + turns_over * pitch));
+    CutterOptions options;
+    options.name = cutter.name();
+    options.flutes = cutter.flutes();
+    return Cutter(Profile(std::move(segments), cutter.name()), options);
+  };
+  // The turn at the low end, in u: its poses with m − 1 whole turns over them, then those with
+  // m (m = ⌊turns⌋; one part when the helix makes whole turns).
+  const int m = static_cast<int>(std::floor(turns + 1e-9));
+  const double tau = 1.0 / turns;
+  struct Part {
+    double u0, u1;
+    int over;
+  };
+  std::vector<Part> parts;
+  if (rise < 0.0) {  // going down: the last turn
+    const double split = std::min(1.0, m / turns);
+    parts.push_back({1.0 - tau, split, m - 1});
+    if (split < 1.0) parts.push_back({split, 1.0, m});
+  } else {  // going up: the first turn
+    const double split = std::max(0.0, 1.0 - m / turns);
+    if (split > 0.0) parts.push_back({0.0, split, m});
+    parts.push_back({split, tau, m - 1});
+  }
+  std::vector<TopoDS_Shape> solids;
+  for (const Part& part : parts) {
+    if (part.u1 - part.u0 <= 1e-9) continue;
+    std::vector<TopoDS_Shape> pieces =
+        helix_piece_solids(taller(part.over), helix.part(part.u0, part.u1));
+    solids.insert(solids.end(), pieces.begin(), pieces.end());
+  }
+  return solids;
 }
 
 }  // namespace cwe

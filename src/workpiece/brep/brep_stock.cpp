@@ -9,6 +9,7 @@
 #include <BRepAlgoAPI_Common.hxx>
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepBndLib.hxx>
+#include <BRepBuilderAPI_Copy.hxx>
 #include <BRepCheck_Analyzer.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <Bnd_Box.hxx>
@@ -28,6 +29,29 @@ Bnd_Box box_of(const TopoDS_Shape& shape) {
   Bnd_Box box;
   BRepBndLib::Add(shape, box, /*useTriangulation=*/false);
   return box;
+}
+
+// Runs a boolean of the stock and one tool, in this thread, with the fuzzy value if positive.
+void run_boolean(BRepAlgoAPI_BooleanOperation& op, const TopoDS_Shape& stock,
+                 const TopoDS_Shape& tool, double fuzzy) {
+  TopTools_ListOfShape arguments, tools;
+  arguments.Append(stock);
+  tools.Append(tool);
+  op.SetArguments(arguments);
+  op.SetTools(tools);
+  op.SetRunParallel(false);
+  if (fuzzy > 0.0) op.SetFuzzyValue(fuzzy);
+  op.Build();
+}
+
+// Appends the solids of a boolean's result to `out` and returns their volume.
+double solids_of(const TopoDS_Shape& shape, std::vector<BrepStock::Solid>& out) {
+  double volume = 0.0;
+  for (TopExp_Explorer e(shape, TopAbs_SOLID); e.More(); e.Next()) {
+    out.push_back({e.Current()});
+    volume += shape_volume(e.Current());
+  }
+  return volume;
 }
 
 std::vector<BrepStock::Solid> solids(const std::vector<TopoDS_Shape>& shapes) {
@@ -141,33 +165,18 @@ double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed) {
   // whole program runs, its volume within 0.01 % of the dexel workpiece's), then as it is.
   for (const double fuzzy : {1e-6 * size, 0.0}) {
     try {
-      TopTools_ListOfShape stock, tools;
-      stock.Append(solid_->shape);
-      tools.Append(cutter.shape);
       BRepAlgoAPI_Cut cut;
-      cut.SetArguments(stock);
-      cut.SetTools(tools);
-      cut.SetRunParallel(false);
-      if (fuzzy > 0.0) cut.SetFuzzyValue(fuzzy);
-      cut.Build();
+      run_boolean(cut, solid_->shape, cutter.shape, fuzzy);
       if (!cut.IsDone() || cut.HasErrors()) {
         failure = "BRepAlgoAPI_Cut reported an error";
         continue;
       }
-      // Same-domain faces merged (a slot's floor pieces, one per cut, become one face); where
-      // OpenCASCADE cannot merge them, the cut as it is.
       TopoDS_Shape result = cut.Shape();
-      try {
-        ShapeUpgrade_UnifySameDomain unify(result, true, true, true);
-        unify.Build();
-        result = unify.Shape();
-      } catch (const Standard_Failure&) {
-      }
       if (!BRepCheck_Analyzer(result).IsValid()) {
         failure = "the result is not a valid solid (BRepCheck)";
         continue;
       }
-      const double after = shape_volume(result);
+      double after = shape_volume(result);
       const double taken = volume_ - after;
       if (taken < -slack || taken > swept + slack) {
         failure = fmt::format(
@@ -181,14 +190,22 @@ double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed) {
         // The removal volume from the same intersection (the cut's pave filler): its volume
         // must be what the stock lost.
         BRepAlgoAPI_Common common(solid_->shape, cutter.shape, *cut.DSFiller());
-        if (!common.IsDone() || common.HasErrors()) {
-          failure = "BRepAlgoAPI_Common (the removal volume) reported an error";
-          continue;
-        }
-        double in_rv = 0.0;
-        for (TopExp_Explorer e(common.Shape(), TopAbs_SOLID); e.More(); e.Next()) {
-          took.push_back(Solid{e.Current()});
-          in_rv += shape_volume(e.Current());
+        double in_rv =
+            common.IsDone() && !common.HasErrors() ? solids_of(common.Shape(), took) : -1.0;
+        if (std::abs(in_rv - taken) > slack + 1e-4 * taken) {
+          // Where it is not (it has come out empty, on the last piece of a helix and on a
+          // 5-axis move's linear pieces), a common of its own with a copy of the tool: with the
+          // tool's own shapes, which the stock shares from the pieces cut before, that came out
+          // empty too.
+          BRepAlgoAPI_Common again;
+          run_boolean(again, solid_->shape, BRepBuilderAPI_Copy(cutter.shape).Shape(), fuzzy);
+          std::vector<Solid> own;
+          const double own_rv =
+              again.IsDone() && !again.HasErrors() ? solids_of(again.Shape(), own) : -1.0;
+          if (std::abs(own_rv - taken) < std::abs(in_rv - taken)) {
+            took = std::move(own);
+            in_rv = own_rv;
+          }
         }
         // It serves the engagement only: within 1e-4 of the cut it is taken as it is (on a
         // helix's pipe shells OpenCASCADE's common has been seen 4e-5 off a cut that every
@@ -197,14 +214,35 @@ double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed) {
         // gave 0.6 %); beyond, the cut is refused.
         const double off = std::abs(in_rv - taken);
         if (off > slack + 1e-2 * taken) {
-          failure = fmt::format("the removal volume holds {:g} mm³ where the stock lost {:g} mm³",
-                                in_rv, taken);
+          failure = in_rv < 0.0 ? "BRepAlgoAPI_Common (the removal volume) reported an error"
+                                : fmt::format(
+                                      "the removal volume holds {:g} mm³ where the stock lost "
+                                      "{:g} mm³",
+                                      in_rv, taken);
           continue;
         }
         if (off > slack + 1e-4 * taken) {
           ++removal_volumes_off_;
           worst_removal_volume_ = std::max(worst_removal_volume_, off / taken);
         }
+      }
+      // Same-domain faces merged (a slot's floor pieces, one per cut, become one face), only on
+      // a cut that passed the checks, and only where that keeps the solid: valid, with its
+      // volume. Where OpenCASCADE cannot merge them, or the merge changes the solid, the cut as
+      // it is: the bundled example's retract from its circle, the tool tangent to both walls the
+      // helix left, split a wall along the tangent, and merging it back gave a valid solid
+      // 546 mm³ larger; and on a cut that had gone wrong (a helix's last piece, without the
+      // fuzzy value, taking nothing) the merge never finished, its memory growing by gigabytes.
+      try {
+        ShapeUpgrade_UnifySameDomain unify(result, true, true, true);
+        unify.Build();
+        const TopoDS_Shape merged = unify.Shape();
+        const double merged_volume = shape_volume(merged);
+        if (std::abs(merged_volume - after) <= slack && BRepCheck_Analyzer(merged).IsValid()) {
+          result = merged;
+          after = merged_volume;
+        }
+      } catch (const Standard_Failure&) {
       }
       if (removed != nullptr) std::move(took.begin(), took.end(), std::back_inserter(*removed));
       solid_->shape = result;

@@ -63,8 +63,11 @@ std::vector<TopoDS_Shape> planar_arc_sweep_solids(const Cutter& cutter, const Mo
 // whole tool is n·(the tool axis's velocity), so the silhouette is the one of a line along that
 // velocity; it is swept by a pipe shell along the tip's helix with the axis as fixed binormal
 // (the screw motion), and each piece's volume is the line's of length α·√(R² + a²) (a the rise
-// per radian). Throws ComputationError for a helix not wider than the tool, or when OpenCASCADE
-// cannot build a piece.
+// per radian). Over more than a turn, only the turn at the helix's low end is swept, each of its
+// poses with the tool lengthened to the top of the poses whole turns over it: for a convex tool
+// ending in a straight side at least one pitch tall, exactly the same union, without a turn's
+// floor under the one before (which OpenCASCADE's cuts refused). Throws ComputationError for a
+// helix not wider than the tool, or when OpenCASCADE cannot build a piece.
 std::vector<TopoDS_Shape> helix_sweep_solids(const Cutter& cutter, const Move& helix);
 
 // Volume of a shape, mm³ (BRepGProp).
