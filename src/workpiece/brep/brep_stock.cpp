@@ -100,7 +100,8 @@ int BrepStock::faces() const {
   return n;
 }
 
-double BrepStock::cut_all(const std::vector<Solid>& parts, std::vector<Solid>* removed) {
+double BrepStock::cut_all(const std::vector<Solid>& parts, std::vector<Solid>* removed,
+                          bool merge_faces) {
   // All or nothing: a part that fails leaves the stock, `removed` and the counts as before the
   // first.
   const TopoDS_Shape before = solid_->shape;
@@ -110,7 +111,7 @@ double BrepStock::cut_all(const std::vector<Solid>& parts, std::vector<Solid>* r
   const std::size_t recorded = removed != nullptr ? removed->size() : 0;
   try {
     double taken = 0.0;
-    for (const Solid& part : parts) taken += cut(part, removed);
+    for (const Solid& part : parts) taken += cut(part, removed, merge_faces);
     return taken;
   } catch (...) {
     solid_->shape = before;
@@ -141,7 +142,7 @@ double BrepStock::cut_lines(const Cutter& cutter, const std::vector<Line>& lines
   for (const Line& line : lines) {
     sweeps.push_back({linear_sweep_solid(cutter, line.start, line.end, line.axis)});
   }
-  const double taken = cut_all(sweeps, removed);
+  const double taken = cut_all(sweeps, removed, /*merge_faces=*/false);
   ++moves_in_lines_;
   return taken;
 }
@@ -151,6 +152,11 @@ double BrepStock::cut_helix(const Cutter& cutter, const Move& helix, std::vector
 }
 
 double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed) {
+  return cut(cutter, removed, /*merge_faces=*/true);
+}
+
+double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed, bool merge_faces) {
+  const OcctFloatingPoint occt;
   if (box_of(cutter.shape).IsOut(box_of(solid_->shape))) return 0.0;
   const double swept = shape_volume(cutter.shape);
   const Aabb box = bounds();
@@ -233,16 +239,22 @@ double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed) {
       // helix left, split a wall along the tangent, and merging it back gave a valid solid
       // 546 mm³ larger; and on a cut that had gone wrong (a helix's last piece, without the
       // fuzzy value, taking nothing) the merge never finished, its memory growing by gigabytes.
-      try {
-        ShapeUpgrade_UnifySameDomain unify(result, true, true, true);
-        unify.Build();
-        const TopoDS_Shape merged = unify.Shape();
-        const double merged_volume = shape_volume(merged);
-        if (std::abs(merged_volume - after) <= slack && BRepCheck_Analyzer(merged).IsValid()) {
-          result = merged;
-          after = merged_volume;
+      // Not for a move's linear pieces (merge_faces false): on a 5-axis move's the merge had not
+      // finished after 15 CPU minutes, and each piece has its own axis, so its faces rarely
+      // share a surface with the stock's. (Without any merging, a face of FreeCAD's pocket
+      // could not be tessellated.)
+      if (merge_faces) {
+        try {
+          ShapeUpgrade_UnifySameDomain unify(result, true, true, true);
+          unify.Build();
+          const TopoDS_Shape merged = unify.Shape();
+          const double merged_volume = shape_volume(merged);
+          if (std::abs(merged_volume - after) <= slack && BRepCheck_Analyzer(merged).IsValid()) {
+            result = merged;
+            after = merged_volume;
+          }
+        } catch (const Standard_Failure&) {
         }
-      } catch (const Standard_Failure&) {
       }
       if (removed != nullptr) std::move(took.begin(), took.end(), std::back_inserter(*removed));
       solid_->shape = result;

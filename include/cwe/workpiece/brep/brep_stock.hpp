@@ -70,7 +70,10 @@ class BrepStock {
 
  private:
   // Cuts the solids one after the other, all or none.
-  double cut_all(const std::vector<Solid>& parts, std::vector<Solid>* removed);
+  double cut_all(const std::vector<Solid>& parts, std::vector<Solid>* removed,
+                 bool merge_faces = true);
+  // cut(), merging the result's same-domain faces where that keeps the solid if merge_faces.
+  double cut(const Solid& cutter, std::vector<Solid>* removed, bool merge_faces);
   std::unique_ptr<Solid> solid_;
   double volume_ = 0.0;
   int moves_in_lines_ = 0;
