@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The runs behind docs/accuracy.md: `cwe compare` on the analytic cases (examples/accuracy/: a
 # slot, a side cut and a ramp, each with a flat, a ball and a bull-nose end mill of 10 mm) and
-# on the bundled example, each table printed as the document shows it. About 15 minutes on two
-# cores (the B-rep bull-nose runs are most of it).
+# on the bundled example (its program against the B-rep workpiece, the whole job, with its 5-axis
+# pass, against the dexel one), each table printed as the document shows it. About 20 minutes on
+# two cores (the B-rep bull-nose runs are most of it).
 #   scripts/accuracy.sh [OUT]    outputs in OUT (default out/accuracy)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -34,6 +35,17 @@ for program in slot side ramp; do
     table "$out/facet_$name" f | sed "s/^/| $name /"
   done
 done
+
+echo
+echo "The bundled example's program against the B-rep workpiece (examples/programs/part.ngc):"
+part=(--stock box:0,0,-30,100,60,0 --tools examples/tool_table.json
+      --path examples/programs/part.ngc --quiet)
+$cwe compare "${part[@]}" --workpieces dexel,mesh,brep --out "$out/part" > "$out/part.txt"
+$cwe compare "${part[@]}" --workpieces dexel,brep --sweep-resolution 0.4,0.2,0.1,0.05 \
+  --out "$out/part_resolution" > "$out/part_resolution.txt"
+grep -E "removed|against" "$out/part.txt"
+echo "| workpiece | s (mm) | over the job (%) | p95 per CL (%) | entry p95 (°) | exit p95 (°) | CPU (s) |"
+table "$out/part_resolution" s
 
 echo
 echo "The bundled example (examples/jobs/example.json):"
