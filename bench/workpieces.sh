@@ -1,23 +1,27 @@
 #!/usr/bin/env bash
-# The two workpieces side by side on the bundled example (examples/jobs/example.json: a two-tool
-# G-code program and a 5-axis CLDATA pass, with forces): the dexel workpiece at the job's
-# resolution and the mesh workpiece (the polyhedral method) at FACET mm facets.
-#   bench/workpieces.sh [build/cwe] [FACET] [RUNS] [THREADS]
-# Runs `cwe simulate` on each RUNS times (default 3; the mesh takes minutes) on THREADS threads
-# (default 2), prints each run's wall and CPU seconds, moves and cutter locations per CPU-second
-# and peak resident memory, then the medians, and compares the last runs' outputs: removed
-# volume, engaged locations, engaged area and axial depth per location.
+# The workpieces side by side on a bundled job (default examples/jobs/example.json: a two-tool
+# G-code program and a 5-axis CLDATA pass, with forces; examples/jobs/part.json is its program
+# alone, which the B-rep workpiece runs too): the dexel workpiece at the job's resolution, the
+# mesh workpiece (the polyhedral method) at FACET mm facets, the B-rep one (the solid-model
+# method).
+#   bench/workpieces.sh [build/cwe] [FACET] [RUNS] [THREADS] [JOB] [WORKPIECES]
+# Runs `cwe simulate` on each of WORKPIECES (default "dexel mesh") RUNS times (default 3; the
+# mesh and B-rep take minutes) on THREADS threads (default 2), prints each run's wall and CPU
+# seconds, moves and cutter locations per CPU-second and peak resident memory, then the medians,
+# and compares the last runs' outputs with the first workpiece's: removed volume, engaged
+# locations, engaged area and axial depth per location.
 set -euo pipefail
 cwe=$(realpath "${1:-build/cwe}")
 facet=${2:-1}
 runs=${3:-3}
 threads=${4:-2}
-job=$(realpath "$(dirname "$0")/../examples/jobs/example.json")
+job=$(realpath "${5:-$(dirname "$0")/../examples/jobs/example.json}")
+read -r -a workpieces <<< "${6:-dexel mesh}"
 [ -x /usr/bin/time ] || { echo "needs /usr/bin/time (Debian package time)" >&2; exit 1; }
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 median() { printf '%s\n' "$@" | sort -g | awk '{ v[NR] = $1 } END { print v[int((NR + 1) / 2)] }'; }
-for workpiece in dexel mesh; do
+for workpiece in "${workpieces[@]}"; do
   walls=() cpus=() rsss=()
   for r in $(seq "$runs"); do
     rm -rf "$dir/$workpiece"
@@ -39,24 +43,31 @@ for workpiece in dexel mesh; do
     'BEGIN { printf "%s median (%d threads): wall %.2f s, CPU %.2f s, %.1f moves and %.0f CL per CPU-second, peak RSS %d MiB\n",
                     p, t, w, c, n / c, k / c, m / 1024 }'
 done
-python3 - "$dir/dexel" "$dir/mesh" <<'EOF'
-import csv, json, statistics, sys
-dexel, mesh = (
-    {int(r["cl"]): r for r in csv.DictReader(open(f"{d}/engagement.csv"))} for d in sys.argv[1:])
-volumes = [json.load(open(f"{d}/summary.json"))["removed_volume_mm3"] for d in sys.argv[1:]]
-print(f"removed volume: dexel {volumes[0]:.1f} mm³, mesh {volumes[1]:.1f} mm³ "
-      f"({100 * (volumes[1] - volumes[0]) / volumes[0]:+.2f} %)")
-engaged = {name: {k for k, r in rows.items() if r["engaged"] == "1"}
-           for name, rows in (("dexel", dexel), ("mesh", mesh))}
-both = engaged["dexel"] & engaged["mesh"]
-print(f"engaged locations: dexel {len(engaged['dexel'])}, mesh {len(engaged['mesh'])}, "
-      f"both {len(both)} of {len(dexel)}")
+python3 - "${workpieces[@]/#/$dir/}" <<'EOF'
+import csv, json, os, statistics, sys
+dirs = sys.argv[1:]
+names = [os.path.basename(d) for d in dirs]
+rows = [{int(r["cl"]): r for r in csv.DictReader(open(f"{d}/engagement.csv"))} for d in dirs]
+volumes = [json.load(open(f"{d}/summary.json"))["removed_volume_mm3"] for d in dirs]
 def spread(name, values):
     values = sorted(values)
-    print(f"{name}: median {statistics.median(values):.3f}, "
-          f"90th percentile {values[int(0.9 * (len(values) - 1))]:.3f}, largest {values[-1]:.3f}")
-spread("engaged area difference, mm²",
-       [abs(float(mesh[k]["area_mm2"]) - float(dexel[k]["area_mm2"])) for k in both])
-spread("axial depth difference, mm",
-       [abs(float(mesh[k]["axial_depth_mm"]) - float(dexel[k]["axial_depth_mm"])) for k in both])
+    if values:
+        print(f"{name}: median {statistics.median(values):.3f}, "
+              f"90th percentile {values[int(0.9 * (len(values) - 1))]:.3f}, "
+              f"largest {values[-1]:.3f}")
+first = rows[0]
+engaged_first = {k for k, r in first.items() if r["engaged"] == "1"}
+for name, other, volume in zip(names[1:], rows[1:], volumes[1:]):
+    print(f"{name} against {names[0]}:")
+    print(f"removed volume: {names[0]} {volumes[0]:.1f} mm³, {name} {volume:.1f} mm³ "
+          f"({100 * (volume - volumes[0]) / volumes[0]:+.2f} %)")
+    engaged = {k for k, r in other.items() if r["engaged"] == "1"}
+    both = engaged_first & engaged
+    print(f"engaged locations: {names[0]} {len(engaged_first)}, {name} {len(engaged)}, "
+          f"both {len(both)} of {len(first)}")
+    spread("engaged area difference, mm²",
+           [abs(float(other[k]["area_mm2"]) - float(first[k]["area_mm2"])) for k in both])
+    spread("axial depth difference, mm",
+           [abs(float(other[k]["axial_depth_mm"]) - float(first[k]["axial_depth_mm"]))
+            for k in both])
 EOF
