@@ -200,9 +200,10 @@ double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed, bool mer
             common.IsDone() && !common.HasErrors() ? solids_of(common.Shape(), took) : -1.0;
         if (std::abs(in_rv - taken) > slack + 1e-4 * taken) {
           // Where it is not (it has come out empty, on the last piece of a helix and on a
-          // 5-axis move's linear pieces), a common of its own with a copy of the tool: with the
-          // tool's own shapes, which the stock shares from the pieces cut before, that came out
-          // empty too.
+          // 5-axis move's linear pieces), a common of its own with a copy of the tool (its
+          // geometry too): on the helix's piece a common of its own with the tool itself came
+          // out empty as well, and with the copy it held what the stock lost. (The stock holds
+          // faces of the pieces cut before, built like this one.)
           BRepAlgoAPI_Common again;
           run_boolean(again, solid_->shape, BRepBuilderAPI_Copy(cutter.shape).Shape(), fuzzy);
           std::vector<Solid> own;
