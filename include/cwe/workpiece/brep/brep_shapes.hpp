@@ -25,7 +25,6 @@
 #include <TopoDS_Shape.hxx>
 #include <TopoDS_Solid.hxx>
 
-#include <cfenv>
 #include <vector>
 
 #include "cwe/geometry/vec.hpp"
@@ -70,21 +69,6 @@ std::vector<TopoDS_Shape> planar_arc_sweep_solids(const Cutter& cutter, const Mo
 // floor under the one before (which OpenCASCADE's cuts refused). Throws ComputationError for a
 // helix not wider than the tool, or when OpenCASCADE cannot build a piece.
 std::vector<TopoDS_Shape> helix_sweep_solids(const Cutter& cutter, const Move& helix);
-
-// While alive, floating-point exceptions do not trap, and on leaving, the environment (traps and
-// flags) is as before. OpenCASCADE's algorithms may divide by zero where the IEEE result is what
-// they want (its face merging did, building a B-spline surface's cache on the bundled example's
-// helix); the tests trap division by zero in cwe's own code.
-class OcctFloatingPoint {
- public:
-  OcctFloatingPoint() { feholdexcept(&saved_); }
-  ~OcctFloatingPoint() { fesetenv(&saved_); }
-  OcctFloatingPoint(const OcctFloatingPoint&) = delete;
-  OcctFloatingPoint& operator=(const OcctFloatingPoint&) = delete;
-
- private:
-  std::fenv_t saved_;
-};
 
 // Volume of a shape, mm³ (BRepGProp).
 double shape_volume(const TopoDS_Shape& shape);
