@@ -305,6 +305,13 @@ bool Profile::contains(double rho, double z) const {
   return rho <= radius_at(z);
 }
 
+double Profile::signed_distance(double rho, double z) const {
+  const Vec2 q(rho, z);
+  const Vec2 top(std::clamp(rho, 0.0, top_radius()), height());
+  const double d = std::min(closest(q).distance, (q - top).norm());
+  return contains(rho, z) ? -d : d;
+}
+
 Profile::Location Profile::closest(const Vec2& q) const {
   Location best{0, 0.0, std::numeric_limits<double>::infinity()};
   for (std::size_t i = 0; i < segments_.size(); ++i) {

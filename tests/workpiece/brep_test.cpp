@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "../envelope/sweep_oracle.hpp"
 #include "../random.hpp"
 #include "cwe/core/computation_error.hpp"
 #include "cwe/core/error.hpp"
@@ -345,6 +346,82 @@ TEST(BrepShapes, HelixOfSeveralTurnsIsTheUnionOfItsPoses) {
       EXPECT_EQ(inside, best > 0.0) << "at " << p.transpose() << ", distance " << best;
     }
     EXPECT_GT(compared, 220);
+  }
+}
+
+// A simultaneous 5-axis move is lofted through its poses' silhouettes (lofted_sweep_solid): its
+// solid must be the union of the tool's poses within the measured deviation, inside the box it
+// was measured in (a block's: beyond it the loft's faces are not held to the tolerance). Random
+// points of the box round the move are classified in the solid and against the poses
+// (test::union_side, exact to the band by branch and bound on u); points within the deviation
+// plus 1e-3 of the union's boundary are left out. Moves whose silhouettes a loft cannot follow
+// are refused, for the caller to cut as linear pieces.
+TEST(BrepShapes, FiveAxisMoveIsLoftedWithinItsDeviation) {
+  struct Case {
+    const char* spec;
+    Vec3 start, end, start_axis, end_axis;
+    const char* refused;  // the reason, for a move the loft refuses
+  };
+  const std::vector<Case> cases = {
+      // The bundled example's pass: a ball end tilting sideways, 15° over 25 mm.
+      {"ball:6,25", {-5, 45, -1.5}, {20, 45, -1.5}, {0, 0, 1}, {0, -0.258819, 0.965926}, nullptr},
+      // A ball end tilting sideways 20° while leaning forward less and less, going down.
+      {"ball:10,20", {0, 30, -2}, {30, 30, -3}, {0.2, 0.17, 0.98}, {0.1, -0.17, 0.98}, nullptr},
+      // A flat end leaning back from the feed, more and more.
+      {"flat:10,20", {0, 30, -2}, {30, 30, -2}, {-0.1, 0, 0.99}, {-0.3, 0, 0.95}, nullptr},
+      // A flat end tilting sideways: its bottom rises on one side and sinks on the other, which
+      // the silhouette of a line does not follow (0.14 mm off).
+      {"flat:10,20", {0, 30, -2}, {30, 30, -2}, {0, 0.17, 0.98}, {0, -0.17, 0.98}, "off the sweep"},
+      // A ball end whose lean turns from forward to back: its silhouette's great circle crosses
+      // the tip, where the tool's faces meet.
+      {"ball:10,20",
+       {0, 30, -2},
+       {30, 30, -2},
+       {0.2, 0.17, 0.98},
+       {-0.1, -0.17, 0.98},
+       "changes its kind"},
+  };
+  const Aabb block{{-20, 0, -30}, {100, 60, 0}};
+  constexpr double kTolerance = 0.01;
+  test::Random random;
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.spec);
+    const Cutter cutter = cutter_from_spec(c.spec);
+    Move move;
+    move.start = c.start;
+    move.end = c.end;
+    move.start_axis = c.start_axis.normalized();
+    move.end_axis = c.end_axis.normalized();
+    if (c.refused != nullptr) {
+      try {
+        lofted_sweep_solid(cutter, move, kTolerance, block);
+        ADD_FAILURE() << "lofted";
+      } catch (const ComputationError& e) {
+        EXPECT_NE(std::string(e.what()).find(c.refused), std::string::npos) << e.what();
+      }
+      continue;
+    }
+    const LoftedSweep loft = lofted_sweep_solid(cutter, move, kTolerance, block);
+    EXPECT_LE(loft.deviation, kTolerance);
+    EXPECT_TRUE(BRepCheck_Analyzer(loft.solid).IsValid());
+    BRepClass3d_SolidClassifier classify(loft.solid);
+    const double reach = std::hypot(cutter.profile().max_radius(), cutter.profile().height());
+    Aabb around = move.bounds();
+    around.inflate(cutter.profile().max_radius() + 1.0);
+    const Vec3 lo = around.min.cwiseMax(block.min), hi = around.max.cwiseMin(block.max);
+    int compared = 0, inside = 0;
+    for (int k = 0; k < 400; ++k) {
+      const Vec3 p(random.uniform(lo.x(), hi.x()), random.uniform(lo.y(), hi.y()),
+                   random.uniform(lo.z(), hi.z()));
+      const int side = test::union_side(cutter, move, p, loft.deviation + 1e-3, reach);
+      if (side == 0) continue;
+      classify.Perform(gp_Pnt(p.x(), p.y(), p.z()), 1e-7);
+      ++compared;
+      inside += side < 0;
+      EXPECT_EQ(classify.State() == TopAbs_IN, side < 0) << "at " << p.transpose();
+    }
+    EXPECT_GT(compared, 350);
+    EXPECT_GT(inside, 25);  // the block holds only the tool's lowest few millimetres
   }
 }
 

@@ -90,6 +90,9 @@ class Profile {
   double lowest_reaching(double r) const;
   // Closed membership of a point (ρ, z) in the revolved solid.
   bool contains(double rho, double z) const;
+  // The signed distance from (ρ, z) to the solid's surface (the outline or the top disc),
+  // negative inside, mm.
+  double signed_distance(double rho, double z) const;
 
   // The piece and fraction nearest to q, and the distance.
   struct Location {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -23,6 +24,7 @@
 #include <BRepGProp.hxx>
 #include <BRepLib.hxx>
 #include <BRepOffsetAPI_MakePipeShell.hxx>
+#include <BRepOffsetAPI_ThruSections.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakePrism.hxx>
 #include <BRepPrimAPI_MakeRevol.hxx>
@@ -67,9 +69,9 @@ gp_Pnt point(const Vec3& p) { return gp_Pnt(p.x(), p.y(), p.z()); }
 gp_Dir direction(const Vec3& v) { return gp_Dir(v.x(), v.y(), v.z()); }
 
 // The rigid motion from the tool's frame (tip at the origin, axis along +Z) to the world:
-// cwe's tool frame, x as close to world X as the axis allows.
-gp_Trsf placement(const Vec3& tip, const Vec3& axis) {
-  const Frame frame = Frame::from_z(tip, axis, Vec3::UnitX());
+// cwe's tool frame, x as close to world X (or `x_hint`) as the axis allows.
+gp_Trsf placement(const Vec3& tip, const Vec3& axis, const Vec3& x_hint = Vec3::UnitX()) {
+  const Frame frame = Frame::from_z(tip, axis, x_hint);
   gp_Trsf trsf;
   trsf.SetTransformation(gp_Ax3(point(tip), direction(frame.z()), direction(frame.x())),
                          gp_Ax3(gp::Origin(), gp::DZ(), gp::DX()));
@@ -274,6 +276,20 @@ TopoDS_Solid tool_solid(const Cutter& cutter, const Vec3& tip, const Vec3& axis)
 
 namespace {
 
+// Whether a face of the tool (a point inside it and its outward normal, in the tool's frame)
+// trails under a translation along local d: by the sign of n·d; a face d runs along (a disc
+// under a level move, the flank under a plunge) by its side of the axial plane, or trailing
+// under a plunge.
+struct Trailing {
+  Vec3 d;
+  bool operator()(const Vec3& at, const Vec3& normal) const {
+    const Vec3 dh(d.x(), d.y(), 0.0);
+    const bool across = dh.norm() > 1e-12 * d.norm();
+    const double lead = normal.dot(d) / d.norm();
+    return std::abs(lead) > 1e-9 ? lead < 0.0 : !across || at.dot(dh) < 0.0;
+  }
+};
+
 // The tool's faces (`tool`, a solid) cut by the planes.
 TopoDS_Shape cut_faces(const TopoDS_Shape& tool, const std::vector<Plane>& planes, double big,
                        const Cutter& cutter, const std::vector<TopoDS_Face>& sheets = {}) {
@@ -293,6 +309,31 @@ TopoDS_Shape cut_faces(const TopoDS_Shape& tool, const std::vector<Plane>& plane
   splitter.Build();
   check_done(splitter.IsDone() && !splitter.HasErrors(), "cutting the tool's faces", cutter);
   return splitter.Shape();
+}
+
+// The faces added to `sewing`, sewn into a valid solid. Throws ComputationError when they do
+// not close into one.
+TopoDS_Solid sewn_solid(BRepBuilderAPI_Sewing& sewing, const Cutter& cutter) {
+  sewing.Perform();
+  TopoDS_Shell shell;
+  int shells = 0;
+  for (TopExp_Explorer e(sewing.SewedShape(), TopAbs_SHELL); e.More(); e.Next()) {
+    shell = TopoDS::Shell(e.Current());
+    ++shells;
+  }
+  if (shells != 1 || !BRep_Tool::IsClosed(shell)) {
+    throw ComputationError(
+        fmt::format("{}: the swept volume's faces do not close into one skin ({} shells)",
+                    cutter.name(), shells));
+  }
+  BRepBuilderAPI_MakeSolid make(shell);
+  check_done(make.IsDone(), "making the swept volume a solid", cutter);
+  TopoDS_Solid solid = make.Solid();
+  if (shape_volume(solid) < 0.0) solid.Reverse();
+  if (!BRepCheck_Analyzer(solid).IsValid()) {
+    throw ComputationError(fmt::format("{}: the swept volume is not a valid solid", cutter.name()));
+  }
+  return solid;
 }
 
 // The solid a tool sweeps under a rigid motion, sewn from its faces (`faces`: the tool's faces
@@ -329,26 +370,7 @@ TopoDS_Shape sewn_sweep(const TopoDS_Shape& faces, Trails trails, const gp_Trsf&
       ++(trailing.Contains(f) ? trail : lead);
     if (trail > 0 && lead > 0) sewing.Add(band(edge));
   }
-  sewing.Perform();
-  TopoDS_Shell shell;
-  int shells = 0;
-  for (TopExp_Explorer e(sewing.SewedShape(), TopAbs_SHELL); e.More(); e.Next()) {
-    shell = TopoDS::Shell(e.Current());
-    ++shells;
-  }
-  if (shells != 1 || !BRep_Tool::IsClosed(shell)) {
-    throw ComputationError(
-        fmt::format("{}: the swept volume's faces do not close into one skin ({} shells)",
-                    cutter.name(), shells));
-  }
-  BRepBuilderAPI_MakeSolid make(shell);
-  check_done(make.IsDone(), "making the swept volume a solid", cutter);
-  TopoDS_Solid solid = make.Solid();
-  if (shape_volume(solid) < 0.0) solid.Reverse();
-  if (!BRepCheck_Analyzer(solid).IsValid()) {
-    throw ComputationError(fmt::format("{}: the swept volume is not a valid solid", cutter.name()));
-  }
-  return solid;
+  return sewn_solid(sewing, cutter);
 }
 
 }  // namespace
@@ -364,17 +386,10 @@ TopoDS_Shape linear_sweep_solid(const Cutter& cutter, const Vec3& start, const V
     if (!(d.norm() > 1e-9 * reach)) {
       return BRepBuilderAPI_Transform(tool, to_world, true).Shape();
     }
-    const Vec3 dh(d.x(), d.y(), 0.0);
-    const bool across = dh.norm() > 1e-12 * d.norm();
     std::vector<TopoDS_Face> sheets;
     const std::vector<Plane> planes = silhouette_planes(cutter, d, sheets);
     const TopoDS_Shape faces = cut_faces(tool, planes, 4.0 * reach, cutter, sheets);
-    // A face trails by the sign of n·d; one d runs along (a disc under a level move, the flank
-    // under a plunge) by its side of the axial plane, or trailing under a plunge.
-    const auto trails = [&](const Vec3& at, const Vec3& normal) {
-      const double lead = normal.dot(d) / d.norm();
-      return std::abs(lead) > 1e-9 ? lead < 0.0 : !across || at.dot(dh) < 0.0;
-    };
+    const Trailing trails{d};
     const gp_Vec along(d.x(), d.y(), d.z());
     gp_Trsf shift;
     shift.SetTranslation(along);
@@ -691,6 +706,211 @@ std::vector<TopoDS_Shape> helix_sweep_solids(const Cutter& cutter, const Move& h
     solids.insert(solids.end(), pieces.begin(), pieces.end());
   }
   return solids;
+}
+
+namespace {
+
+// The height above the tip of the axis point whose velocity a lofted pose's silhouette is cut
+// for: the centre of the profile's lowest arc (a ball's, a bull-nose corner's), where such a tool
+// cuts, else the tip.
+double reference_height(const Profile& profile) {
+  for (const ProfileSegment& s : profile.segments()) {
+    if (s.kind == ProfileSegment::Kind::kArc && (s.end - s.start).norm() >= 1e-9) {
+      return s.center.y();
+    }
+  }
+  return 0.0;
+}
+
+// One pose of a lofted move, in the world: the tool's faces that trail and those that lead,
+// and the silhouette between them as one closed wire.
+struct LoftPose {
+  std::vector<TopoDS_Shape> trailing, leading;
+  TopoDS_Wire silhouette;
+  std::vector<int> kinds;  // each edge's curve type (GeomAbs_CurveType), in the chain's order
+};
+
+// The pose at u: the tool cut along its silhouette for the velocity of its axis point at
+// `reference` above the tip, as a line's (the tool's frame with x along that velocity's part
+// square to the axis, so that the faces' seam lies on the leading side, off the silhouette).
+// The silhouette's edges are chained round the tool's shadow along that velocity (by the angle
+// of their midpoints about the shadow of the axis's middle, anticlockwise): the same chain at
+// every pose while the silhouette keeps its kind of edges.
+LoftPose loft_pose(const Cutter& cutter, const TopoDS_Solid& tool, const Move& move, double u,
+                   double reference, double big) {
+  const Vec3 tip = move.position(u), axis = move.axis(u);
+  const Vec3 velocity = move.tangent(u) + move.axis_rate(u).cross(reference * axis);
+  if (!(velocity.norm() > 0.0)) {
+    throw ComputationError(fmt::format("{}: the tool does not move", cutter.name()));
+  }
+  const Vec3 square = velocity - velocity.dot(axis) * axis;
+  const Vec3 hint = square.norm() > 1e-12 * velocity.norm() ? square : Vec3::UnitX();
+  const Frame frame = Frame::from_z(tip, axis, hint);
+  const Vec3 d = frame.direction_to_local(velocity);
+  std::vector<TopoDS_Face> sheets;
+  const std::vector<Plane> planes = silhouette_planes(cutter, d, sheets);
+  const TopoDS_Shape local = cut_faces(tool, planes, big, cutter, sheets);
+  BRepBuilderAPI_Transform place(local, placement(tip, axis, hint), /*Copy=*/true);
+  check_done(place.IsDone(), "placing the tool", cutter);
+  const Trailing trails{d};
+  LoftPose pose;
+  TopTools_IndexedMapOfShape trailing;
+  for (TopExp_Explorer e(local, TopAbs_FACE); e.More(); e.Next()) {
+    const TopoDS_Face& face = TopoDS::Face(e.Current());
+    Vec3 at = Vec3::Zero(), normal = Vec3::Zero();
+    if (!face_sample(face, at, normal)) {
+      throw ComputationError(
+          fmt::format("{}: a face of the tool has no inner point", cutter.name()));
+    }
+    const bool trail = trails(at, normal);
+    if (trail) trailing.Add(face);
+    (trail ? pose.trailing : pose.leading).push_back(place.ModifiedShape(face));
+  }
+  // The silhouette's edges, each with its angle round the shadow and its direction.
+  const Vec3 e1 = Vec3::UnitY(), e2 = d.cross(e1).normalized();
+  const Vec3 centre(0.0, 0.0, 0.5 * cutter.profile().height());
+  const auto angle = [&](const gp_Pnt& p) {
+    const Vec3 q = Vec3(p.X(), p.Y(), p.Z()) - centre;
+    return std::atan2(q.dot(e2), q.dot(e1));
+  };
+  const auto turn = [](double a) { return std::remainder(a, 2.0 * M_PI); };
+  struct Link {
+    double angle;
+    TopoDS_Edge edge;
+    int kind;
+  };
+  std::vector<Link> links;
+  TopTools_IndexedDataMapOfShapeListOfShape edge_faces;
+  TopExp::MapShapesAndAncestors(local, TopAbs_EDGE, TopAbs_FACE, edge_faces);
+  for (int k = 1; k <= edge_faces.Extent(); ++k) {
+    TopoDS_Edge edge = TopoDS::Edge(edge_faces.FindKey(k));
+    if (BRep_Tool::Degenerated(edge)) continue;
+    int trail = 0, lead = 0;
+    for (const TopoDS_Shape& f : edge_faces.FindFromIndex(k))
+      ++(trailing.Contains(f) ? trail : lead);
+    if (trail == 0 || lead == 0) continue;
+    const BRepAdaptor_Curve curve(edge);
+    const double t0 = curve.FirstParameter(), t1 = curve.LastParameter();
+    const double a0 = angle(curve.Value(t0)), am = angle(curve.Value(0.5 * (t0 + t1))),
+                 a1 = angle(curve.Value(t1));
+    const bool forward = turn(am - a0) + turn(a1 - am) > 0.0;
+    if (forward == (edge.Orientation() == TopAbs_REVERSED)) edge.Reverse();
+    links.push_back({am, TopoDS::Edge(place.ModifiedShape(edge)), curve.GetType()});
+  }
+  std::sort(links.begin(), links.end(),
+            [](const Link& a, const Link& b) { return a.angle < b.angle; });
+  BRepBuilderAPI_MakeWire wire;
+  for (const Link& link : links) {
+    wire.Add(link.edge);
+    pose.kinds.push_back(link.kind);
+  }
+  if (links.empty() || !wire.IsDone() || !wire.Wire().Closed()) {
+    throw ComputationError(
+        fmt::format("{}: the silhouette of a pose is not one closed curve", cutter.name()));
+  }
+  pose.silhouette = wire.Wire();
+  return pose;
+}
+
+// The largest distance from points of the loft's faces inside `within` to the boundary of the
+// true sweep: on a 12 × 12 grid over each face, the distance to the nearest pose (the signed
+// distance to the tool, minimised over u by a scan of 256 poses refined by golden section).
+double loft_deviation(const TopoDS_Shape& loft, const Cutter& cutter, const Move& move,
+                      const Aabb& within) {
+  const Profile& profile = cutter.profile();
+  const auto distance = [&](const Vec3& p, double u) {
+    const Vec3 q = p - move.position(u), a = move.axis(u);
+    const double z = q.dot(a);
+    return profile.signed_distance((q - z * a).norm(), z);
+  };
+  constexpr int kGrid = 12, kScan = 256;
+  double worst = 0.0;
+  for (TopExp_Explorer e(loft, TopAbs_FACE); e.More(); e.Next()) {
+    const TopoDS_Face& face = TopoDS::Face(e.Current());
+    double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
+    BRepTools::UVBounds(face, u0, u1, v0, v1);
+    const BRepAdaptor_Surface surface(face);
+    for (int i = 0; i < kGrid; ++i) {
+      for (int j = 0; j < kGrid; ++j) {
+        const gp_Pnt g =
+            surface.Value(u0 + (i + 0.5) / kGrid * (u1 - u0), v0 + (j + 0.5) / kGrid * (v1 - v0));
+        const Vec3 p(g.X(), g.Y(), g.Z());
+        if (!within.contains(p)) continue;
+        int best = 0;
+        double nearest = distance(p, 0.0);
+        for (int k = 1; k <= kScan; ++k) {
+          const double dk = distance(p, static_cast<double>(k) / kScan);
+          if (dk < nearest) nearest = dk, best = k;
+        }
+        double lo = std::max(0, best - 1) / static_cast<double>(kScan);
+        double hi = std::min(kScan, best + 1) / static_cast<double>(kScan);
+        const double r = 0.5 * (std::sqrt(5.0) - 1.0);
+        double a = hi - r * (hi - lo), b = lo + r * (hi - lo);
+        double da = distance(p, a), db = distance(p, b);
+        for (int k = 0; k < 40; ++k) {
+          if (da < db) {
+            hi = b, b = a, db = da, a = hi - r * (hi - lo), da = distance(p, a);
+          } else {
+            lo = a, a = b, da = db, b = lo + r * (hi - lo), db = distance(p, b);
+          }
+        }
+        nearest = std::min({nearest, da, db});
+        worst = std::max(worst, std::abs(nearest));
+      }
+    }
+  }
+  return worst;
+}
+
+}  // namespace
+
+LoftedSweep lofted_sweep_solid(const Cutter& cutter, const Move& move, double tolerance,
+                               const Aabb& within) {
+  try {
+    const TopoDS_Solid tool = local_tool(cutter);
+    const Profile& profile = cutter.profile();
+    const double reach = std::hypot(profile.max_radius(), profile.height());
+    const double big = 4.0 * reach;
+    const double reference = reference_height(profile);
+    double deviation = std::numeric_limits<double>::infinity();
+    int sections = 4;
+    for (; sections <= 16; sections *= 2) {
+      std::vector<LoftPose> poses;
+      for (int i = 0; i <= sections; ++i) {
+        poses.push_back(
+            loft_pose(cutter, tool, move, static_cast<double>(i) / sections, reference, big));
+        if (poses.back().kinds != poses.front().kinds) {
+          throw ComputationError(fmt::format(
+              "{}: the silhouette changes its kind of edges along the move ({} edges, then {})",
+              cutter.name(), poses.front().kinds.size(), poses.back().kinds.size()));
+        }
+      }
+      BRepOffsetAPI_ThruSections loft(/*isSolid=*/false, /*ruled=*/false, 1e-7);
+      loft.CheckCompatibility(false);
+      for (const LoftPose& pose : poses) loft.AddWire(pose.silhouette);
+      loft.Build();
+      check_done(loft.IsDone(), "lofting the silhouettes", cutter);
+      BRepBuilderAPI_Sewing sewing(1e-6 * reach);
+      for (const TopoDS_Shape& face : poses.front().trailing) sewing.Add(face);
+      for (const TopoDS_Shape& face : poses.back().leading) sewing.Add(face);
+      for (TopExp_Explorer e(loft.Shape(), TopAbs_FACE); e.More(); e.Next()) {
+        sewing.Add(e.Current());
+      }
+      const TopoDS_Solid solid = sewn_solid(sewing, cutter);
+      const double previous = deviation;
+      deviation = loft_deviation(loft.Shape(), cutter, move, within);
+      if (deviation <= tolerance) return {solid, sections, deviation};
+      // Not halved by twice the poses: the silhouettes themselves are off (a flat end's bottom
+      // that a sideways tilt lifts on one side and lowers on the other), not the loft between.
+      if (deviation > 0.5 * previous) break;
+    }
+    throw ComputationError(fmt::format(
+        "{}: the loft through {} poses is {:.3g} mm off the sweep, beyond the tolerance {:g} mm",
+        cutter.name(), std::min(sections, 16) + 1, deviation, tolerance));
+  } catch (const Standard_Failure& e) {
+    throw ComputationError(fmt::format("{}: OpenCASCADE could not loft the move's sweep ({})",
+                                       cutter.name(), e.GetMessageString()));
+  }
 }
 
 }  // namespace cwe

@@ -27,6 +27,7 @@
 
 #include <vector>
 
+#include "cwe/geometry/aabb.hpp"
 #include "cwe/geometry/vec.hpp"
 #include "cwe/tool/cutter.hpp"
 #include "cwe/toolpath/move.hpp"
@@ -69,6 +70,25 @@ std::vector<TopoDS_Shape> planar_arc_sweep_solids(const Cutter& cutter, const Mo
 // floor under the one before (which OpenCASCADE's cuts refused). Throws ComputationError for a
 // helix not wider than the tool, or when OpenCASCADE cannot build a piece.
 std::vector<TopoDS_Shape> helix_sweep_solids(const Cutter& cutter, const Move& helix);
+
+// The volume the cutter sweeps along a line whose axis turns (a simultaneous 5-axis move),
+// lofted: at poses evenly spaced along the move, the tool's faces are cut along the silhouette
+// a line along the velocity of its axis point at a reference height (a ball's or a corner's
+// centre, else the tip) would have, and those silhouettes are lofted (BRepOffsetAPI_ThruSections)
+// into the band sewn between the trailing faces at the start and the leading faces at the end.
+// The deviation is measured on the band's faces, where they lie inside `within` (the stock's
+// box: beyond it a deviation changes no cut), as the largest distance to the boundary of the
+// union of the tool's poses; poses are doubled from 5 up to 33 until it is within `tolerance`.
+// Throws ComputationError when the silhouette changes its kind of edges along the move (a flat
+// end's bottom that turns from leading to trailing), when OpenCASCADE cannot build the solid,
+// or when it stays off by more than the tolerance.
+struct LoftedSweep {
+  TopoDS_Shape solid;
+  int sections = 0;        // poses lofted through
+  double deviation = 0.0;  // mm, measured as above
+};
+LoftedSweep lofted_sweep_solid(const Cutter& cutter, const Move& move, double tolerance,
+                               const Aabb& within);
 
 // Volume of a shape, mm³ (BRepGProp).
 double shape_volume(const TopoDS_Shape& shape);
