@@ -233,8 +233,10 @@ void print_report(std::ostream& out, const SimulateCommandOptions& options, cons
                removal.deviation_bound);
   } else if (run.brep) {
     fmt::print(out,
-               "  accuracy    exact sweeps for lines, planar arcs and helices; {} moves (5-axis, "
-               "or helices the booleans refused) as linear pieces within {:g} mm\n",
+               "  accuracy    exact sweeps for lines, planar arcs and helices; {} 5-axis moves "
+               "lofted within {:.2g} mm; {} moves (5-axis, or helices, the sweeps or booleans "
+               "refused) as linear pieces within {:g} mm\n",
+               run.brep->moves_lofted(), run.brep->worst_loft_deviation(),
                run.brep->moves_in_lines(), removal.deviation_bound);
     if (run.brep->removal_volumes_off() > 0) {
       fmt::print(out,

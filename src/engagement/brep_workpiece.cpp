@@ -258,9 +258,9 @@ double BrepWorkpiece::remove(const MoveSweep& sweep, std::vector<BrepStock::Soli
   if (!move.is_arc() && constant_axis) {
     return stock_.cut_linear(cutter, move.start, move.end, axis, removed);
   }
-  // Anything else (a simultaneous 5-axis move, an arc with the tool off its normal): the move's
-  // linear pieces, each with the mean of its ends' axes (MoveSweep: the motion within the sweep
-  // tolerance, its deviation_bound in the summary), each swept exactly.
+  // Anything else (an arc with the tool off its normal, and what the sweeps below refuse): the
+  // move's linear pieces, each with the mean of its ends' axes (MoveSweep: the motion within the
+  // sweep tolerance, its deviation_bound in the summary), each swept exactly.
   const auto in_lines = [&] {
     std::vector<BrepStock::Line> lines;
     lines.reserve(sweep.pieces().size());
@@ -269,24 +269,34 @@ double BrepWorkpiece::remove(const MoveSweep& sweep, std::vector<BrepStock::Soli
     }
     return stock_.cut_lines(cutter, lines, removed);
   };
-  if (move.is_arc() && constant_axis &&
-      std::abs(axis.dot(move.normal.normalized())) > 1.0 - 1e-12) {
+  // A move whose own sweep cannot be built or cut is cut as its linear pieces, within the sweep
+  // tolerance like any other move; the stock is as before the move (cuts are all or none). If
+  // those fail too, both reasons are given.
+  const auto or_in_lines = [&](const auto& cut) {
     try {
-      return move.axial == 0.0 ? stock_.cut_planar_arc(cutter, move, removed)
-                               : stock_.cut_helix(cutter, move, removed);
-    } catch (const ComputationError& exact) {
-      // An arc whose exact sweep cannot be built or cut (a helix narrower than the tool; a
-      // ball end's helix going up, whose sewn faces do not close; a bull-nose's, whose ruled
-      // sheets can miss the volume check by 1e-5) is cut as its linear pieces, within the sweep
-      // tolerance like any other move; the stock is as before the arc (cuts are all or none). If
-      // those fail too, both reasons are given.
+      return cut();
+    } catch (const ComputationError& own) {
       try {
         return in_lines();
       } catch (const ComputationError& lines) {
         throw ComputationError(
-            fmt::format("{}; as its linear pieces: {}", exact.what(), lines.what()));
+            fmt::format("{}; as its linear pieces: {}", own.what(), lines.what()));
       }
     }
+  };
+  if (move.is_arc() && constant_axis &&
+      std::abs(axis.dot(move.normal.normalized())) > 1.0 - 1e-12) {
+    // Arcs refused: a helix narrower than the tool; a ball end's helix going up, whose sewn
+    // faces do not close; a bull-nose's, whose ruled sheets can miss the volume check by 1e-5.
+    return or_in_lines([&] {
+      return move.axial == 0.0 ? stock_.cut_planar_arc(cutter, move, removed)
+                               : stock_.cut_helix(cutter, move, removed);
+    });
+  }
+  if (!move.is_arc()) {
+    // A simultaneous 5-axis line, lofted through its poses within the sweep tolerance; refused
+    // where its silhouettes change their kind or are off the sweep (lofted_sweep_solid).
+    return or_in_lines([&] { return stock_.cut_lofted(cutter, move, parts.tolerance(), removed); });
   }
   return in_lines();
 }

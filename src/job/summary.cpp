@@ -128,6 +128,8 @@ std::string job_summary(const PreparedJob& job, const JobResult& run, const JobS
     summary["stock_solid"] = {{"file", "stock.step"},
                               {"faces", run.brep->faces()},
                               {"volume_mm3", run.brep->volume()},
+                              {"moves_lofted", run.brep->moves_lofted()},
+                              {"worst_loft_deviation_mm", run.brep->worst_loft_deviation()},
                               {"moves_in_linear_pieces", run.brep->moves_in_lines()},
                               {"removal_volumes_off", run.brep->removal_volumes_off()},
                               {"worst_removal_volume_relative", run.brep->worst_removal_volume()}};

@@ -814,8 +814,8 @@ TEST(CliSimulate, BrepWorkpieceCutsExactlyAndRoundTripsThroughStep) {
       // Every cut's removal volume within 1e-4 of what the stock lost.
       EXPECT_EQ(bored["stock_solid"]["removal_volumes_off"], 0);
       EXPECT_EQ(bored["stock_solid"]["worst_removal_volume_relative"], 0.0);
-      EXPECT_NE(bore.out.find("1 moves (5-axis, or helices the booleans refused) as linear "
-                              "pieces"),
+      EXPECT_NE(bore.out.find("1 moves (5-axis, or helices, the sweeps or booleans refused) "
+                              "as linear pieces"),
                 std::string::npos)
           << bore.out;
     }
@@ -896,30 +896,39 @@ TEST(CliSimulate, BrepStockOfAFreeCadPocketTessellatesClosed) {
   std::filesystem::remove_all(dir);
 }
 
-// The bundled example's program (two tools: slot, side milling, ramp, a helical entry of three
-// turns and the circle after it, plunge, peck drilling, then the ball end's finishing passes)
-// cut exactly, every move its exact sweep, against the dexel workpiece at s = 0.05: within the
-// dexel's own family spread (its three ray families' removals differ by that much; measured
-// 4.1 mm³ apart, spread 5.2 mm³, and 0.03 mm³ apart at s = 0.025).
-TEST(CliSimulate, BrepCutsTheBundledProgramExactly) {
+// The bundled example (examples/jobs/example.json's operations: the program with two tools,
+// slot, side milling, ramp, a helical entry of three turns and the circle after it, plunge, peck
+// drilling, the ball end's finishing passes; then the simultaneous 5-axis pass) on the B-rep
+// workpiece: every 3-axis move its exact sweep, the pass's four tilting moves lofted (within the
+// sweep tolerance s/10 inside the stock's box), no move in linear pieces; against the dexel
+// workpiece at s = 0.05, within the dexel's own family spread (its three ray families' removals
+// differ by that much; measured 4.2 mm³ apart, spread 5.1 mm³).
+TEST(CliSimulate, BrepCutsTheBundledExampleExactly) {
   const auto dir = scratch_dir("simulate-brep-bundled");
+  std::filesystem::create_directories(dir);
   const std::filesystem::path examples = test::source_dir() / "examples";
+  const nlohmann::json job = {{"stock", "box:0,0,-30,100,60,0"},
+                              {"tools", (examples / "tool_table.json").string()},
+                              {"operations",
+                               {{{"path", (examples / "programs/part.ngc").string()}},
+                                {{"path", (examples / "programs/five_axis_pass.cls").string()}}}},
+                              {"resolution", 0.05}};
+  std::ofstream(dir / "job.json") << job.dump();
   double removed[2] = {0.0, 0.0};
   nlohmann::json dexel;
   for (const std::string workpiece : {"dexel", "brep"}) {
-    const Result r =
-        run_cwe({"simulate", "--path", (examples / "programs/part.ngc").string(), "--tools",
-                 (examples / "tool_table.json").string(), "--stock", "box:0,0,-30,100,60,0",
-                 "--resolution", "0.05", "--workpiece", workpiece, "--stock-only", "--out",
-                 (dir / workpiece).string(), "--quiet"});
+    const Result r = run_cwe({"simulate", (dir / "job.json").string(), "--workpiece", workpiece,
+                              "--stock-only", "--out", (dir / workpiece).string(), "--quiet"});
     ASSERT_EQ(r.status, 0) << r.err;
     const nlohmann::json summary =
         nlohmann::json::parse(std::ifstream(dir / workpiece / "summary.json"));
     removed[workpiece == "brep"] = summary["removed_volume_mm3"].get<double>();
     if (workpiece == "dexel") dexel = summary;
     if (workpiece == "brep") {
+      EXPECT_EQ(summary["stock_solid"]["moves_lofted"], 4);
+      EXPECT_LE(summary["stock_solid"]["worst_loft_deviation_mm"].get<double>(), 0.005);
       EXPECT_EQ(summary["stock_solid"]["moves_in_linear_pieces"], 0);
-      EXPECT_NE(r.out.find("0 moves (5-axis"), std::string::npos) << r.out;
+      EXPECT_NE(r.out.find("4 5-axis moves lofted"), std::string::npos) << r.out;
     }
   }
   EXPECT_NEAR(removed[1], removed[0], dexel["volume_spread_mm3"].get<double>());

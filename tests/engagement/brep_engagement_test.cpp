@@ -289,11 +289,11 @@ TEST(BrepEngagement, TiltedThreePlusTwoAgreesWithTheDexelMethod) {
                            0.0, kSpacing / (std::sqrt(2.0) * r) + 0.1 * kDeg + kAngle);
 }
 
-// The same pass with the tilt swinging from 10° to 30° along it (simultaneous 5-axis): both
-// workpieces cut the move in the same linear pieces within the subdivision tolerance t (the
-// B-rep one sweeps each exactly), and each reads the tool at a location in its true pose, within
-// t/2 of the piece that swept it: a boundary moves by up to t/R more in each, on top of the 3+2
-// bound. At t = 0.1 mm (38 pieces for this tool).
+// The same pass with the tilt swinging from 10° to 30° along it (simultaneous 5-axis): the dexel
+// workpiece cuts the move in linear pieces within the subdivision tolerance t (38 for this tool
+// at t = 0.1 mm), the B-rep one lofts it within t (lofted_sweep_solid; 0.045 mm measured), and
+// each reads the tool at a location in its true pose: a boundary moves by up to t/R more, on top
+// of the 3+2 bound.
 TEST(BrepEngagement, SimultaneousFiveAxisAgreesWithTheDexelMethod) {
   const double r = 4.0, t = 0.1;
   Move pass = test::line({28, -10, kTop - 3}, {28, 50, kTop - 3});

@@ -2,10 +2,11 @@
 // The B-rep workpiece behind the workpiece seam: BrepStock (an exact OpenCASCADE solid,
 // cwe/workpiece/brep/brep_stock.hpp) cut move by move with exact swept volumes: lines with a
 // constant axis (3-axis, 3+2), planar arcs and helices with the tool along the arc's normal, for
-// convex cutters. Other moves (simultaneous 5-axis, an arc off the tool's axis) are cut as the
-// linear pieces of their MoveSweep, each swept exactly with its mean axis: the motion within the
-// sweep tolerance, as on the other workpieces. A concave profile, or a sweep or a cut that fails
-// its checks, is refused with a ComputationError naming the move.
+// convex cutters; simultaneous 5-axis lines lofted through their poses within the sweep
+// tolerance. Other moves (an arc off the tool's axis), and those whose own sweep is refused, are
+// cut as the linear pieces of their MoveSweep, each swept exactly with its mean axis: the motion
+// within the sweep tolerance, as on the other workpieces. A concave profile, or a sweep or a cut
+// that fails its checks, is refused with a ComputationError naming the move.
 //
 // Engagement, the thesis's solid-model CWE (Aras 2008 §6.1; docs/brep.md): each move's cut also
 // gives its removal volume RV = W ∩ SV, exactly, from the same intersection. At a cutter

@@ -163,6 +163,27 @@ double BrepStock::cut_lines(const Cutter& cutter, const std::vector<Line>& lines
   return taken;
 }
 
+double BrepStock::cut_lofted(const Cutter& cutter, const Move& move, double tolerance,
+                             std::vector<Solid>* removed) {
+  // The stock's box from its faces' geometry (BRepBndLib::AddOptimal): the box of their
+  // control points grows round a loft's B-spline faces once the stock holds them.
+  Bnd_Box tight;
+  BRepBndLib::AddOptimal(solid_->shape, tight, /*useTriangulation=*/false);
+  Aabb within;
+  if (!tight.IsVoid()) {
+    double x0 = 0, y0 = 0, z0 = 0, x1 = 0, y1 = 0, z1 = 0;
+    tight.Get(x0, y0, z0, x1, y1, z1);
+    within = Aabb{{x0, y0, z0}, {x1, y1, z1}};
+  }
+  within.inflate(tolerance);
+  const LoftedSweep loft = lofted_sweep_solid(cutter, move, tolerance, within);
+  // Not merged: the loft's faces share no surface with the stock's.
+  const double taken = cut_all({Solid{loft.solid}}, removed, /*merge_faces=*/false);
+  ++moves_lofted_;
+  worst_loft_deviation_ = std::max(worst_loft_deviation_, loft.deviation);
+  return taken;
+}
+
 double BrepStock::cut_helix(const Cutter& cutter, const Move& helix, std::vector<Solid>* removed) {
   return cut_all(solids(helix_sweep_solids(cutter, helix)), removed);
 }

@@ -51,6 +51,14 @@ class BrepStock {
   };
   double cut_lines(const Cutter& cutter, const std::vector<Line>& lines,
                    std::vector<Solid>* removed = nullptr);
+  // The same for a line whose axis turns (a simultaneous 5-axis move), lofted through its
+  // poses (lofted_sweep_solid) within `tolerance` inside the stock's box. Throws
+  // ComputationError when the loft is refused or its cut fails; the stock is then unchanged.
+  double cut_lofted(const Cutter& cutter, const Move& move, double tolerance,
+                    std::vector<Solid>* removed = nullptr);
+  // How many cut_lofted calls took, and the largest deviation measured on their lofts, mm.
+  int moves_lofted() const { return moves_lofted_; }
+  double worst_loft_deviation() const { return worst_loft_deviation_; }
   // How many cut_lines calls (moves cut as linear pieces, within their sweep tolerance) took.
   int moves_in_lines() const { return moves_in_lines_; }
   // Cuts whose removal volume (for the engagement) came out more than 1e-4, at most 1 %, off
@@ -77,6 +85,8 @@ class BrepStock {
   std::unique_ptr<Solid> solid_;
   double volume_ = 0.0;
   int moves_in_lines_ = 0;
+  int moves_lofted_ = 0;
+  double worst_loft_deviation_ = 0.0;
   int removal_volumes_off_ = 0;
   double worst_removal_volume_ = 0.0;
 };
