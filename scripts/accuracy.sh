@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The runs behind docs/accuracy.md: `cwe compare` on the analytic cases (examples/accuracy/: a
 # slot, a side cut and a ramp, each with a flat, a ball and a bull-nose end mill of 10 mm) and
-# on the bundled example (its program against the B-rep workpiece, the whole job, with its 5-axis
-# pass, against the dexel one), each table printed as the document shows it. About 20 minutes on
+# on the bundled example (its program, and the whole job with its 5-axis pass, against the B-rep
+# workpiece), each table printed as the document shows it. About 20 minutes on
 # two cores (the B-rep bull-nose runs are most of it).
 #   scripts/accuracy.sh [OUT]    outputs in OUT (default out/accuracy)
 set -euo pipefail
@@ -50,9 +50,9 @@ table "$out/part_resolution" s
 echo
 echo "The bundled example (examples/jobs/example.json):"
 (cd examples/jobs &&
-  $cwe compare example.json --workpieces dexel,mesh --out "$out/example" --quiet \
+  $cwe compare example.json --workpieces dexel,mesh,brep --out "$out/example" --quiet \
     > "$out/example.txt" &&
-  $cwe compare example.json --workpieces dexel,dexel --sweep-resolution 0.4,0.2,0.1,0.05 \
+  $cwe compare example.json --workpieces dexel,brep --sweep-resolution 0.4,0.2,0.1,0.05 \
     --out "$out/example_resolution" --quiet > "$out/example_resolution.txt")
 grep -E "removed|against" "$out/example.txt"
 echo "| workpiece | s (mm) | over the job (%) | p95 per CL (%) | entry p95 (°) | exit p95 (°) | CPU (s) |"

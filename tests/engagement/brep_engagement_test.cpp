@@ -291,7 +291,7 @@ TEST(BrepEngagement, TiltedThreePlusTwoAgreesWithTheDexelMethod) {
 
 // The same pass with the tilt swinging from 10° to 30° along it (simultaneous 5-axis): the dexel
 // workpiece cuts the move in linear pieces within the subdivision tolerance t (38 for this tool
-// at t = 0.1 mm), the B-rep one lofts it within t (lofted_sweep_solid; 0.045 mm measured), and
+// at t = 0.1 mm), the B-rep one lofts it within t (lofted_sweep_solid), and
 // each reads the tool at a location in its true pose: a boundary moves by up to t/R more, on top
 // of the 3+2 bound.
 TEST(BrepEngagement, SimultaneousFiveAxisAgreesWithTheDexelMethod) {

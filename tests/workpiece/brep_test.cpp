@@ -369,9 +369,12 @@ TEST(BrepShapes, FiveAxisMoveIsLoftedWithinItsDeviation) {
       {"ball:10,20", {0, 30, -2}, {30, 30, -3}, {0.2, 0.17, 0.98}, {0.1, -0.17, 0.98}, nullptr},
       // A flat end leaning back from the feed, more and more.
       {"flat:10,20", {0, 30, -2}, {30, 30, -2}, {-0.1, 0, 0.99}, {-0.3, 0, 0.95}, nullptr},
-      // A flat end tilting sideways: its bottom rises on one side and sinks on the other, which
-      // the silhouette of a line does not follow (0.14 mm off).
-      {"flat:10,20", {0, 30, -2}, {30, 30, -2}, {0, 0.17, 0.98}, {0, -0.17, 0.98}, "off the sweep"},
+      // Flat and bull-nose ends tilting sideways 20°: the bottom rises on one side and sinks on
+      // the other, its grazing line along the feed, and a bull-nose's corner's grazing curve
+      // turns from the side to meet it.
+      {"flat:10,20", {0, 30, -2}, {30, 30, -2}, {0, 0.17, 0.98}, {0, -0.17, 0.98}, nullptr},
+      {"bull:10,2,20", {0, 30, -2}, {30, 30, -2}, {0, 0.17, 0.98}, {0, -0.17, 0.98}, nullptr},
+      {"bull:10,2,20", {0, 30, -2}, {30, 30, -3}, {0, 0.17, 0.98}, {0, -0.17, 0.98}, nullptr},
       // A ball end whose lean turns from forward to back: its silhouette's great circle crosses
       // the tip, where the tool's faces meet.
       {"ball:10,20",
@@ -379,6 +382,14 @@ TEST(BrepShapes, FiveAxisMoveIsLoftedWithinItsDeviation) {
        {30, 30, -2},
        {0.2, 0.17, 0.98},
        {-0.1, -0.17, 0.98},
+       "silhouette"},
+      // A chamfer mill leaning forward more and more: its bottom's grazing curve comes down the
+      // cone to its tip.
+      {"chamfer:12,90,15",
+       {0, 30, -2},
+       {30, 30, -2},
+       {0.1, 0.17, 0.98},
+       {0.2, -0.17, 0.98},
        "changes its kind"},
   };
   const Aabb block{{-20, 0, -30}, {100, 60, 0}};

@@ -50,6 +50,7 @@
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shell.hxx>
+#include <TopoDS_Vertex.hxx>
 #include <TopoDS_Wire.hxx>
 #include <gp_Ax1.hxx>
 #include <gp_Ax3.hxx>
@@ -722,6 +723,120 @@ double reference_height(const Profile& profile) {
   return 0.0;
 }
 
+// The rigid motion of the tool at an instant, in its frame (tip at the origin): the tip's
+// velocity and the angular velocity. A surface point p with outward normal n moves into the
+// material where f = n·(v + ω × p) > 0 (Aras 2008 eq. 5.18).
+struct Twist {
+  Vec3 v, omega;
+  double f(const Vec3& p, const Vec3& n) const { return n.dot(v + omega.cross(p)); }
+};
+
+// Cuts that hold the tool's grazing curve (f = 0) under `twist` exactly, for lofting: a sphere's
+// great circle square to its centre's velocity (a plane); on a disc (a flat bottom, the top)
+// the line where f, linear across it, vanishes (the plane through it along the axis); on a
+// cylinder, cone or torus, for each profile point (ρ, z) with normal (n_ρ, n_z) at azimuth θ,
+//   f(θ) = (n_ρ v_x − k ω_y) cos θ + (n_ρ v_y + k ω_x) sin θ + n_z v_z,   k = ρ n_z − z n_ρ,
+// whose two roots, followed along the piece, are two curves; each is cut by a sheet ruled by
+// segments along the profile's normal through it (square to the surface, so that none lies in
+// a disc's plane), its guide curves interpolating 17 points (33 on an arc). Returns false where a
+// piece's grazing curve leaves it part-way (no roots over part of it: a torus whose curve turns at
+// its bottom, as under a ramp), or a piece other than a ball reaches the axis (a pointed cone): the
+// line's silhouette is then used.
+bool grazing_cuts(const Cutter& cutter, const Twist& twist, std::vector<Plane>& planes,
+                  std::vector<TopoDS_Face>& sheets) {
+  const Profile& profile = cutter.profile();
+  const double speed = twist.v.norm() + twist.omega.norm() * profile.height();
+  // How far the sheets reach into the tool and out of it along the normal: the same for every
+  // piece, so that two pieces' sheets meet along one segment at their joint.
+  double inward = profile.max_radius(), outward = 1.0 + 0.5 * profile.max_radius();
+  for (const ProfileSegment& s : profile.segments()) {
+    if ((s.end - s.start).norm() < 1e-9 || s.is_horizontal()) continue;
+    if (s.kind == ProfileSegment::Kind::kArc && std::abs(s.center.x()) < 1e-9) continue;
+    const double rho = std::min(s.start.x(), s.end.x());
+    if (!(rho > 1e-9)) return false;
+    inward = std::min(inward, 0.25 * rho);
+    if (s.kind == ProfileSegment::Kind::kArc) inward = std::min(inward, 0.25 * s.radius);
+  }
+  for (const ProfileSegment& s : profile.segments()) {
+    if ((s.end - s.start).norm() < 1e-9) continue;
+    if (s.kind == ProfileSegment::Kind::kArc && std::abs(s.center.x()) < 1e-9) {
+      const Vec3 centre(0.0, 0.0, s.center.y());
+      const Vec3 v = twist.v + twist.omega.cross(centre);
+      if (v.norm() > 1e-12 * speed) planes.push_back({centre, v.normalized()});
+      continue;
+    }
+    if (s.kind == ProfileSegment::Kind::kLine && s.is_horizontal()) {
+      // f = n_z (v_z + ω_x y − ω_y x) on the disc at height z.
+      const Vec3 g(-twist.omega.y(), twist.omega.x(), 0.0);
+      const double reach = std::max(s.start.x(), s.end.x());
+      if (g.norm() > 1e-12 * speed && std::abs(twist.v.z()) < g.norm() * reach) {
+        const double z = s.start.y();
+        const Vec3 origin = -twist.v.z() * g / g.squaredNorm() + Vec3(0.0, 0.0, z);
+        planes.push_back({origin, g.normalized()});
+      }
+      continue;
+    }
+    // A corner's grazing curve can turn by a quarter turn round the axis over its arc.
+    const int kPoints = s.kind == ProfileSegment::Kind::kArc ? 33 : 17;
+    std::vector<double> first(kPoints), second(kPoints);
+    std::vector<Vec2> points(kPoints), normals(kPoints);
+    int with_roots = 0;
+    for (int k = 0; k < kPoints; ++k) {
+      const double u = static_cast<double>(k) / (kPoints - 1);
+      const Vec2 p = s.point_at(u), n = s.normal_at(u);
+      points[k] = p;
+      normals[k] = n;
+      const double rho = p.x(), z = p.y();
+      const double kk = rho * n.y() - z * n.x();
+      const double a = n.x() * twist.v.x() - kk * twist.omega.y();
+      const double b = n.x() * twist.v.y() + kk * twist.omega.x();
+      const double c = n.y() * twist.v.z();
+      const double amplitude = std::hypot(a, b);
+      if (!(amplitude > 1e-12 * speed) || std::abs(c) > amplitude) continue;
+      ++with_roots;
+      const double beta = std::atan2(b, a), half = std::acos(-c / amplitude);
+      double r1 = beta + half, r2 = beta - half;
+      if (k > 0) {  // follow each root from the point before, within a turn
+        const auto near = [](double r, double to) {
+          return r + 2.0 * M_PI * std::round((to - r) / (2.0 * M_PI));
+        };
+        r1 = near(r1, first[k - 1]);
+        r2 = near(r2, first[k - 1]);
+        if (std::abs(r2 - first[k - 1]) < std::abs(r1 - first[k - 1])) std::swap(r1, r2);
+        r2 = near(r2, second[k - 1]);
+      }
+      first[k] = r1;
+      second[k] = r2;
+    }
+    if (with_roots == 0) continue;  // wholly leading or trailing
+    if (with_roots < kPoints) return false;
+    for (const std::vector<double>* roots : {&first, &second}) {
+      Handle(TColgp_HArray1OfPnt) near = new TColgp_HArray1OfPnt(1, kPoints);
+      Handle(TColgp_HArray1OfPnt) far = new TColgp_HArray1OfPnt(1, kPoints);
+      Handle(TColStd_HArray1OfReal) params = new TColStd_HArray1OfReal(1, kPoints);
+      for (int k = 0; k < kPoints; ++k) {
+        const double theta = (*roots)[k];
+        const auto at = [&](double t) {
+          const Vec2 q = points[k] + t * normals[k];
+          return gp_Pnt(q.x() * std::cos(theta), q.x() * std::sin(theta), q.y());
+        };
+        near->SetValue(k + 1, at(-inward));
+        far->SetValue(k + 1, at(outward));
+        params->SetValue(k + 1, static_cast<double>(k) / (kPoints - 1));
+      }
+      GeomAPI_Interpolate near_curve(near, params, false, 1e-12),
+          far_curve(far, params, false, 1e-12);
+      near_curve.Perform();
+      far_curve.Perform();
+      check_done(near_curve.IsDone() && far_curve.IsDone(), "a grazing curve", cutter);
+      sheets.push_back(
+          BRepBuilderAPI_MakeFace(GeomFill::Surface(near_curve.Curve(), far_curve.Curve()), 1e-9)
+              .Face());
+    }
+  }
+  return true;
+}
+
 // One pose of a lofted move, in the world: the tool's faces that trail and those that lead,
 // and the silhouette between them as one closed wire.
 struct LoftPose {
@@ -747,12 +862,24 @@ LoftPose loft_pose(const Cutter& cutter, const TopoDS_Solid& tool, const Move& m
   const Vec3 hint = square.norm() > 1e-12 * velocity.norm() ? square : Vec3::UnitX();
   const Frame frame = Frame::from_z(tip, axis, hint);
   const Vec3 d = frame.direction_to_local(velocity);
+  const Twist twist{frame.direction_to_local(move.tangent(u)),
+                    frame.direction_to_local(move.axis_rate(u))};
   std::vector<TopoDS_Face> sheets;
-  const std::vector<Plane> planes = silhouette_planes(cutter, d, sheets);
+  std::vector<Plane> planes;
+  if (!grazing_cuts(cutter, twist, planes, sheets)) {
+    sheets.clear();
+    planes = silhouette_planes(cutter, d, sheets);
+  }
   const TopoDS_Shape local = cut_faces(tool, planes, big, cutter, sheets);
   BRepBuilderAPI_Transform place(local, placement(tip, axis, hint), /*Copy=*/true);
   check_done(place.IsDone(), "placing the tool", cutter);
-  const Trailing trails{d};
+  // A face trails where the motion draws it out of the material (f < 0); one the motion runs
+  // along (f = 0 all over: a disc under a level line) as a line's.
+  const double speed = twist.v.norm() + twist.omega.norm() * cutter.profile().height();
+  const auto trails = [&](const Vec3& at, const Vec3& normal) {
+    const double f = twist.f(at, normal);
+    return std::abs(f) > 1e-9 * speed ? f < 0.0 : Trailing{d}(at, normal);
+  };
   LoftPose pose;
   TopTools_IndexedMapOfShape trailing;
   for (TopExp_Explorer e(local, TopAbs_FACE); e.More(); e.Next()) {
@@ -795,27 +922,52 @@ LoftPose loft_pose(const Cutter& cutter, const TopoDS_Solid& tool, const Move& m
                  a1 = angle(curve.Value(t1));
     const bool forward = turn(am - a0) + turn(a1 - am) > 0.0;
     if (forward == (edge.Orientation() == TopAbs_REVERSED)) edge.Reverse();
-    links.push_back({am, TopoDS::Edge(place.ModifiedShape(edge)), curve.GetType()});
+    links.push_back({am, edge, curve.GetType()});
   }
+  const auto not_closed = [&] {
+    return ComputationError(
+        fmt::format("{}: the silhouette of a pose is not one closed curve", cutter.name()));
+  };
+  if (links.empty()) throw not_closed();
+  // From the edge first round the shadow, along the edges' shared vertices.
   std::sort(links.begin(), links.end(),
             [](const Link& a, const Link& b) { return a.angle < b.angle; });
+  std::vector<bool> used(links.size(), false);
+  used[0] = true;
+  std::vector<const Link*> chain{&links[0]};
+  const TopoDS_Vertex start = TopExp::FirstVertex(links[0].edge, true);
+  TopoDS_Vertex end = TopExp::LastVertex(links[0].edge, true);
+  while (!end.IsSame(start)) {
+    std::size_t next = links.size();
+    for (std::size_t k = 0; k < links.size() && next == links.size(); ++k) {
+      if (used[k]) continue;
+      if (TopExp::LastVertex(links[k].edge, true).IsSame(end)) links[k].edge.Reverse();
+      if (TopExp::FirstVertex(links[k].edge, true).IsSame(end)) next = k;
+    }
+    if (next == links.size()) throw not_closed();
+    used[next] = true;
+    chain.push_back(&links[next]);
+    end = TopExp::LastVertex(links[next].edge, true);
+  }
+  if (chain.size() != links.size()) throw not_closed();
   BRepBuilderAPI_MakeWire wire;
-  for (const Link& link : links) {
-    wire.Add(link.edge);
-    pose.kinds.push_back(link.kind);
+  for (const Link* link : chain) {
+    // The placed copy, in the direction chosen here.
+    wire.Add(TopoDS::Edge(place.ModifiedShape(link->edge).Oriented(link->edge.Orientation())));
+    pose.kinds.push_back(link->kind);
   }
-  if (links.empty() || !wire.IsDone() || !wire.Wire().Closed()) {
-    throw ComputationError(
-        fmt::format("{}: the silhouette of a pose is not one closed curve", cutter.name()));
-  }
+  if (!wire.IsDone() || !wire.Wire().Closed()) throw not_closed();
   pose.silhouette = wire.Wire();
   return pose;
 }
 
-// The largest distance from points of the loft's faces inside `within` to the boundary of the
-// true sweep: on a 12 × 12 grid over each face, the distance to the nearest pose (the signed
-// distance to the tool, minimised over u by a scan of 256 poses refined by golden section).
-double loft_deviation(const TopoDS_Shape& loft, const Cutter& cutter, const Move& move,
+// The largest distance from points of the swept solid's faces inside `within` (the band's and
+// the end tools' faces kept: a face kept whole where the grazing curve crosses it would hold
+// points inside the sweep) to the boundary of the true sweep: on a 12 × 12 grid over each
+// face's parameters, the points on the face, each at the distance to the nearest pose (the
+// signed distance to the tool, minimised over u by a scan of 256 poses refined by golden
+// section).
+double loft_deviation(const std::vector<TopoDS_Face>& faces, const Cutter& cutter, const Move& move,
                       const Aabb& within) {
   const Profile& profile = cutter.profile();
   const auto distance = [&](const Vec3& p, double u) {
@@ -825,17 +977,17 @@ double loft_deviation(const TopoDS_Shape& loft, const Cutter& cutter, const Move
   };
   constexpr int kGrid = 12, kScan = 256;
   double worst = 0.0;
-  for (TopExp_Explorer e(loft, TopAbs_FACE); e.More(); e.Next()) {
-    const TopoDS_Face& face = TopoDS::Face(e.Current());
+  for (const TopoDS_Face& face : faces) {
     double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
     BRepTools::UVBounds(face, u0, u1, v0, v1);
     const BRepAdaptor_Surface surface(face);
     for (int i = 0; i < kGrid; ++i) {
       for (int j = 0; j < kGrid; ++j) {
-        const gp_Pnt g =
-            surface.Value(u0 + (i + 0.5) / kGrid * (u1 - u0), v0 + (j + 0.5) / kGrid * (v1 - v0));
+        const gp_Pnt2d uv(u0 + (i + 0.5) / kGrid * (u1 - u0), v0 + (j + 0.5) / kGrid * (v1 - v0));
+        const gp_Pnt g = surface.Value(uv.X(), uv.Y());
         const Vec3 p(g.X(), g.Y(), g.Z());
         if (!within.contains(p)) continue;
+        if (BRepClass_FaceClassifier(face, uv, 1e-9).State() != TopAbs_IN) continue;
         int best = 0;
         double nearest = distance(p, 0.0);
         for (int k = 1; k <= kScan; ++k) {
@@ -891,14 +1043,16 @@ LoftedSweep lofted_sweep_solid(const Cutter& cutter, const Move& move, double to
       loft.Build();
       check_done(loft.IsDone(), "lofting the silhouettes", cutter);
       BRepBuilderAPI_Sewing sewing(1e-6 * reach);
-      for (const TopoDS_Shape& face : poses.front().trailing) sewing.Add(face);
-      for (const TopoDS_Shape& face : poses.back().leading) sewing.Add(face);
+      std::vector<TopoDS_Face> faces;
+      for (const TopoDS_Shape& face : poses.front().trailing) faces.push_back(TopoDS::Face(face));
+      for (const TopoDS_Shape& face : poses.back().leading) faces.push_back(TopoDS::Face(face));
       for (TopExp_Explorer e(loft.Shape(), TopAbs_FACE); e.More(); e.Next()) {
-        sewing.Add(e.Current());
+        faces.push_back(TopoDS::Face(e.Current()));
       }
+      for (const TopoDS_Face& face : faces) sewing.Add(face);
       const TopoDS_Solid solid = sewn_solid(sewing, cutter);
       const double previous = deviation;
-      deviation = loft_deviation(loft.Shape(), cutter, move, within);
+      deviation = loft_deviation(faces, cutter, move, within);
       if (deviation <= tolerance) return {solid, sections, deviation};
       // Not halved by twice the poses: the silhouettes themselves are off (a flat end's bottom
       // that a sideways tilt lifts on one side and lowers on the other), not the loft between.

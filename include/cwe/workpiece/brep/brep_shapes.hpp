@@ -72,16 +72,17 @@ std::vector<TopoDS_Shape> planar_arc_sweep_solids(const Cutter& cutter, const Mo
 std::vector<TopoDS_Shape> helix_sweep_solids(const Cutter& cutter, const Move& helix);
 
 // The volume the cutter sweeps along a line whose axis turns (a simultaneous 5-axis move),
-// lofted: at poses evenly spaced along the move, the tool's faces are cut along the silhouette
-// a line along the velocity of its axis point at a reference height (a ball's or a corner's
-// centre, else the tip) would have, and those silhouettes are lofted (BRepOffsetAPI_ThruSections)
-// into the band sewn between the trailing faces at the start and the leading faces at the end.
-// The deviation is measured on the band's faces, where they lie inside `within` (the stock's
-// box: beyond it a deviation changes no cut), as the largest distance to the boundary of the
-// union of the tool's poses; poses are doubled from 5 up to 33 until it is within `tolerance`.
-// Throws ComputationError when the silhouette changes its kind of edges along the move (a flat
-// end's bottom that turns from leading to trailing), when OpenCASCADE cannot build the solid,
-// or when it stays off by more than the tolerance.
+// lofted (Aras 2008 builds the envelope from its grazing curves): at poses evenly spaced along
+// the move, the tool's faces are cut along the grazing curve of the motion at that instant
+// (f = N·(v + ω × p) = 0: planes on a ball and on discs, sheets through the curve on cylinders,
+// cones and tori; where a piece's curve leaves it part-way, a line's silhouette), and those
+// curves are lofted (BRepOffsetAPI_ThruSections) into the band sewn between the trailing faces
+// at the start and the leading faces at the end. The deviation is measured on the solid's faces
+// where they lie inside `within` (the stock's box: beyond it a deviation changes no cut), as the
+// largest distance to the boundary of the union of the tool's poses; poses are doubled from 5
+// up to 17 until it is within `tolerance`. Throws ComputationError when the curve changes its
+// kind of edges along the move (a ball end whose lean turns from forward to back), when
+// OpenCASCADE cannot build the solid, or when it stays off by more than the tolerance.
 struct LoftedSweep {
   TopoDS_Shape solid;
   int sections = 0;        // poses lofted through
