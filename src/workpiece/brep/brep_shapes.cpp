@@ -711,9 +711,9 @@ std::vector<TopoDS_Shape> helix_sweep_solids(const Cutter& cutter, const Move& h
 
 namespace {
 
-// The height above the tip of the axis point whose velocity a lofted pose's silhouette is cut
-// for: the centre of the profile's lowest arc (a ball's, a bull-nose corner's), where such a tool
-// cuts, else the tip.
+// The height above the tip of the axis point whose velocity orients a lofted pose (and cuts
+// its faces where the grazing curve is refused, as a line's silhouette): the centre of the
+// profile's lowest arc (a ball's, a bull-nose corner's), where such a tool cuts, else the tip.
 double reference_height(const Profile& profile) {
   for (const ProfileSegment& s : profile.segments()) {
     if (s.kind == ProfileSegment::Kind::kArc && (s.end - s.start).norm() >= 1e-9) {
@@ -845,12 +845,13 @@ struct LoftPose {
   std::vector<int> kinds;  // each edge's curve type (GeomAbs_CurveType), in the chain's order
 };
 
-// The pose at u: the tool cut along its silhouette for the velocity of its axis point at
-// `reference` above the tip, as a line's (the tool's frame with x along that velocity's part
-// square to the axis, so that the faces' seam lies on the leading side, off the silhouette).
-// The silhouette's edges are chained round the tool's shadow along that velocity (by the angle
-// of their midpoints about the shadow of the axis's middle, anticlockwise): the same chain at
-// every pose while the silhouette keeps its kind of edges.
+// The pose at u: the tool cut along its grazing curve (grazing_cuts; where those are refused, the
+// silhouette of a line along the velocity of its axis point at `reference` above the tip), in
+// the tool's frame with x along that velocity's part square to the axis, so that the faces' seam
+// lies on the leading side, off the curve. The curve's edges are chained from the first round
+// the tool's shadow along that velocity (by the angle of their midpoints about the shadow of the
+// axis's middle, anticlockwise) along their shared vertices: the same chain at every pose while
+// the curve keeps its kind of edges.
 LoftPose loft_pose(const Cutter& cutter, const TopoDS_Solid& tool, const Move& move, double u,
                    double reference, double big) {
   const Vec3 tip = move.position(u), axis = move.axis(u);
