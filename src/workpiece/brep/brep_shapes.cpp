@@ -163,19 +163,6 @@ TopoDS_Face torus_ramp_sheet(const ProfileSegment& s, const Vec3& d, const Cutte
   return BRepBuilderAPI_MakeFace(ruled, 1e-9).Face();
 }
 
-// One of each plane (two cutting the faces along the same line would leave slivers between).
-std::vector<Plane> unique_planes(const std::vector<Plane>& planes) {
-  std::vector<Plane> unique;
-  for (const Plane& p : planes) {
-    const bool seen = std::any_of(unique.begin(), unique.end(), [&](const Plane& q) {
-      return std::abs(std::abs(p.normal.dot(q.normal)) - 1.0) < 1e-12 &&
-             std::abs((p.origin - q.origin).dot(q.normal)) < 1e-9;
-    });
-    if (!seen) unique.push_back(p);
-  }
-  return unique;
-}
-
 // The planes that cut the tool's faces along its silhouette for local direction d (see the
 // header): the plane through the axis square to d's horizontal part (it also halves the discs a
 // level move grazes), a sphere's plane through its centre square to d, a cone's plane through
@@ -216,7 +203,16 @@ std::vector<Plane> silhouette_planes(const Cutter& cutter, const Vec3& d,
       sheets.push_back(torus_ramp_sheet(s, d, cutter));
     }
   }
-  return unique_planes(planes);
+  // One of each plane.
+  std::vector<Plane> unique;
+  for (const Plane& p : planes) {
+    const bool seen = std::any_of(unique.begin(), unique.end(), [&](const Plane& q) {
+      return std::abs(std::abs(p.normal.dot(q.normal)) - 1.0) < 1e-12 &&
+             std::abs((p.origin - q.origin).dot(q.normal)) < 1e-9;
+    });
+    if (!seen) unique.push_back(p);
+  }
+  return unique;
 }
 
 // A point inside the face and its outward normal there.
@@ -784,7 +780,6 @@ bool grazing_cuts(const Cutter& cutter, const Twist& twist, std::vector<Plane>& 
     const int kPoints = s.kind == ProfileSegment::Kind::kArc ? 33 : 17;
     std::vector<double> first(kPoints), second(kPoints);
     std::vector<Vec2> points(kPoints), normals(kPoints);
-    std::vector<bool> free(kPoints, false);  // f = 0 all round: a circle the motion holds still
     int with_roots = 0;
     for (int k = 0; k < kPoints; ++k) {
       const double u = static_cast<double>(k) / (kPoints - 1);
@@ -797,53 +792,25 @@ bool grazing_cuts(const Cutter& cutter, const Twist& twist, std::vector<Plane>& 
       const double b = n.x() * twist.v.y() + kk * twist.omega.x();
       const double c = n.y() * twist.v.z();
       const double amplitude = std::hypot(a, b);
-      if (!(amplitude > 1e-12 * speed)) {
-        if (std::abs(c) <= 1e-12 * speed) free[k] = true, ++with_roots;
-        continue;
-      }
-      if (std::abs(c) > amplitude) continue;
+      if (!(amplitude > 1e-12 * speed) || std::abs(c) > amplitude) continue;
       ++with_roots;
       const double beta = std::atan2(b, a), half = std::acos(-c / amplitude);
       double r1 = beta + half, r2 = beta - half;
-      int before = k - 1;
-      while (before >= 0 && free[before]) --before;
-      if (before >= 0) {  // follow each root from the point before, within a turn
+      if (k > 0) {  // follow each root from the point before, within a turn
         const auto near = [](double r, double to) {
           return r + 2.0 * M_PI * std::round((to - r) / (2.0 * M_PI));
         };
-        r1 = near(r1, first[before]);
-        r2 = near(r2, first[before]);
-        if (std::abs(r2 - first[before]) < std::abs(r1 - first[before])) std::swap(r1, r2);
-        r2 = near(r2, second[before]);
+        r1 = near(r1, first[k - 1]);
+        r2 = near(r2, first[k - 1]);
+        if (std::abs(r2 - first[k - 1]) < std::abs(r1 - first[k - 1])) std::swap(r1, r2);
+        r2 = near(r2, second[k - 1]);
       }
       first[k] = r1;
       second[k] = r2;
     }
     if (with_roots == 0) continue;  // wholly leading or trailing
     if (with_roots < kPoints) return false;
-    // A circle held still (a pivot's) takes its roots from the nearest point that has them.
-    int given = 0;
-    while (given < kPoints && free[given]) ++given;
-    if (given == kPoints) return false;
-    for (int k = 0; k < kPoints; ++k) {
-      if (!free[k]) {
-        given = k;
-      } else if (k > given || k < given) {
-        int from = k;
-        while (from < kPoints && free[from]) ++from;
-        from = from < kPoints && (k < given || from - k < k - given) ? from : given;
-        first[k] = first[from];
-        second[k] = second[from];
-      }
-    }
     for (const std::vector<double>* roots : {&first, &second}) {
-      // A curve at one azimuth (the motion turns about a line square to the axis through it):
-      // the plane through the axis there, which the other pieces' planes may share.
-      const auto [lo, hi] = std::minmax_element(roots->begin(), roots->end());
-      if (*hi - *lo <= 1e-12) {
-        planes.push_back({Vec3::Zero(), Vec3(-std::sin(*lo), std::cos(*lo), 0.0)});
-        continue;
-      }
       Handle(TColgp_HArray1OfPnt) near = new TColgp_HArray1OfPnt(1, kPoints);
       Handle(TColgp_HArray1OfPnt) far = new TColgp_HArray1OfPnt(1, kPoints);
       Handle(TColStd_HArray1OfReal) params = new TColStd_HArray1OfReal(1, kPoints);
@@ -867,7 +834,6 @@ bool grazing_cuts(const Cutter& cutter, const Twist& twist, std::vector<Plane>& 
               .Face());
     }
   }
-  planes = unique_planes(planes);
   return true;
 }
 
@@ -889,10 +855,7 @@ struct LoftPose {
 LoftPose loft_pose(const Cutter& cutter, const TopoDS_Solid& tool, const Move& move, double u,
                    double reference, double big) {
   const Vec3 tip = move.position(u), axis = move.axis(u);
-  Vec3 velocity = move.tangent(u) + move.axis_rate(u).cross(reference * axis);
-  if (!(velocity.norm() > 0.0)) {  // a pivot about that point: the top's velocity
-    velocity = move.tangent(u) + move.axis_rate(u).cross(cutter.profile().height() * axis);
-  }
+  const Vec3 velocity = move.tangent(u) + move.axis_rate(u).cross(reference * axis);
   if (!(velocity.norm() > 0.0)) {
     throw ComputationError(fmt::format("{}: the tool does not move", cutter.name()));
   }
