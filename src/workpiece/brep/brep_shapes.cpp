@@ -337,16 +337,17 @@ TopoDS_Solid sewn_solid(BRepBuilderAPI_Sewing& sewing, const Cutter& cutter) {
   return solid;
 }
 
-// The solid a tool sweeps under a rigid motion, sewn from its faces (`faces`: the tool's faces
-// cut along the silhouette): those for which `trails(point, outward normal)` holds kept where
-// the motion starts, the others moved to where it ends by `to_end`, and the silhouette (edges
-// between the two kinds) swept by `band`. Throws ComputationError when the faces do not close
-// into a valid solid.
-template <class Trails, class Band>
-TopoDS_Shape sewn_sweep(const TopoDS_Shape& faces, Trails trails, const gp_Trsf& to_end, Band band,
-                        double tolerance, const Cutter& cutter) {
+// The tool's faces (cut along the silhouette) sorted by `trails(point, outward normal)`, and
+// the silhouette: the edges between a trailing face and a leading one.
+struct Sides {
+  std::vector<TopoDS_Face> trailing, leading;
+  std::vector<TopoDS_Edge> silhouette;
+};
+
+template <class Trails>
+Sides sides(const TopoDS_Shape& faces, Trails trails, const Cutter& cutter) {
+  Sides out;
   TopTools_IndexedMapOfShape trailing;
-  BRepBuilderAPI_Sewing sewing(tolerance);
   for (TopExp_Explorer e(faces, TopAbs_FACE); e.More(); e.Next()) {
     const TopoDS_Face& face = TopoDS::Face(e.Current());
     Vec3 at = Vec3::Zero(), normal = Vec3::Zero();
@@ -354,12 +355,9 @@ TopoDS_Shape sewn_sweep(const TopoDS_Shape& faces, Trails trails, const gp_Trsf&
       throw ComputationError(
           fmt::format("{}: a face of the tool has no inner point", cutter.name()));
     }
-    if (trails(at, normal)) {
-      trailing.Add(face);
-      sewing.Add(face);
-    } else {
-      sewing.Add(BRepBuilderAPI_Transform(face, to_end, true).Shape());
-    }
+    const bool trail = trails(at, normal);
+    if (trail) trailing.Add(face);
+    (trail ? out.trailing : out.leading).push_back(face);
   }
   TopTools_IndexedDataMapOfShapeListOfShape edge_faces;
   TopExp::MapShapesAndAncestors(faces, TopAbs_EDGE, TopAbs_FACE, edge_faces);
@@ -369,8 +367,26 @@ TopoDS_Shape sewn_sweep(const TopoDS_Shape& faces, Trails trails, const gp_Trsf&
     int trail = 0, lead = 0;
     for (const TopoDS_Shape& f : edge_faces.FindFromIndex(k))
       ++(trailing.Contains(f) ? trail : lead);
-    if (trail > 0 && lead > 0) sewing.Add(band(edge));
+    if (trail > 0 && lead > 0) out.silhouette.push_back(edge);
   }
+  return out;
+}
+
+// The solid a tool sweeps under a rigid motion, sewn from its faces (`faces`: the tool's faces
+// cut along the silhouette): those for which `trails(point, outward normal)` holds kept where
+// the motion starts, the others moved to where it ends by `to_end`, and the silhouette (edges
+// between the two kinds) swept by `band`. Throws ComputationError when the faces do not close
+// into a valid solid.
+template <class Trails, class Band>
+TopoDS_Shape sewn_sweep(const TopoDS_Shape& faces, Trails trails, const gp_Trsf& to_end, Band band,
+                        double tolerance, const Cutter& cutter) {
+  const Sides sorted = sides(faces, trails, cutter);
+  BRepBuilderAPI_Sewing sewing(tolerance);
+  for (const TopoDS_Face& face : sorted.trailing) sewing.Add(face);
+  for (const TopoDS_Face& face : sorted.leading) {
+    sewing.Add(BRepBuilderAPI_Transform(face, to_end, true).Shape());
+  }
+  for (const TopoDS_Edge& edge : sorted.silhouette) sewing.Add(band(edge));
   return sewn_solid(sewing, cutter);
 }
 
@@ -881,19 +897,12 @@ LoftPose loft_pose(const Cutter& cutter, const TopoDS_Solid& tool, const Move& m
     const double f = twist.f(at, normal);
     return std::abs(f) > 1e-9 * speed ? f < 0.0 : Trailing{d}(at, normal);
   };
+  const Sides sorted = sides(local, trails, cutter);
   LoftPose pose;
-  TopTools_IndexedMapOfShape trailing;
-  for (TopExp_Explorer e(local, TopAbs_FACE); e.More(); e.Next()) {
-    const TopoDS_Face& face = TopoDS::Face(e.Current());
-    Vec3 at = Vec3::Zero(), normal = Vec3::Zero();
-    if (!face_sample(face, at, normal)) {
-      throw ComputationError(
-          fmt::format("{}: a face of the tool has no inner point", cutter.name()));
-    }
-    const bool trail = trails(at, normal);
-    if (trail) trailing.Add(face);
-    (trail ? pose.trailing : pose.leading).push_back(place.ModifiedShape(face));
+  for (const TopoDS_Face& face : sorted.trailing) {
+    pose.trailing.push_back(place.ModifiedShape(face));
   }
+  for (const TopoDS_Face& face : sorted.leading) pose.leading.push_back(place.ModifiedShape(face));
   // The silhouette's edges, each with its angle round the shadow and its direction.
   const Vec3 e1 = Vec3::UnitY(), e2 = d.cross(e1).normalized();
   const Vec3 centre(0.0, 0.0, 0.5 * cutter.profile().height());
@@ -908,15 +917,7 @@ LoftPose loft_pose(const Cutter& cutter, const TopoDS_Solid& tool, const Move& m
     int kind;
   };
   std::vector<Link> links;
-  TopTools_IndexedDataMapOfShapeListOfShape edge_faces;
-  TopExp::MapShapesAndAncestors(local, TopAbs_EDGE, TopAbs_FACE, edge_faces);
-  for (int k = 1; k <= edge_faces.Extent(); ++k) {
-    TopoDS_Edge edge = TopoDS::Edge(edge_faces.FindKey(k));
-    if (BRep_Tool::Degenerated(edge)) continue;
-    int trail = 0, lead = 0;
-    for (const TopoDS_Shape& f : edge_faces.FindFromIndex(k))
-      ++(trailing.Contains(f) ? trail : lead);
-    if (trail == 0 || lead == 0) continue;
+  for (TopoDS_Edge edge : sorted.silhouette) {
     const BRepAdaptor_Curve curve(edge);
     const double t0 = curve.FirstParameter(), t1 = curve.LastParameter();
     const double a0 = angle(curve.Value(t0)), am = angle(curve.Value(0.5 * (t0 + t1))),
