@@ -272,16 +272,6 @@ TEST(BrepStock, HelixAgreesWithTheDexelWorkpiece) {
 namespace cwe {
 namespace {
 
-// The signed distance from a point (ρ, z in the tool's frame) to the tool's solid: positive
-// inside.
-double signed_distance(const Profile& profile, double rho, double z) {
-  const double top = rho <= profile.top_radius()
-                         ? std::abs(z - profile.height())
-                         : std::hypot(rho - profile.top_radius(), z - profile.height());
-  const double d = std::min(profile.closest(Vec2(rho, z)).distance, top);
-  return profile.contains(rho, z) ? d : -d;
-}
-
 // A helix of more than a turn is swept as its turn at the low end with the tools lengthened
 // (helix_sweep_solids; tools without a straight side as tall as the pitch in half turns along
 // the whole helix): the union of its solids must be the union of the tool at every pose.
@@ -334,7 +324,7 @@ TEST(BrepShapes, HelixOfSeveralTurnsIsTheUnionOfItsPoses) {
       double best = -1e300;
       for (int i = 0; i <= kPoses && best <= 1e-3; ++i) {
         const Vec3 q = p - helix.position(static_cast<double>(i) / kPoses);
-        best = std::max(best, signed_distance(profile, std::hypot(q.x(), q.y()), q.z()));
+        best = std::max(best, -profile.signed_distance(std::hypot(q.x(), q.y()), q.z()));
       }
       if (best > -(delta + 1e-3) && best <= 1e-3) continue;
       bool inside = false;

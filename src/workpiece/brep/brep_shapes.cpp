@@ -856,7 +856,7 @@ bool grazing_cuts(const Cutter& cutter, const Twist& twist, std::vector<Plane>& 
 // One pose of a lofted move, in the world: the tool's faces that trail and those that lead,
 // and the silhouette between them as one closed wire.
 struct LoftPose {
-  std::vector<TopoDS_Shape> trailing, leading;
+  std::vector<TopoDS_Face> trailing, leading;
   TopoDS_Wire silhouette;
   std::vector<int> kinds;  // each edge's curve type (GeomAbs_CurveType), in the chain's order
 };
@@ -900,9 +900,11 @@ LoftPose loft_pose(const Cutter& cutter, const TopoDS_Solid& tool, const Move& m
   const Sides sorted = sides(local, trails, cutter);
   LoftPose pose;
   for (const TopoDS_Face& face : sorted.trailing) {
-    pose.trailing.push_back(place.ModifiedShape(face));
+    pose.trailing.push_back(TopoDS::Face(place.ModifiedShape(face)));
   }
-  for (const TopoDS_Face& face : sorted.leading) pose.leading.push_back(place.ModifiedShape(face));
+  for (const TopoDS_Face& face : sorted.leading) {
+    pose.leading.push_back(TopoDS::Face(place.ModifiedShape(face)));
+  }
   // The silhouette's edges, each with its angle round the shadow and its direction.
   const Vec3 e1 = Vec3::UnitY(), e2 = d.cross(e1).normalized();
   const Vec3 centre(0.0, 0.0, 0.5 * cutter.profile().height());
@@ -1045,9 +1047,8 @@ LoftedSweep lofted_sweep_solid(const Cutter& cutter, const Move& move, double to
       loft.Build();
       check_done(loft.IsDone(), "lofting the silhouettes", cutter);
       BRepBuilderAPI_Sewing sewing(1e-6 * reach);
-      std::vector<TopoDS_Face> faces;
-      for (const TopoDS_Shape& face : poses.front().trailing) faces.push_back(TopoDS::Face(face));
-      for (const TopoDS_Shape& face : poses.back().leading) faces.push_back(TopoDS::Face(face));
+      std::vector<TopoDS_Face> faces = poses.front().trailing;
+      faces.insert(faces.end(), poses.back().leading.begin(), poses.back().leading.end());
       for (TopExp_Explorer e(loft.Shape(), TopAbs_FACE); e.More(); e.Next()) {
         faces.push_back(TopoDS::Face(e.Current()));
       }

@@ -32,6 +32,13 @@ Bnd_Box box_of(const TopoDS_Shape& shape) {
   return box;
 }
 
+Aabb aabb_of(const Bnd_Box& box) {
+  if (box.IsVoid()) return Aabb();
+  double x0 = 0, y0 = 0, z0 = 0, x1 = 0, y1 = 0, z1 = 0;
+  box.Get(x0, y0, z0, x1, y1, z1);
+  return Aabb{{x0, y0, z0}, {x1, y1, z1}};
+}
+
 // While alive, floating-point exceptions do not trap, and on leaving, the environment (traps and
 // flags) is as before. OpenCASCADE's algorithms may divide by zero where the IEEE result is what
 // they want (its face merging did, building a B-spline surface's cache on the bundled example's
@@ -102,13 +109,7 @@ BrepStock brep_stock(const TopoDS_Shape& shape) {
   return BrepStock(std::move(solid));
 }
 
-Aabb BrepStock::bounds() const {
-  const Bnd_Box box = box_of(solid_->shape);
-  if (box.IsVoid()) return Aabb();
-  double x0 = 0, y0 = 0, z0 = 0, x1 = 0, y1 = 0, z1 = 0;
-  box.Get(x0, y0, z0, x1, y1, z1);
-  return Aabb{{x0, y0, z0}, {x1, y1, z1}};
-}
+Aabb BrepStock::bounds() const { return aabb_of(box_of(solid_->shape)); }
 
 int BrepStock::faces() const {
   int n = 0;
@@ -169,12 +170,7 @@ double BrepStock::cut_lofted(const Cutter& cutter, const Move& move, double tole
   // control points grows round a loft's B-spline faces once the stock holds them.
   Bnd_Box tight;
   BRepBndLib::AddOptimal(solid_->shape, tight, /*useTriangulation=*/false);
-  Aabb within;
-  if (!tight.IsVoid()) {
-    double x0 = 0, y0 = 0, z0 = 0, x1 = 0, y1 = 0, z1 = 0;
-    tight.Get(x0, y0, z0, x1, y1, z1);
-    within = Aabb{{x0, y0, z0}, {x1, y1, z1}};
-  }
+  Aabb within = aabb_of(tight);
   within.inflate(tolerance);
   const LoftedSweep loft = lofted_sweep_solid(cutter, move, tolerance, within);
   // Not merged: the loft's faces share no surface with the stock's.
