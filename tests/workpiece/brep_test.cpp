@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -404,8 +405,8 @@ TEST(BrepShapes, FiveAxisMoveIsLoftedWithinItsDeviation) {
     }
     const LoftedSweep loft = lofted_sweep_solid(cutter, move, kTolerance, block);
     EXPECT_LE(loft.deviation, kTolerance);
-    EXPECT_TRUE(BRepCheck_Analyzer(loft.solid).IsValid());
-    BRepClass3d_SolidClassifier classify(loft.solid);
+    EXPECT_TRUE(BRepCheck_Analyzer(loft.solids.front()).IsValid());
+    BRepClass3d_SolidClassifier classify(loft.solids.front());
     const double reach = std::hypot(cutter.profile().max_radius(), cutter.profile().height());
     Aabb around = move.bounds();
     around.inflate(cutter.profile().max_radius() + 1.0);
@@ -423,6 +424,77 @@ TEST(BrepShapes, FiveAxisMoveIsLoftedWithinItsDeviation) {
     }
     EXPECT_GT(compared, 350);
     EXPECT_GT(inside, 25);  // the block holds only the tool's lowest few millimetres
+  }
+}
+
+// A move whose grazing curve changes its kind of edges is lofted in parts, with the tool at the
+// change between them; the parts together are the union of the tool's poses, within the
+// deviation they report.
+TEST(BrepShapes, FiveAxisMoveWhoseCurveChangesKindIsLoftedInParts) {
+  struct Case {
+    const char* spec;
+    Vec3 start, end, start_axis, end_axis;
+    Aabb block;
+  };
+  const std::vector<Case> cases = {
+      // The chamfer mill of the test above, which one loft refuses.
+      {"chamfer:12,90,15",
+       {0, 30, -2},
+       {30, 30, -2},
+       {0.1, 0.17, 0.98},
+       {0.2, -0.17, 0.98},
+       {{-20, 0, -30}, {100, 60, 0}}},
+      // The tilted pass of tests/toolpath/data/contour_catia.aptsource: a bull-nose descending
+      // 10 mm while it tilts 30°, its corner's curve running from a fold to the side.
+      {"bull:10,1,50",
+       {30, -20, 20},
+       {40, 0, 10},
+       {0, 0, 1},
+       {0.5, 0, 0.866025},
+       {{-40, -40, -10}, {50, 40, 16}}},
+  };
+  constexpr double kTolerance = 0.01;
+  test::Random random;
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.spec);
+    const Cutter cutter = cutter_from_spec(c.spec);
+    Move move;
+    move.start = c.start;
+    move.end = c.end;
+    move.start_axis = c.start_axis.normalized();
+    move.end_axis = c.end_axis.normalized();
+    const LoftedSweep loft = lofted_sweep_parts(cutter, move, kTolerance, c.block);
+    EXPECT_GE(loft.changes, 1);
+    ASSERT_EQ(loft.solids.size(), 2 * static_cast<std::size_t>(loft.changes) + 1);
+    EXPECT_LE(loft.deviation, kTolerance);
+    std::vector<std::unique_ptr<BRepClass3d_SolidClassifier>> classifiers;
+    for (const TopoDS_Shape& solid : loft.solids) {
+      EXPECT_TRUE(BRepCheck_Analyzer(solid).IsValid());
+      classifiers.push_back(std::make_unique<BRepClass3d_SolidClassifier>(solid));
+    }
+    const double reach = std::hypot(cutter.profile().max_radius(), cutter.profile().height());
+    Aabb around = move.bounds();
+    around.inflate(cutter.profile().max_radius() + 1.0);
+    // From just under the lowest tip up: the tool's poses fill little of the rest.
+    around.min.z() = std::min(c.start.z(), c.end.z()) - 1.0;
+    const Vec3 lo = around.min.cwiseMax(c.block.min), hi = around.max.cwiseMin(c.block.max);
+    int compared = 0, inside = 0;
+    for (int k = 0; k < 400; ++k) {
+      const Vec3 p(random.uniform(lo.x(), hi.x()), random.uniform(lo.y(), hi.y()),
+                   random.uniform(lo.z(), hi.z()));
+      const int side = test::union_side(cutter, move, p, loft.deviation + 1e-3, reach);
+      if (side == 0) continue;
+      bool in = false;
+      for (const auto& classify : classifiers) {
+        classify->Perform(gp_Pnt(p.x(), p.y(), p.z()), 1e-7);
+        in = in || classify->State() == TopAbs_IN;
+      }
+      ++compared;
+      inside += side < 0;
+      EXPECT_EQ(in, side < 0) << "at " << p.transpose();
+    }
+    EXPECT_GT(compared, 350);
+    EXPECT_GT(inside, 25);
   }
 }
 

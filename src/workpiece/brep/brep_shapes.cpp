@@ -794,52 +794,157 @@ bool grazing_cuts(const Cutter& cutter, const Twist& twist, std::vector<Plane>& 
     }
     // A corner's grazing curve can turn by a quarter turn round the axis over its arc.
     const int kPoints = s.kind == ProfileSegment::Kind::kArc ? 33 : 17;
-    std::vector<double> first(kPoints), second(kPoints);
-    std::vector<Vec2> points(kPoints), normals(kPoints);
-    int with_roots = 0;
-    for (int k = 0; k < kPoints; ++k) {
-      const double u = static_cast<double>(k) / (kPoints - 1);
-      const Vec2 p = s.point_at(u), n = s.normal_at(u);
-      points[k] = p;
-      normals[k] = n;
-      const double rho = p.x(), z = p.y();
-      const double kk = rho * n.y() - z * n.x();
-      const double a = n.x() * twist.v.x() - kk * twist.omega.y();
-      const double b = n.x() * twist.v.y() + kk * twist.omega.x();
-      const double c = n.y() * twist.v.z();
+    // f(θ)'s roots at the profile point s(u), if it has any.
+    struct Roots {
+      Vec2 point, normal;
+      double beta = 0.0, half = 0.0;  // the roots are β ± half
+    };
+    const auto roots_at = [&](double u, Roots& r) {
+      r.point = s.point_at(u);
+      r.normal = s.normal_at(u);
+      const double rho = r.point.x(), z = r.point.y();
+      const double kk = rho * r.normal.y() - z * r.normal.x();
+      const double a = r.normal.x() * twist.v.x() - kk * twist.omega.y();
+      const double b = r.normal.x() * twist.v.y() + kk * twist.omega.x();
+      const double c = r.normal.y() * twist.v.z();
       const double amplitude = std::hypot(a, b);
-      if (!(amplitude > 1e-12 * speed) || std::abs(c) > amplitude) continue;
-      ++with_roots;
-      const double beta = std::atan2(b, a), half = std::acos(-c / amplitude);
-      double r1 = beta + half, r2 = beta - half;
-      if (k > 0) {  // follow each root from the point before, within a turn
-        const auto near = [](double r, double to) {
-          return r + 2.0 * M_PI * std::round((to - r) / (2.0 * M_PI));
-        };
-        r1 = near(r1, first[k - 1]);
-        r2 = near(r2, first[k - 1]);
-        if (std::abs(r2 - first[k - 1]) < std::abs(r1 - first[k - 1])) std::swap(r1, r2);
-        r2 = near(r2, second[k - 1]);
-      }
-      first[k] = r1;
-      second[k] = r2;
+      if (!(amplitude > 1e-12 * speed) || std::abs(c) > amplitude) return false;
+      r.beta = std::atan2(b, a);
+      r.half = std::acos(-c / amplitude);
+      return true;
+    };
+    std::vector<bool> has(kPoints);
+    int with_roots = 0;
+    Roots r;
+    for (int k = 0; k < kPoints; ++k) {
+      has[k] = roots_at(static_cast<double>(k) / (kPoints - 1), r);
+      with_roots += has[k] ? 1 : 0;
     }
     if (with_roots == 0) continue;  // wholly leading or trailing
-    if (with_roots < kPoints) return false;
-    for (const std::vector<double>* roots : {&first, &second}) {
-      Handle(TColgp_HArray1OfPnt) near = new TColgp_HArray1OfPnt(1, kPoints);
-      Handle(TColgp_HArray1OfPnt) far = new TColgp_HArray1OfPnt(1, kPoints);
-      Handle(TColStd_HArray1OfReal) params = new TColStd_HArray1OfReal(1, kPoints);
-      for (int k = 0; k < kPoints; ++k) {
-        const double theta = (*roots)[k];
-        const auto at = [&](double t) {
-          const Vec2 q = points[k] + t * normals[k];
-          return gp_Pnt(q.x() * std::cos(theta), q.x() * std::sin(theta), q.y());
-        };
-        near->SetValue(k + 1, at(-inward));
-        far->SetValue(k + 1, at(outward));
-        params->SetValue(k + 1, static_cast<double>(k) / (kPoints - 1));
+    // The parameter τ ∈ [0, 1] the curves are followed along: the profile's own over the whole
+    // piece, or, where the roots stop part-way at one of its ends, from the other end (the
+    // joint) to the fold where the two roots meet (found by bisection), quadratic in τ: near a
+    // fold the roots part as the square root of the distance from it.
+    bool fold = false;
+    double with = 1.0, joint = 0.0;
+    if (with_roots != kPoints) {
+      // One run of points with roots, reaching one end of the piece: else refused.
+      const bool at_end = has[kPoints - 1];
+      if (has[0] == at_end) return false;
+      int changes = 0;
+      for (int k = 1; k < kPoints; ++k) changes += has[k] != has[k - 1] ? 1 : 0;
+      if (changes != 1) return false;
+      double without = 0.0;  // in u, bracketing the fold with `with`
+      for (int k = 1; k < kPoints; ++k) {
+        if (has[k] != has[k - 1]) {
+          without = static_cast<double>(at_end ? k - 1 : k) / (kPoints - 1);
+          with = static_cast<double>(at_end ? k : k - 1) / (kPoints - 1);
+        }
       }
+      for (int step = 0; step < 50; ++step) {
+        const double mid = 0.5 * (without + with);
+        (roots_at(mid, r) ? with : without) = mid;
+      }
+      joint = at_end ? 1.0 : 0.0;
+      fold = true;
+    }
+    const auto u_of = [&](double tau) {
+      return fold ? with + (joint - with) * (1.0 - tau) * (1.0 - tau) : tau;
+    };
+    const auto turn_near = [](double x, double to) {
+      return x + 2.0 * M_PI * std::round((to - x) / (2.0 * M_PI));
+    };
+    // Both roots, followed from point to point (each within a turn of the one before) over a
+    // dense table in τ.
+    const int dense = 16 * (kPoints - 1) + 1;
+    std::vector<double> taus(dense);
+    std::array<std::vector<double>, 2> roots{std::vector<double>(dense),
+                                             std::vector<double>(dense)};
+    std::vector<Vec2> profile_points(dense);
+    for (int j = 0; j < dense; ++j) {
+      taus[j] = static_cast<double>(j) / (dense - 1);
+      if (!roots_at(u_of(taus[j]), r)) return false;
+      profile_points[j] = r.point;
+      double r1 = r.beta + r.half, r2 = r.beta - r.half;
+      if (j > 0) {
+        r1 = turn_near(r1, roots[0][j - 1]);
+        r2 = turn_near(r2, roots[0][j - 1]);
+        if (std::abs(r2 - roots[0][j - 1]) < std::abs(r1 - roots[0][j - 1])) std::swap(r1, r2);
+        r2 = turn_near(r2, roots[1][j - 1]);
+      }
+      roots[0][j] = r1;
+      roots[1][j] = r2;
+    }
+    // Each root's curve through kPoints points spaced evenly along its length on the tool
+    // (points evenly spaced in τ would leave a curve that swings fast round the axis, as it does
+    // near a fold, too few), each point exact: the root at its τ nearest the table's.
+    struct Curve {
+      std::vector<Vec2> points, normals;
+      std::vector<double> theta;
+    };
+    const auto on_tool = [](const Vec2& q, double theta) {
+      return Vec3(q.x() * std::cos(theta), q.x() * std::sin(theta), q.y());
+    };
+    std::array<Curve, 2> branches;
+    for (int b = 0; b < 2; ++b) {
+      std::vector<double> length(dense, 0.0);
+      for (int j = 1; j < dense; ++j) {
+        length[j] = length[j - 1] + (on_tool(profile_points[j], roots[b][j]) -
+                                     on_tool(profile_points[j - 1], roots[b][j - 1]))
+                                        .norm();
+      }
+      if (!(length.back() > 0.0)) return false;
+      int j = 0;
+      for (int k = 0; k < kPoints; ++k) {
+        const double target = length.back() * k / (kPoints - 1);
+        while (j + 2 < dense && length[j + 1] < target) ++j;
+        const double span = length[j + 1] - length[j];
+        const double f = span > 0.0 ? std::clamp((target - length[j]) / span, 0.0, 1.0) : 0.0;
+        const double tau = k + 1 < kPoints ? taus[j] + f * (taus[j + 1] - taus[j]) : 1.0;
+        const double guess = roots[b][j] + f * (roots[b][j + 1] - roots[b][j]);
+        if (!roots_at(u_of(tau), r)) return false;
+        const double r1 = turn_near(r.beta + r.half, guess), r2 = turn_near(r.beta - r.half, guess);
+        branches[b].points.push_back(r.point);
+        branches[b].normals.push_back(r.normal);
+        branches[b].theta.push_back(std::abs(r1 - guess) <= std::abs(r2 - guess) ? r1 : r2);
+      }
+    }
+    // The two roots' curves, or, with a fold, one curve out along the first and back along the
+    // second, through the fold's point on both: their middle.
+    std::vector<Curve> curves;
+    if (!fold) {
+      curves.assign(branches.begin(), branches.end());
+    } else {
+      Curve c = branches[0];
+      const double other = turn_near(branches[1].theta.back(), c.theta.back());
+      c.theta.back() = 0.5 * (c.theta.back() + other);
+      for (int k = kPoints - 2; k >= 0; --k) {
+        c.points.push_back(branches[1].points[k]);
+        c.normals.push_back(branches[1].normals[k]);
+        c.theta.push_back(turn_near(branches[1].theta[k], c.theta.back()));
+      }
+      curves.push_back(std::move(c));
+    }
+    for (const Curve& curve : curves) {
+      const int n = static_cast<int>(curve.theta.size());
+      Handle(TColgp_HArray1OfPnt) near = new TColgp_HArray1OfPnt(1, n);
+      Handle(TColgp_HArray1OfPnt) far = new TColgp_HArray1OfPnt(1, n);
+      Handle(TColStd_HArray1OfReal) params = new TColStd_HArray1OfReal(1, n);
+      const auto at = [&](int k, double t) {
+        const Vec2 q = curve.points[k] + t * curve.normals[k];
+        const double theta = curve.theta[k];
+        return gp_Pnt(q.x() * std::cos(theta), q.x() * std::sin(theta), q.y());
+      };
+      // Parameters by the chord length along the curve on the tool.
+      double length = 0.0;
+      for (int k = 0; k < n; ++k) {
+        if (k > 0) length += at(k, 0.0).Distance(at(k - 1, 0.0));
+        params->SetValue(k + 1, length);
+        near->SetValue(k + 1, at(k, -inward));
+        far->SetValue(k + 1, at(k, outward));
+      }
+      if (!(length > 0.0)) return false;
+      for (int k = 0; k < n; ++k) params->SetValue(k + 1, params->Value(k + 1) / length);
       GeomAPI_Interpolate near_curve(near, params, false, 1e-12),
           far_curve(far, params, false, 1e-12);
       near_curve.Perform();
@@ -1020,53 +1125,169 @@ double loft_deviation(const std::vector<TopoDS_Face>& faces, const Cutter& cutte
 
 }  // namespace
 
+namespace {
+
+// The tool's solid and the sizes every pose of a loft uses.
+struct LoftTool {
+  TopoDS_Solid tool;
+  double reach = 0.0, big = 0.0, reference = 0.0;
+  explicit LoftTool(const Cutter& cutter)
+      : tool(local_tool(cutter)),
+        reach(std::hypot(cutter.profile().max_radius(), cutter.profile().height())),
+        big(4.0 * reach),
+        reference(reference_height(cutter.profile())) {}
+};
+
+// lofted_sweep_solid, or nothing where the grazing curve changes its kind of edges along the
+// move (`kinds` then says from what to what).
+std::optional<LoftedSweep> loft_one(const Cutter& cutter, const LoftTool& t, const Move& move,
+                                    double tolerance, const Aabb& within,
+                                    std::array<std::size_t, 2>& kinds) {
+  double deviation = std::numeric_limits<double>::infinity();
+  int sections = 4;
+  for (; sections <= 16; sections *= 2) {
+    std::vector<LoftPose> poses;
+    for (int i = 0; i <= sections; ++i) {
+      poses.push_back(
+          loft_pose(cutter, t.tool, move, static_cast<double>(i) / sections, t.reference, t.big));
+      if (poses.back().kinds != poses.front().kinds) {
+        kinds = {poses.front().kinds.size(), poses.back().kinds.size()};
+        return std::nullopt;
+      }
+    }
+    BRepOffsetAPI_ThruSections loft(/*isSolid=*/false, /*ruled=*/false, 1e-7);
+    loft.CheckCompatibility(false);
+    for (const LoftPose& pose : poses) loft.AddWire(pose.silhouette);
+    loft.Build();
+    check_done(loft.IsDone(), "lofting the silhouettes", cutter);
+    BRepBuilderAPI_Sewing sewing(1e-6 * t.reach);
+    std::vector<TopoDS_Face> faces = poses.front().trailing;
+    faces.insert(faces.end(), poses.back().leading.begin(), poses.back().leading.end());
+    for (TopExp_Explorer e(loft.Shape(), TopAbs_FACE); e.More(); e.Next()) {
+      faces.push_back(TopoDS::Face(e.Current()));
+    }
+    for (const TopoDS_Face& face : faces) sewing.Add(face);
+    const TopoDS_Solid solid = sewn_solid(sewing, cutter);
+    const double previous = deviation;
+    deviation = loft_deviation(faces, cutter, move, within);
+    if (deviation <= tolerance) return LoftedSweep{{solid}, sections, deviation};
+    // Not halved by twice the poses: the silhouettes themselves are off (a flat end's bottom
+    // that a sideways tilt lifts on one side and lowers on the other), not the loft between.
+    if (deviation > 0.5 * previous) break;
+  }
+  throw ComputationError(fmt::format(
+      "{}: the loft through {} poses is {:.3g} mm off the sweep, beyond the tolerance {:g} mm",
+      cutter.name(), std::min(sections, 16) + 1, deviation, tolerance));
+}
+
+ComputationError occt_failure(const Cutter& cutter, const Standard_Failure& e) {
+  return ComputationError(fmt::format("{}: OpenCASCADE could not loft the move's sweep ({})",
+                                      cutter.name(), e.GetMessageString()));
+}
+
+}  // namespace
+
 LoftedSweep lofted_sweep_solid(const Cutter& cutter, const Move& move, double tolerance,
                                const Aabb& within) {
   try {
-    const TopoDS_Solid tool = local_tool(cutter);
-    const Profile& profile = cutter.profile();
-    const double reach = std::hypot(profile.max_radius(), profile.height());
-    const double big = 4.0 * reach;
-    const double reference = reference_height(profile);
-    double deviation = std::numeric_limits<double>::infinity();
-    int sections = 4;
-    for (; sections <= 16; sections *= 2) {
-      std::vector<LoftPose> poses;
-      for (int i = 0; i <= sections; ++i) {
-        poses.push_back(
-            loft_pose(cutter, tool, move, static_cast<double>(i) / sections, reference, big));
-        if (poses.back().kinds != poses.front().kinds) {
-          throw ComputationError(fmt::format(
-              "{}: the silhouette changes its kind of edges along the move ({} edges, then {})",
-              cutter.name(), poses.front().kinds.size(), poses.back().kinds.size()));
-        }
-      }
-      BRepOffsetAPI_ThruSections loft(/*isSolid=*/false, /*ruled=*/false, 1e-7);
-      loft.CheckCompatibility(false);
-      for (const LoftPose& pose : poses) loft.AddWire(pose.silhouette);
-      loft.Build();
-      check_done(loft.IsDone(), "lofting the silhouettes", cutter);
-      BRepBuilderAPI_Sewing sewing(1e-6 * reach);
-      std::vector<TopoDS_Face> faces = poses.front().trailing;
-      faces.insert(faces.end(), poses.back().leading.begin(), poses.back().leading.end());
-      for (TopExp_Explorer e(loft.Shape(), TopAbs_FACE); e.More(); e.Next()) {
-        faces.push_back(TopoDS::Face(e.Current()));
-      }
-      for (const TopoDS_Face& face : faces) sewing.Add(face);
-      const TopoDS_Solid solid = sewn_solid(sewing, cutter);
-      const double previous = deviation;
-      deviation = loft_deviation(faces, cutter, move, within);
-      if (deviation <= tolerance) return {solid, sections, deviation};
-      // Not halved by twice the poses: the silhouettes themselves are off (a flat end's bottom
-      // that a sideways tilt lifts on one side and lowers on the other), not the loft between.
-      if (deviation > 0.5 * previous) break;
+    std::array<std::size_t, 2> kinds{};
+    std::optional<LoftedSweep> loft =
+        loft_one(cutter, LoftTool(cutter), move, tolerance, within, kinds);
+    if (!loft) {
+      throw ComputationError(fmt::format(
+          "{}: the silhouette changes its kind of edges along the move ({} edges, then {})",
+          cutter.name(), kinds[0], kinds[1]));
     }
-    throw ComputationError(fmt::format(
-        "{}: the loft through {} poses is {:.3g} mm off the sweep, beyond the tolerance {:g} mm",
-        cutter.name(), std::min(sections, 16) + 1, deviation, tolerance));
+    return *loft;
   } catch (const Standard_Failure& e) {
-    throw ComputationError(fmt::format("{}: OpenCASCADE could not loft the move's sweep ({})",
-                                       cutter.name(), e.GetMessageString()));
+    throw occt_failure(cutter, e);
+  }
+}
+
+LoftedSweep lofted_sweep_parts(const Cutter& cutter, const Move& move, double tolerance,
+                               const Aabb& within) {
+  try {
+    const LoftTool t(cutter);
+    std::array<std::size_t, 2> kinds{};
+    if (std::optional<LoftedSweep> whole = loft_one(cutter, t, move, tolerance, within, kinds)) {
+      return *whole;
+    }
+    // How far a point of the tool moves per unit of the move's parameter, at most.
+    const double speed = (move.end - move.start).norm() + move.axis_angle() * t.reach;
+    // Brackets are bisected down to `width` from each side, so are at most `2 × width` wide.
+    const double width = 0.5 * tolerance / speed;
+    const auto kinds_at = [&](double u) {
+      return loft_pose(cutter, t.tool, move, u, t.reference, t.big).kinds;
+    };
+    // Right at a change the cuts may leave a sliver face that no pose can sort: such a pose
+    // counts as neither kind.
+    const auto kinds_near_change = [&](double u) {
+      try {
+        return kinds_at(u);
+      } catch (const ComputationError&) {
+        return std::vector<int>{};
+      }
+    };
+    // The changes: between 17 poses, each bisected down to `width` from both sides (the last
+    // pose of the kind before, the first of the kind after).
+    constexpr int kSamples = 16;
+    std::vector<std::array<double, 2>> changes;
+    std::vector<int> before = kinds_at(0.0);
+    for (int i = 1; i <= kSamples; ++i) {
+      const std::vector<int> after = kinds_at(static_cast<double>(i) / kSamples);
+      if (after != before) {
+        const double a = static_cast<double>(i - 1) / kSamples,
+                     b = static_cast<double>(i) / kSamples;
+        double lo = a, hi = b;
+        while (hi - lo > width) {
+          const double mid = 0.5 * (lo + hi);
+          (kinds_near_change(mid) == before ? lo : hi) = mid;
+        }
+        double first = lo;
+        hi = b;
+        while (hi - first > width) {
+          const double mid = 0.5 * (first + hi);
+          (kinds_near_change(mid) == after ? hi : first) = mid;
+        }
+        // Sorted by neither side over more than a bracket: the tool at one pose cannot cover it.
+        if (hi - lo > 2.0 * width) {
+          throw ComputationError(fmt::format(
+              "{}: the silhouette's kind of edges cannot be told over {:.3g} of the move",
+              cutter.name(), hi - lo));
+        }
+        changes.push_back({lo, hi});
+      }
+      before = after;
+    }
+    LoftedSweep parts;
+    parts.sections = 0;
+    double u = 0.0;
+    for (std::size_t k = 0; k <= changes.size(); ++k) {
+      const double end = k < changes.size() ? changes[k][0] : 1.0;
+      std::optional<LoftedSweep> part =
+          loft_one(cutter, t, move.part(u, end), tolerance, within, kinds);
+      if (!part) {
+        throw ComputationError(fmt::format(
+            "{}: the silhouette changes its kind of edges more than once between two of 17 "
+            "poses along the move ({} edges, then {})",
+            cutter.name(), kinds[0], kinds[1]));
+      }
+      parts.solids.push_back(part->solids.front());
+      parts.sections += part->sections;
+      parts.deviation = std::max(parts.deviation, part->deviation);
+      if (k == changes.size()) break;
+      // Across the change, the tool at the middle pose: no point of the tool moves farther than
+      // speed × 2 width = tolerance between the bracket's ends, so none of the sweep across it
+      // is farther than half that from this pose.
+      const double mid = 0.5 * (changes[k][0] + changes[k][1]);
+      parts.solids.push_back(tool_solid(cutter, move.position(mid), move.axis(mid)));
+      parts.deviation = std::max(parts.deviation, 0.5 * speed * (changes[k][1] - changes[k][0]));
+      u = changes[k][1];
+    }
+    parts.changes = static_cast<int>(changes.size());
+    return parts;
+  } catch (const Standard_Failure& e) {
+    throw occt_failure(cutter, e);
   }
 }
 

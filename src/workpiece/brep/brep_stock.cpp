@@ -172,9 +172,9 @@ double BrepStock::cut_lofted(const Cutter& cutter, const Move& move, double tole
   BRepBndLib::AddOptimal(solid_->shape, tight, /*useTriangulation=*/false);
   Aabb within = aabb_of(tight);
   within.inflate(tolerance);
-  const LoftedSweep loft = lofted_sweep_solid(cutter, move, tolerance, within);
+  const LoftedSweep loft = lofted_sweep_parts(cutter, move, tolerance, within);
   // Not merged: the loft's faces share no surface with the stock's.
-  const double taken = cut_all({Solid{loft.solid}}, removed, /*merge_faces=*/false);
+  const double taken = cut_all(solids(loft.solids), removed, /*merge_faces=*/false);
   ++moves_lofted_;
   worst_loft_deviation_ = std::max(worst_loft_deviation_, loft.deviation);
   return taken;

@@ -25,6 +25,7 @@
 #include <TopoDS_Shape.hxx>
 #include <TopoDS_Solid.hxx>
 
+#include <array>
 #include <vector>
 
 #include "cwe/geometry/aabb.hpp"
@@ -80,15 +81,26 @@ std::vector<TopoDS_Shape> helix_sweep_solids(const Cutter& cutter, const Move& h
 // at the start and the leading faces at the end. The deviation is measured on the solid's faces
 // where they lie inside `within` (the stock's box: beyond it a deviation changes no cut), as the
 // largest distance to the boundary of the union of the tool's poses; poses are doubled from 5
-// up to 17 until it is within `tolerance`. Throws ComputationError when the curve changes its
-// kind of edges along the move (a ball end whose lean turns from forward to back), when
-// OpenCASCADE cannot build the solid, or when it stays off by more than the tolerance.
+// up to 17 until it is within `tolerance`. A piece whose curve stops part-way, at a fold where
+// its two roots meet (a bull-nose's corner as the tool descends while it tilts), is cut by one
+// sheet out along one root and back along the other. Throws ComputationError when the curve
+// changes its kind of edges along the move (a ball end whose lean turns from forward to back),
+// when OpenCASCADE cannot build the solid, or when it stays off by more than the tolerance.
 struct LoftedSweep {
-  TopoDS_Shape solid;
-  int sections = 0;        // poses lofted through
-  double deviation = 0.0;  // mm, measured as above
+  std::vector<TopoDS_Shape> solids;  // one for a whole loft; parts in order, see below
+  int sections = 0;                  // poses lofted through, over all parts
+  double deviation = 0.0;            // mm, measured as above (the largest part's)
+  int changes = 0;                   // where the move was split (lofted_sweep_parts)
 };
 LoftedSweep lofted_sweep_solid(const Cutter& cutter, const Move& move, double tolerance,
+                               const Aabb& within);
+// The same for a move whose grazing curve changes its kind of edges: the changes are found
+// between 17 poses and bisected down to brackets so short that no point of the tool moves
+// farther than `tolerance` across one; each part between them is lofted, and each bracket is
+// covered by the tool at its middle pose (within half the tolerance). The solids are the parts
+// and the tools between them, in order. Throws ComputationError as lofted_sweep_solid, and when
+// a part still changes its kind (two changes between two of the 17 poses).
+LoftedSweep lofted_sweep_parts(const Cutter& cutter, const Move& move, double tolerance,
                                const Aabb& within);
 
 // Volume of a shape, mm³ (BRepGProp).
