@@ -754,10 +754,11 @@ struct Twist {
 //   f(θ) = (n_ρ v_x − k ω_y) cos θ + (n_ρ v_y + k ω_x) sin θ + n_z v_z,   k = ρ n_z − z n_ρ,
 // whose two roots, followed along the piece, are two curves; each is cut by a sheet ruled by
 // segments along the profile's normal through it (square to the surface, so that none lies in
-// a disc's plane), its guide curves interpolating 17 points (33 on an arc). Returns false where a
-// piece's grazing curve leaves it part-way (no roots over part of it: a torus whose curve turns at
-// its bottom, as under a ramp), or a piece other than a ball reaches the axis (a pointed cone): the
-// line's silhouette is then used.
+// a disc's plane), its guide curves interpolating 17 points (33 on an arc) spaced evenly along
+// the curve's length. Where the roots stop part-way at one end of a piece (a fold: a torus whose
+// curve turns on it, as under a ramp), one sheet runs out along one root and back along the
+// other. Returns false where the roots are on two stretches of a piece, or a piece other than a
+// ball reaches the axis (a pointed cone): the line's silhouette is then used.
 bool grazing_cuts(const Cutter& cutter, const Twist& twist, std::vector<Plane>& planes,
                   std::vector<TopoDS_Face>& sheets) {
   const Profile& profile = cutter.profile();

@@ -95,11 +95,13 @@ struct LoftedSweep {
 LoftedSweep lofted_sweep_solid(const Cutter& cutter, const Move& move, double tolerance,
                                const Aabb& within);
 // The same for a move whose grazing curve changes its kind of edges: the changes are found
-// between 17 poses and bisected down to brackets so short that no point of the tool moves
-// farther than `tolerance` across one; each part between them is lofted, and each bracket is
-// covered by the tool at its middle pose (within half the tolerance). The solids are the parts
-// and the tools between them, in order. Throws ComputationError as lofted_sweep_solid, and when
-// a part still changes its kind (two changes between two of the 17 poses).
+// between 17 poses and bisected from both sides (a pose right at a change, whose cuts leave a
+// sliver face no test can sort, counts as neither) down to brackets so short that no point of
+// the tool moves farther than `tolerance` across one; each part between them is lofted, and each
+// bracket is covered by the tool at its middle pose (within half the tolerance). The solids are
+// the parts and the tools between them, in order. Throws ComputationError as lofted_sweep_solid,
+// when a part still changes its kind (two changes between two of the 17 poses), and when a
+// change cannot be bracketed so (poses that no test can sort over more than a bracket).
 LoftedSweep lofted_sweep_parts(const Cutter& cutter, const Move& move, double tolerance,
                                const Aabb& within);
 
