@@ -16,14 +16,7 @@ namespace {
 
 using Seg = ProfileSegment;
 
-Move line(const Vec3& a, const Vec3& b, const Vec3& axis_a, const Vec3& axis_b) {
-  Move m;
-  m.start = a;
-  m.end = b;
-  m.start_axis = axis_a.normalized();
-  m.end_axis = axis_b.normalized();
-  return m;
-}
+using test::line;
 
 Move arc(const Vec3& start, const Vec3& center, double sweep, double axial) {
   Move m;

@@ -12,6 +12,16 @@
 
 namespace cwe::test {
 
+// A straight move from tip a to tip b, the axis turning from axis_a to axis_b (any lengths).
+inline Move line(const Vec3& a, const Vec3& b, const Vec3& axis_a, const Vec3& axis_b) {
+  Move m;
+  m.start = a;
+  m.end = b;
+  m.start_axis = axis_a.normalized();
+  m.end_axis = axis_b.normalized();
+  return m;
+}
+
 // Exact signed distance from a TCS point to the cutter's surface (negative inside): distance in
 // the meridian plane to the profile outline or the top disc.
 inline double signed_distance(const Cutter& cutter, const Vec3& local) {

@@ -16,12 +16,7 @@ namespace {
 
 Move line(const Vec3& a, const Vec3& b, const Vec3& axis_a = Vec3::UnitZ(),
           const Vec3& axis_b = Vec3::UnitZ()) {
-  Move m;
-  m.start = a;
-  m.end = b;
-  m.start_axis = axis_a.normalized();
-  m.end_axis = axis_b.normalized();
-  return m;
+  return test::line(a, b, axis_a, axis_b);
 }
 
 // Inside a closed convex mesh: behind every face plane.

@@ -340,6 +340,36 @@ TEST(BrepShapes, HelixOfSeveralTurnsIsTheUnionOfItsPoses) {
   }
 }
 
+// Random points of the box [lo, hi] classified in the loft's solids (in any of them) and
+// against the tool's poses (test::union_side, exact to the band by branch and bound on u);
+// points within the deviation plus 1e-3 of the union's boundary are left out.
+void expect_union_of_poses(const Cutter& cutter, const Move& move, const LoftedSweep& loft,
+                           const Vec3& lo, const Vec3& hi, test::Random& random) {
+  std::vector<std::unique_ptr<BRepClass3d_SolidClassifier>> classifiers;
+  for (const TopoDS_Shape& solid : loft.solids) {
+    EXPECT_TRUE(BRepCheck_Analyzer(solid).IsValid());
+    classifiers.push_back(std::make_unique<BRepClass3d_SolidClassifier>(solid));
+  }
+  const double reach = std::hypot(cutter.profile().max_radius(), cutter.profile().height());
+  int compared = 0, inside = 0;
+  for (int k = 0; k < 400; ++k) {
+    const Vec3 p(random.uniform(lo.x(), hi.x()), random.uniform(lo.y(), hi.y()),
+                 random.uniform(lo.z(), hi.z()));
+    const int side = test::union_side(cutter, move, p, loft.deviation + 1e-3, reach);
+    if (side == 0) continue;
+    bool in = false;
+    for (const auto& classify : classifiers) {
+      classify->Perform(gp_Pnt(p.x(), p.y(), p.z()), 1e-7);
+      in = in || classify->State() == TopAbs_IN;
+    }
+    ++compared;
+    inside += side < 0;
+    EXPECT_EQ(in, side < 0) << "at " << p.transpose();
+  }
+  EXPECT_GT(compared, 350);
+  EXPECT_GT(inside, 25);  // the boxes hold only the tool's lowest few millimetres
+}
+
 // A simultaneous 5-axis move is lofted through its poses' silhouettes (lofted_sweep_solid): its
 // solid must be the union of the tool's poses within the measured deviation, inside the box it
 // was measured in (a block's: beyond it the loft's faces are not held to the tolerance). Random
@@ -389,11 +419,7 @@ TEST(BrepShapes, FiveAxisMoveIsLoftedWithinItsDeviation) {
   for (const Case& c : cases) {
     SCOPED_TRACE(c.spec);
     const Cutter cutter = cutter_from_spec(c.spec);
-    Move move;
-    move.start = c.start;
-    move.end = c.end;
-    move.start_axis = c.start_axis.normalized();
-    move.end_axis = c.end_axis.normalized();
+    const Move move = test::line(c.start, c.end, c.start_axis, c.end_axis);
     if (c.refused != nullptr) {
       try {
         lofted_sweep_solid(cutter, move, kTolerance, block);
@@ -405,25 +431,10 @@ TEST(BrepShapes, FiveAxisMoveIsLoftedWithinItsDeviation) {
     }
     const LoftedSweep loft = lofted_sweep_solid(cutter, move, kTolerance, block);
     EXPECT_LE(loft.deviation, kTolerance);
-    EXPECT_TRUE(BRepCheck_Analyzer(loft.solids.front()).IsValid());
-    BRepClass3d_SolidClassifier classify(loft.solids.front());
-    const double reach = std::hypot(cutter.profile().max_radius(), cutter.profile().height());
     Aabb around = move.bounds();
     around.inflate(cutter.profile().max_radius() + 1.0);
-    const Vec3 lo = around.min.cwiseMax(block.min), hi = around.max.cwiseMin(block.max);
-    int compared = 0, inside = 0;
-    for (int k = 0; k < 400; ++k) {
-      const Vec3 p(random.uniform(lo.x(), hi.x()), random.uniform(lo.y(), hi.y()),
-                   random.uniform(lo.z(), hi.z()));
-      const int side = test::union_side(cutter, move, p, loft.deviation + 1e-3, reach);
-      if (side == 0) continue;
-      classify.Perform(gp_Pnt(p.x(), p.y(), p.z()), 1e-7);
-      ++compared;
-      inside += side < 0;
-      EXPECT_EQ(classify.State() == TopAbs_IN, side < 0) << "at " << p.transpose();
-    }
-    EXPECT_GT(compared, 350);
-    EXPECT_GT(inside, 25);  // the block holds only the tool's lowest few millimetres
+    expect_union_of_poses(cutter, move, loft, around.min.cwiseMax(block.min),
+                          around.max.cwiseMin(block.max), random);
   }
 }
 
@@ -458,43 +469,17 @@ TEST(BrepShapes, FiveAxisMoveWhoseCurveChangesKindIsLoftedInParts) {
   for (const Case& c : cases) {
     SCOPED_TRACE(c.spec);
     const Cutter cutter = cutter_from_spec(c.spec);
-    Move move;
-    move.start = c.start;
-    move.end = c.end;
-    move.start_axis = c.start_axis.normalized();
-    move.end_axis = c.end_axis.normalized();
+    const Move move = test::line(c.start, c.end, c.start_axis, c.end_axis);
     const LoftedSweep loft = lofted_sweep_parts(cutter, move, kTolerance, c.block);
     EXPECT_GE(loft.changes, 1);
-    ASSERT_EQ(loft.solids.size(), 2 * static_cast<std::size_t>(loft.changes) + 1);
+    EXPECT_EQ(loft.solids.size(), 2 * static_cast<std::size_t>(loft.changes) + 1);
     EXPECT_LE(loft.deviation, kTolerance);
-    std::vector<std::unique_ptr<BRepClass3d_SolidClassifier>> classifiers;
-    for (const TopoDS_Shape& solid : loft.solids) {
-      EXPECT_TRUE(BRepCheck_Analyzer(solid).IsValid());
-      classifiers.push_back(std::make_unique<BRepClass3d_SolidClassifier>(solid));
-    }
-    const double reach = std::hypot(cutter.profile().max_radius(), cutter.profile().height());
     Aabb around = move.bounds();
     around.inflate(cutter.profile().max_radius() + 1.0);
     // From just under the lowest tip up: the tool's poses fill little of the rest.
     around.min.z() = std::min(c.start.z(), c.end.z()) - 1.0;
-    const Vec3 lo = around.min.cwiseMax(c.block.min), hi = around.max.cwiseMin(c.block.max);
-    int compared = 0, inside = 0;
-    for (int k = 0; k < 400; ++k) {
-      const Vec3 p(random.uniform(lo.x(), hi.x()), random.uniform(lo.y(), hi.y()),
-                   random.uniform(lo.z(), hi.z()));
-      const int side = test::union_side(cutter, move, p, loft.deviation + 1e-3, reach);
-      if (side == 0) continue;
-      bool in = false;
-      for (const auto& classify : classifiers) {
-        classify->Perform(gp_Pnt(p.x(), p.y(), p.z()), 1e-7);
-        in = in || classify->State() == TopAbs_IN;
-      }
-      ++compared;
-      inside += side < 0;
-      EXPECT_EQ(in, side < 0) << "at " << p.transpose();
-    }
-    EXPECT_GT(compared, 350);
-    EXPECT_GT(inside, 25);
+    expect_union_of_poses(cutter, move, loft, around.min.cwiseMax(c.block.min),
+                          around.max.cwiseMin(c.block.max), random);
   }
 }
 
