@@ -1,5 +1,6 @@
 #include "cwe/geometry/triangle_mesh.hpp"
 
+#include <algorithm>
 #include <map>
 #include <utility>
 
@@ -76,6 +77,37 @@ MeshClosure check_closure(const TriangleMesh& mesh) {
     }
   }
   return c;
+}
+
+int remove_folds(TriangleMesh& mesh) {
+  // Each triangle by its sorted vertices, with its facing: +1 for a turn of (a, b, c), -1 for a
+  // turn of (a, c, b).
+  std::map<std::array<int, 3>, std::vector<std::pair<std::size_t, int>>> by_vertices;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const std::array<int, 3>& tri = mesh.triangles[t];
+    std::array<int, 3> sorted = tri;
+    std::sort(sorted.begin(), sorted.end());
+    const int first = static_cast<int>(std::find(tri.begin(), tri.end(), sorted[0]) - tri.begin());
+    const int facing = tri[static_cast<std::size_t>((first + 1) % 3)] == sorted[1] ? 1 : -1;
+    by_vertices[sorted].push_back({t, facing});
+  }
+  std::vector<bool> removed(mesh.triangles.size(), false);
+  int count = 0;
+  for (const auto& [vertices, uses] : by_vertices) {
+    std::vector<std::size_t> up, down;
+    for (const auto& [t, facing] : uses) (facing > 0 ? up : down).push_back(t);
+    for (std::size_t k = 0; k < std::min(up.size(), down.size()); ++k) {
+      removed[up[k]] = removed[down[k]] = true;
+      count += 2;
+    }
+  }
+  if (count == 0) return 0;
+  std::vector<std::array<int, 3>> kept;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (!removed[t]) kept.push_back(mesh.triangles[t]);
+  }
+  mesh.triangles = std::move(kept);
+  return count;
 }
 
 }  // namespace cwe

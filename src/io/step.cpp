@@ -367,6 +367,8 @@ TriangleMesh StepModel::tessellate(double deviation) const {
       mesh.triangles.push_back(tri);
     }
   }
+  // A face narrower than the weld tolerance collapses onto a line, its triangles into folds.
+  remove_folds(mesh);
   mesh = without_unused_vertices(std::move(mesh));
   const MeshClosure closure = check_closure(mesh);
   if (!closure.closed()) {

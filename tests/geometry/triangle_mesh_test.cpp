@@ -105,5 +105,28 @@ TEST(TriangleMesh, ClosureCountsBrokenEdges) {
   EXPECT_TRUE(flipped.boundary_examples.empty());
 }
 
+TEST(TriangleMesh, FoldsAreRemovedAndRepeatsKept) {
+  TriangleMesh m;
+  m.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1), Vec3(0.5, 0, 0)};
+  m.triangles = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  const TriangleMesh closed = m;
+  // A fold on the edge 0-1 (through the point 4 on it): 0-1 is used five times, 0-4 and 1-4
+  // three.
+  m.triangles.insert(m.triangles.begin() + 1, {1, 0, 4});
+  m.triangles.push_back({4, 1, 0});  // the same turn, from another vertex: not a fold
+  m.triangles.push_back({0, 1, 4});  // the opposite turn
+  EXPECT_EQ(check_closure(m).non_manifold_edges, 3);
+  EXPECT_EQ(remove_folds(m), 2);
+  // One of the two same-facing triangles is left, unpaired: check_closure reports it.
+  EXPECT_FALSE(check_closure(m).closed());
+  ASSERT_EQ(m.triangles.size(), 5u);
+  EXPECT_EQ(m.triangles[4], (std::array<int, 3>{4, 1, 0}));
+  m.triangles.push_back({1, 4, 0});
+  EXPECT_EQ(remove_folds(m), 2);
+  EXPECT_EQ(m.triangles, closed.triangles);
+  EXPECT_TRUE(check_closure(m).closed());
+  EXPECT_NEAR(m.volume(), 1.0 / 6.0, 1e-15);
+  EXPECT_EQ(remove_folds(m), 0);
+}
 }  // namespace
 }  // namespace cwe

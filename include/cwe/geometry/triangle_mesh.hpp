@@ -51,6 +51,14 @@ struct MeshClosure {
 
 MeshClosure check_closure(const TriangleMesh& mesh);
 
+// Removes folds: pairs of triangles on the same three vertices that face opposite ways. A pair
+// encloses nothing and uses each of its edges once each way, so the enclosed volume and the
+// closure of the rest are unchanged. A tessellation leaves them where a face narrower than its
+// weld tolerance collapses onto a line (seen on a B-rep stock's sliver between two 5-axis
+// passes: an edge used four times). Triangles that repeat one facing way are kept (check_closure
+// reports them). Returns how many triangles were removed; the others keep their order.
+int remove_folds(TriangleMesh& mesh);
+
 // The convex hull of the points as a closed, outward-facing triangle mesh (CGAL's
 // convex_hull_3 with exact predicates). Empty when the points span less than a volume
 // (fewer than four, or all coplanar).
