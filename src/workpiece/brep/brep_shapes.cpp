@@ -1,6 +1,7 @@
 #include "cwe/workpiece/brep/brep_shapes.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -754,11 +755,12 @@ struct Twist {
 //   f(θ) = (n_ρ v_x − k ω_y) cos θ + (n_ρ v_y + k ω_x) sin θ + n_z v_z,   k = ρ n_z − z n_ρ,
 // whose two roots, followed along the piece, are two curves; each is cut by a sheet ruled by
 // segments along the profile's normal through it (square to the surface, so that none lies in
-// a disc's plane), its guide curves interpolating 17 points (33 on an arc) spaced evenly along
-// the curve's length. Where the roots stop part-way at one end of a piece (a fold: a torus whose
-// curve turns on it, as under a ramp), one sheet runs out along one root and back along the
-// other. Returns false where the roots are on two stretches of a piece, or a piece other than a
-// ball reaches the axis (a pointed cone): the line's silhouette is then used.
+// a disc's plane), its guide curves interpolating 17 points (33 on an arc; twice that less one
+// through a fold) spaced evenly along the curve's length. Where the roots stop part-way at one end
+// of a piece (a fold: a torus whose curve turns on it, as under a ramp), one sheet runs out along
+// one root and back along the other. Returns false where the roots are on two stretches of a piece,
+// or a piece other than a ball reaches the axis (a pointed cone): the line's silhouette is then
+// used.
 bool grazing_cuts(const Cutter& cutter, const Twist& twist, std::vector<Plane>& planes,
                   std::vector<TopoDS_Face>& sheets) {
   const Profile& profile = cutter.profile();
@@ -1207,58 +1209,84 @@ LoftedSweep lofted_sweep_solid(const Cutter& cutter, const Move& move, double to
 
 LoftedSweep lofted_sweep_parts(const Cutter& cutter, const Move& move, double tolerance,
                                const Aabb& within) {
+  if (!(tolerance > 0.0)) {
+    throw ComputationError(fmt::format("{}: loft tolerance {} mm, expected a positive length",
+                                       cutter.name(), tolerance));
+  }
   try {
     const LoftTool t(cutter);
     std::array<std::size_t, 2> kinds{};
-    if (std::optional<LoftedSweep> whole = loft_one(cutter, t, move, tolerance, within, kinds)) {
-      return *whole;
+    // The whole move first; a pose of it right at a change (see below) fails it as well.
+    std::optional<ComputationError> whole_failed;
+    try {
+      if (std::optional<LoftedSweep> whole = loft_one(cutter, t, move, tolerance, within, kinds)) {
+        return *whole;
+      }
+    } catch (const ComputationError& e) {
+      whole_failed = e;
     }
     // How far a point of the tool moves per unit of the move's parameter, at most.
-    const double speed = (move.end - move.start).norm() + move.axis_angle() * t.reach;
+    const double speed = move.length() + move.axis_angle() * t.reach;
     // Brackets are bisected down to `width` from each side, so are at most `2 × width` wide.
     const double width = 0.5 * tolerance / speed;
-    const auto kinds_at = [&](double u) {
-      return loft_pose(cutter, t.tool, move, u, t.reference, t.big).kinds;
-    };
-    // Right at a change the cuts may leave a sliver face that no pose can sort: such a pose
-    // counts as neither kind.
+    // Right at a change the cuts may leave a sliver face that no pose can sort, or curves that
+    // OpenCASCADE cannot interpolate: such a pose counts as neither kind (no kinds).
     const auto kinds_near_change = [&](double u) {
       try {
-        return kinds_at(u);
+        return loft_pose(cutter, t.tool, move, u, t.reference, t.big).kinds;
       } catch (const ComputationError&) {
-        return std::vector<int>{};
+      } catch (const Standard_Failure&) {
       }
+      return std::vector<int>{};
     };
-    // The changes: between 17 poses, each bisected down to `width` from both sides (the last
-    // pose of the kind before, the first of the kind after).
-    constexpr int kSamples = 16;
+    // The changes: between 17 poses (one of them right at a change moved along by a bracket),
+    // each bisected down to `width` from both sides (the last pose of the kind before, the first
+    // of the kind after).
+    constexpr int kSamples = 16, kMostHalvings = 60, kMostBracketTools = 16;
+    std::vector<double> at(kSamples + 1);
+    std::vector<std::vector<int>> sampled(kSamples + 1);
+    for (int i = 0; i <= kSamples; ++i) {
+      at[i] = static_cast<double>(i) / kSamples;
+      sampled[i] = kinds_near_change(at[i]);
+      for (const double nudge : {2.0 * width, -2.0 * width}) {
+        if (!sampled[i].empty() || i == 0 || i == kSamples) break;
+        at[i] = static_cast<double>(i) / kSamples + nudge;
+        sampled[i] = kinds_near_change(at[i]);
+      }
+      if (sampled[i].empty()) {
+        if (whole_failed) throw *whole_failed;
+        throw ComputationError(
+            fmt::format("{}: the silhouette of the pose at {:.3g} of the move cannot be sorted",
+                        cutter.name(), at[i]));
+      }
+    }
     std::vector<std::array<double, 2>> changes;
-    std::vector<int> before = kinds_at(0.0);
     for (int i = 1; i <= kSamples; ++i) {
-      const std::vector<int> after = kinds_at(static_cast<double>(i) / kSamples);
-      if (after != before) {
-        const double a = static_cast<double>(i - 1) / kSamples,
-                     b = static_cast<double>(i) / kSamples;
-        double lo = a, hi = b;
-        while (hi - lo > width) {
-          const double mid = 0.5 * (lo + hi);
-          (kinds_near_change(mid) == before ? lo : hi) = mid;
-        }
-        double first = lo;
-        hi = b;
-        while (hi - first > width) {
-          const double mid = 0.5 * (first + hi);
-          (kinds_near_change(mid) == after ? hi : first) = mid;
-        }
-        // Sorted by neither side over more than a bracket: the tool at one pose cannot cover it.
-        if (hi - lo > 2.0 * width) {
-          throw ComputationError(fmt::format(
-              "{}: the silhouette's kind of edges cannot be told over {:.3g} of the move",
-              cutter.name(), hi - lo));
-        }
+      const std::vector<int>& before = sampled[i - 1];
+      const std::vector<int>& after = sampled[i];
+      if (after == before) continue;
+      double lo = at[i - 1], hi = at[i];
+      for (int step = 0; step < kMostHalvings && hi - lo > width; ++step) {
+        const double mid = 0.5 * (lo + hi);
+        (kinds_near_change(mid) == before ? lo : hi) = mid;
+      }
+      double first = lo;
+      hi = at[i];
+      for (int step = 0; step < kMostHalvings && hi - first > width; ++step) {
+        const double mid = 0.5 * (first + hi);
+        (kinds_near_change(mid) == after ? hi : first) = mid;
+      }
+      // A part shorter than a bracket between two changes: one bracket over both.
+      if (!changes.empty() && lo - changes.back()[1] < 2.0 * width) {
+        changes.back()[1] = hi;
+      } else {
         changes.push_back({lo, hi});
       }
-      before = after;
+    }
+    if (changes.empty()) {
+      if (whole_failed) throw *whole_failed;
+      throw ComputationError(fmt::format(
+          "{}: the silhouette changes its kind of edges between poses that agree", cutter.name()));
     }
     LoftedSweep parts;
     parts.sections = 0;
@@ -1277,13 +1305,22 @@ LoftedSweep lofted_sweep_parts(const Cutter& cutter, const Move& move, double to
       parts.sections += part->sections;
       parts.deviation = std::max(parts.deviation, part->deviation);
       if (k == changes.size()) break;
-      // Across the change, the tool at the middle pose: no point of the tool moves farther than
-      // speed × 2 width = tolerance between the bracket's ends, so none of the sweep across it
-      // is farther than half that from this pose.
-      const double mid = 0.5 * (changes[k][0] + changes[k][1]);
-      parts.solids.push_back(tool_solid(cutter, move.position(mid), move.axis(mid)));
-      parts.deviation = std::max(parts.deviation, 0.5 * speed * (changes[k][1] - changes[k][0]));
-      u = changes[k][1];
+      // Across the change, the tool at the middle of each of n stretches no wider than
+      // 2 width: no point of the tool moves farther than speed × 2 width = tolerance across
+      // one, so none of the sweep across it is farther than half that from its pose.
+      const double lo = changes[k][0], hi = changes[k][1];
+      const int n = std::max(1, static_cast<int>(std::ceil((hi - lo) / (2.0 * width))));
+      if (n > kMostBracketTools) {  // poses no test can sort over a long stretch
+        throw ComputationError(
+            fmt::format("{}: the silhouette's kind of edges cannot be told over {:.3g} of the move",
+                        cutter.name(), hi - lo));
+      }
+      for (int j = 0; j < n; ++j) {
+        const double mid = lo + (j + 0.5) * (hi - lo) / n;
+        parts.solids.push_back(tool_solid(cutter, move.position(mid), move.axis(mid)));
+      }
+      parts.deviation = std::max(parts.deviation, 0.5 * speed * (hi - lo) / n);
+      u = hi;
     }
     parts.changes = static_cast<int>(changes.size());
     return parts;

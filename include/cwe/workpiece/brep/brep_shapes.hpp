@@ -25,7 +25,6 @@
 #include <TopoDS_Shape.hxx>
 #include <TopoDS_Solid.hxx>
 
-#include <array>
 #include <vector>
 
 #include "cwe/geometry/aabb.hpp"
@@ -88,7 +87,7 @@ std::vector<TopoDS_Shape> helix_sweep_solids(const Cutter& cutter, const Move& h
 // when OpenCASCADE cannot build the solid, or when it stays off by more than the tolerance.
 struct LoftedSweep {
   std::vector<TopoDS_Shape> solids;  // one for a whole loft; parts in order, see below
-  int sections = 0;                  // poses lofted through, over all parts
+  int sections = 0;                  // intervals between the poses lofted, over all parts
   double deviation = 0.0;            // mm, measured as above (the largest part's)
   int changes = 0;                   // where the move was split (lofted_sweep_parts)
 };
@@ -97,11 +96,12 @@ LoftedSweep lofted_sweep_solid(const Cutter& cutter, const Move& move, double to
 // The same for a move whose grazing curve changes its kind of edges: the changes are found
 // between 17 poses and bisected from both sides (a pose right at a change, whose cuts leave a
 // sliver face no test can sort, counts as neither) down to brackets so short that no point of
-// the tool moves farther than `tolerance` across one; each part between them is lofted, and each
-// bracket is covered by the tool at its middle pose (within half the tolerance). The solids are
-// the parts and the tools between them, in order. Throws ComputationError as lofted_sweep_solid,
-// when a part still changes its kind (two changes between two of the 17 poses), and when a
-// change cannot be bracketed so (poses that no test can sort over more than a bracket).
+// the tool moves farther than `tolerance` across one (two changes closer than that share one);
+// each part between them is lofted, and each bracket is covered by the tool at its middle pose
+// (or at the middles of as many stretches of that width), within half the tolerance. The solids
+// are the parts and the tools between them, in order. Throws ComputationError as
+// lofted_sweep_solid, when a part still changes its kind (two changes between two of the 17
+// poses), and when poses no test can sort cover more than 16 brackets.
 LoftedSweep lofted_sweep_parts(const Cutter& cutter, const Move& move, double tolerance,
                                const Aabb& within);
 
