@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <limits>
 #include <utility>
 
 #include "random.hpp"
@@ -122,6 +124,20 @@ TEST(DexelRay, RandomCutsMatchTheReference) {
       bool expected = false;
       for (const Interval& i : got) expected = expected || (i.lo < q && i.hi > p);
       ASSERT_EQ(r.overlaps(p, q), expected);
+      // Where it misses, the nearest material ends about (p, q).
+      float below = -std::numeric_limits<float>::infinity();
+      float above = std::numeric_limits<float>::infinity();
+      ASSERT_EQ(r.overlaps_or_bound(p, q, below, above), expected);
+      if (!expected) {
+        double nearest_below = -std::numeric_limits<double>::infinity();
+        double nearest_above = std::numeric_limits<double>::infinity();
+        for (const Interval& i : got) {
+          if (i.hi <= p) nearest_below = std::max(nearest_below, i.hi);
+          if (i.lo >= q) nearest_above = std::min(nearest_above, i.lo);
+        }
+        ASSERT_EQ(below, nearest_below);
+        ASSERT_EQ(above, nearest_above);
+      }
       for (std::size_t i = 0; i < got.size(); ++i) {
         ASSERT_NEAR(got[i].lo, reference[i].lo, 1e-5);
         ASSERT_NEAR(got[i].hi, reference[i].hi, 1e-5);

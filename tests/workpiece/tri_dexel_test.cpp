@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <span>
 #include <vector>
 
 #include "cwe/core/error.hpp"
@@ -29,7 +31,10 @@ TEST(TriDexel, BoxStockVolumeAndGrid) {
   EXPECT_EQ(d.ray_count(), 20u * 12u + 12u * 8u + 8u * 20u);
   for (const double v : d.volume().by_family) EXPECT_NEAR(v, 240.0, 1e-9);
   EXPECT_EQ(d.memory().ray_bytes, 16u * d.ray_count());
+  // A free span of 8 bytes for each row of each family's tiles (one tile across here).
+  EXPECT_EQ(d.memory().span_bytes, 8u * (12u + 8u + 20u));
   EXPECT_EQ(d.memory().heap_bytes, 0u);
+  EXPECT_EQ(d.free_rows(), 0u);  // none known before a cut
   EXPECT_TRUE(d.contains(Vec3(5, 3, 2)));
   EXPECT_FALSE(d.contains(Vec3(5, 3, 4.5)));
   const Ray r = d.ray(2, 0, 0);
@@ -259,6 +264,96 @@ TEST(TriDexel, RemovalRecordIsWhatTheRaysLost) {
   EXPECT_GT(volume, 100.0);
   EXPECT_GT(single, 0);
   EXPECT_GT(several, 0);
+}
+
+// Removal skips a tile row of rays whose material it found clear of an earlier cut's box when
+// the next box lies in that clear stretch. A pocket cleared in 0.5 mm steps, each removed on its
+// own with its record (as the engagement's removal does), at two levels joined by ramps, ends
+// with every ray as cutting each ray by every step's chord gives it, and each step's record is
+// what that ray lost: skipping changes nothing.
+TEST(TriDexel, SkippingClearRowsChangesNoRay) {
+  const Cutter flat = cutter_from_spec("flat:6,12");
+  std::vector<LinearSweep> steps;
+  Vec3 at(3, 3, 8);
+  const auto go = [&](const Vec3& to) {
+    if (to == at) return;
+    const int n = std::max(1, static_cast<int>(std::ceil((to - at).norm() / 0.5)));
+    for (int k = 1; k <= n; ++k) {
+      const Vec3 next = at + (to - at) * (static_cast<double>(k) / n);
+      steps.emplace_back(flat, k == 1 ? at : steps.back().end(), next, Vec3::UnitZ());
+    }
+    at = to;
+  };
+  for (const double z : {8.0, 6.0}) {
+    go({3, 3, z});
+    for (int row = 0; row < 4; ++row) {
+      const double y = 3.0 + 3.0 * row;
+      go({at.x(), y, z});
+      go({row % 2 == 0 ? 21.0 : 3.0, y, z});
+    }
+    go({3, 3, z});
+  }
+  TriDexel stock = TriDexel::from_box(Aabb{{0, 0, 0}, {24, 16, 10}}, 0.25);
+  std::array<std::vector<DexelRay>, 3> reference;  // the rays, cut one by one
+  for (int a = 0; a < 3; ++a) {
+    for (int j = 0; j < stock.grid(a)[1]; ++j) {
+      for (int i = 0; i < stock.grid(a)[0]; ++i) reference[a].push_back(stock.at(a, i, j));
+    }
+  }
+  RemovalRecord record;
+  std::vector<Interval> lost;
+  for (const LinearSweep& step : steps) {
+    stock.remove(
+        {{step.bounds(),
+          [&step](const Ray& ray) { return step.chord(ray); },
+          {},
+          [&step](const Ray& ray, int across, std::span<const double> along,
+                  std::span<Interval> chords) { step.chords(ray, across, along, chords); }}},
+        &record);
+    const Aabb box = step.bounds();
+    for (int a = 0; a < 3; ++a) {
+      const int b = (a + 1) % 3, c = (a + 2) % 3;
+      std::size_t stretches = 0;
+      for (int j = 0; j < stock.grid(a)[1]; ++j) {
+        for (int i = 0; i < stock.grid(a)[0]; ++i) {
+          const Ray ray = stock.ray(a, i, j);
+          if (ray.origin[b] < box.min[b] || ray.origin[b] > box.max[b] ||
+              ray.origin[c] < box.min[c] || ray.origin[c] > box.max[c]) {
+            continue;
+          }
+          const Interval chord = step.chord(ray);
+          if (chord.is_empty()) continue;
+          DexelRay& material = reference[a][static_cast<std::size_t>(j * stock.grid(a)[0] + i)];
+          lost.clear();
+          material.subtract(chord.lo, chord.hi, &lost);
+          const std::span<const RemovalRecord::Stretch> recorded = record.on_ray(a, i, j);
+          ASSERT_EQ(recorded.size(), lost.size()) << a << " " << i << " " << j;
+          for (std::size_t k = 0; k < lost.size(); ++k) {
+            ASSERT_EQ(recorded[k].lo, static_cast<float>(lost[k].lo));
+            ASSERT_EQ(recorded[k].hi, static_cast<float>(lost[k].hi));
+          }
+          stretches += lost.size();
+        }
+      }
+      ASSERT_EQ(record.family(a).size(), stretches);
+    }
+  }
+  for (int a = 0; a < 3; ++a) {
+    for (int j = 0; j < stock.grid(a)[1]; ++j) {
+      for (int i = 0; i < stock.grid(a)[0]; ++i) {
+        ASSERT_EQ(stock.at(a, i, j).intervals(),
+                  reference[a][static_cast<std::size_t>(j * stock.grid(a)[0] + i)].intervals());
+      }
+    }
+  }
+  // Rows were found clear and skipped; 3 + 4·18·2 + 3 steps of 0.5 mm per level at least.
+  EXPECT_GT(stock.free_rows(), 100u);
+  EXPECT_GT(steps.size(), 300u);
+  // The pocket: the 18 × 9 mm rectangle of the tool's centres grown by its 3 mm radius, 4 mm
+  // deep; the families' mean within a third of perimeter × depth × spacing.
+  const double removed = 4.0 * (18.0 * 9.0 + 2.0 * 3.0 * (18.0 + 9.0) + kPi * 9.0);
+  const double perimeter = 2.0 * (18.0 + 9.0) + 2.0 * kPi * 3.0;
+  EXPECT_NEAR(stock.volume().mean(), 24.0 * 16.0 * 10.0 - removed, perimeter * 4.0 * 0.25 / 3.0);
 }
 
 }  // namespace

@@ -51,6 +51,20 @@ bool DexelRay::heap_overlaps(double lo, double hi) const {
   return false;
 }
 
+bool DexelRay::heap_overlaps_or_bound(double lo, double hi, float& below, float& above) const {
+  if (heap_overlaps(lo, hi)) return true;
+  const float* pairs = data();
+  const int n = count();
+  for (int k = 0; k < n; ++k) {
+    if (pairs[2 * k + 1] <= lo) {
+      below = std::max(below, pairs[2 * k + 1]);
+    } else {
+      above = std::min(above, pairs[2 * k]);
+    }
+  }
+  return false;
+}
+
 float* DexelRay::heap() {
   float* array = nullptr;
   std::memcpy(&array, &slot_[2], sizeof array);

@@ -80,7 +80,10 @@ void TriDexel::check_grid(const Aabb& box, double spacing, const SourceLocation&
                                           spacing, size.x(), size.y(), size.z(), rays));
     }
   }
-  check_memory(rays * static_cast<double>(sizeof(DexelRay)),
+  // Each ray, and each kTile rays of a row their free span.
+  const double bytes_per_ray = static_cast<double>(sizeof(DexelRay)) +
+                               static_cast<double>(sizeof(FreeSpan)) / static_cast<double>(kTile);
+  check_memory(rays * bytes_per_ray,
                fmt::format("{:g} mm: the {:.3g} dexel rays of a {:g} × {:g} × {:g} mm stock",
                            spacing, rays, size.x(), size.y(), size.z()),
                where, "use a coarser resolution");
@@ -117,6 +120,9 @@ TriDexel TriDexel::empty_grid(const Aabb& box, double spacing, bool filled) {
     const DexelRay ray = filled ? DexelRay(0.0f, static_cast<float>(box.size()[a])) : DexelRay();
     d.rays_[static_cast<std::size_t>(a)].assign(
         static_cast<std::size_t>(g[0]) * static_cast<std::size_t>(g[1]), ray);
+    d.free_[static_cast<std::size_t>(a)].assign(
+        d.free_row(a, g[1], 0),
+        {std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity()});
   });
   return d;
 }
@@ -212,6 +218,8 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
       if (taken->tiles.size() < tallies.size()) taken->tiles.resize(tallies.size());
     }
     auto& family = rays_[static_cast<std::size_t>(a)];
+    auto& free_spans = free_[static_cast<std::size_t>(a)];
+    const int row_rays = grid_[static_cast<std::size_t>(a)][0];
     const auto apply = [&](const tbb::blocked_range<std::size_t>& range) {
       std::vector<Interval> stretches;
       for (std::size_t t = range.begin(); t < range.end(); ++t) {
@@ -256,12 +264,23 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
             const Ray row_ray = ray_at(domain_.min[b]);  // for `rows`, which set each ray's b
             // The rays whose material the cut's box (and its reach) holds: with `rows`, gathered
             // for one call; without, each ray's chord at once.
+            // A tile row whose rays hold no material within the box is skipped unread.
+            FreeSpan& free = free_spans[free_row(a, j, ti)];
+            if (free.lo <= r.low && r.high <= free.hi) continue;
+            // While no ray has material within the box, the material's ends about it.
+            bool missed = true;
+            float below = -std::numeric_limits<float>::infinity();
+            float above = std::numeric_limits<float>::infinity();
             std::array<int, kTile> at_i;
             std::array<double, kTile> at;
             std::size_t n = 0;
             for (int i = i0; i <= i1; ++i) {
               DexelRay& material = row[i];
-              if (!material.overlaps(r.low, r.high)) continue;
+              if (missed ? !material.overlaps_or_bound(r.low, r.high, below, above)
+                         : !material.overlaps(r.low, r.high)) {
+                continue;
+              }
+              missed = false;
               const double ob = domain_.min[b] + (i + 0.5) * spacing_[b];
               if (cut.reach) {
                 const Interval w = cut.reach(ray_at(ob));
@@ -275,6 +294,18 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
               } else {
                 take(material, i, j, cut.chord(ray_at(ob)));
               }
+            }
+            if (missed) {
+              // The rest of the tile row, outside the box: if none of it has material within
+              // the box either, the row's free span is noted for the cuts to come.
+              const int first = ti * kTile, last = std::min(first + kTile, row_rays) - 1;
+              for (int i = first; missed && i <= last; ++i) {
+                if (i == i0) i = i1 + 1;
+                if (i > last) break;
+                missed = !row[i].overlaps_or_bound(r.low, r.high, below, above);
+              }
+              if (missed) free = {below, above};
+              continue;
             }
             if (n == 0) continue;
             std::array<Interval, kTile> chords;
@@ -370,6 +401,7 @@ double TriDexel::float_rounding() const {
 TriDexel::Memory TriDexel::memory() const {
   Memory m;
   for (const auto& family : rays_) m.ray_bytes += family.size() * sizeof(DexelRay);
+  for (const auto& spans : free_) m.span_bytes += spans.size() * sizeof(FreeSpan);
   m.heap_bytes = heap_bytes_;
   m.peak_heap_bytes = peak_heap_bytes_;
   return m;
@@ -381,6 +413,14 @@ std::size_t TriDexel::count_heap_bytes() const {
     for (const DexelRay& r : family) bytes += r.heap_bytes();
   }
   return bytes;
+}
+
+std::size_t TriDexel::free_rows() const {
+  std::size_t rows = 0;
+  for (const auto& spans : free_) {
+    for (const FreeSpan& span : spans) rows += span.lo <= span.hi ? 1 : 0;
+  }
+  return rows;
 }
 
 }  // namespace cwe

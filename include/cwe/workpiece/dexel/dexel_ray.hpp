@@ -7,6 +7,7 @@
 // intervals live inline; more go to a heap array of exactly `count` intervals, tagged by a bit
 // pattern that is never read as a float.
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <vector>
@@ -42,6 +43,24 @@ class alignas(8) DexelRay {
     return (slot_[0] < hi && slot_[1] > lo) || (slot_[2] < hi && slot_[3] > lo);
   }
 
+  // overlaps(lo, hi), and where it is false, the material's nearest ends about (lo, hi): `below`
+  // rises to the largest material end at or below lo and `above` falls to the smallest start at
+  // or above hi (the ray has no material strictly between them). Removal keeps these bounds for
+  // rows of rays to skip them whole (TriDexel::remove).
+  bool overlaps_or_bound(double lo, double hi, float& below, float& above) const {
+    if (on_heap()) return heap_overlaps_or_bound(lo, hi, below, above);
+    if ((slot_[0] < hi && slot_[1] > lo) || (slot_[2] < hi && slot_[3] > lo)) return true;
+    // Each slot now lies wholly at or below lo, or at or above hi; the empty one is (+∞, −∞),
+    // below everything.
+    for (int k = 0; k < 4; k += 2) {
+      if (slot_[k + 1] <= lo) {
+        below = std::max(below, slot_[k + 1]);
+      } else {
+        above = std::min(above, slot_[k]);
+      }
+    }
+    return false;
+  }
   // Material at coordinate t (closed intervals).
   bool contains(double t) const;
   // Removes [lo, hi]; returns the length of material removed (> 0 exactly when the ray
@@ -68,6 +87,7 @@ class alignas(8) DexelRay {
     return b == kHeapTag;
   }
   bool heap_overlaps(double lo, double hi) const;
+  bool heap_overlaps_or_bound(double lo, double hi, float& below, float& above) const;
   const float* data() const;
   float* heap();  // the heap array (on_heap() only)
   void release();

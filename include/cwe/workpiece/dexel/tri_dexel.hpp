@@ -177,14 +177,17 @@ class TriDexel {
   // Bytes held by the rays, kept up to date by every change (no scan needed).
   struct Memory {
     std::size_t ray_bytes = 0;        // 16 per ray
+    std::size_t span_bytes = 0;       // 8 per kTile rays of a row (the rows' free spans)
     std::size_t heap_bytes = 0;       // 8 per interval beyond two on a ray
     std::size_t peak_heap_bytes = 0;  // the most heap_bytes has been
-    std::size_t total() const { return ray_bytes + heap_bytes; }
-    std::size_t peak() const { return ray_bytes + peak_heap_bytes; }
+    std::size_t total() const { return ray_bytes + span_bytes + heap_bytes; }
+    std::size_t peak() const { return ray_bytes + span_bytes + peak_heap_bytes; }
   };
   Memory memory() const;
   // Heap bytes counted ray by ray (tests hold the running count to it).
   std::size_t count_heap_bytes() const;
+  // Tile rows (kTile rays of a row) with a free span noted, which later cuts may skip unread.
+  std::size_t free_rows() const;
 
  private:
   // The origin of a family-`a` ray at cross coordinates ob (along b = a + 1) and oc (along
@@ -209,6 +212,20 @@ class TriDexel {
   Vec3 inverse_spacing_ = Vec3::Ones();  // 1 / spacing_ (cell_floor)
   std::array<std::array<int, 2>, 3> grid_{};
   std::array<std::vector<DexelRay>, 3> rays_;
+  // For each family, row j and tile column: an open stretch of the ray coordinate in which none
+  // of that tile row's kTile rays holds material, noted when a cut's visit found none of them
+  // with material within its box; {+∞, −∞} until then. Removal only ever takes material away, so
+  // a span once true stays true, and a later cut whose box lies within it skips the row's rays
+  // without loading them (most rays a step's box reaches were emptied by the steps before).
+  struct FreeSpan {
+    float lo, hi;
+  };
+  std::array<std::vector<FreeSpan>, 3> free_;
+  std::size_t free_row(int axis, int j, int tile_i) const {
+    const auto tiles =
+        static_cast<std::size_t>((grid_[static_cast<std::size_t>(axis)][0] + kTile - 1) / kTile);
+    return static_cast<std::size_t>(j) * tiles + static_cast<std::size_t>(tile_i);
+  }
   std::size_t heap_bytes_ = 0;
   std::size_t peak_heap_bytes_ = 0;
 };
