@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "cwe/tool/tool_spec.hpp"
@@ -95,6 +97,38 @@ TEST(Profile, LowestReachingIsTheHeightsLowerEnd) {
       EXPECT_EQ(p.lowest_reaching(r), heights.is_empty() ? 0.0 : heights.lo) << "r = " << r;
     }
   }
+}
+
+// heights_reaching against dense sampling of the profile's radius: the sampled heights where the
+// tool is at least r wide span the interval to within a sampling step.
+TEST(Profile, HeightsReachingSpanTheSampledHeights) {
+  for (const char* spec : {"ball:6,20", "taper-ball:4,3,20", "bull:10,2,20", "flat:10,20",
+                           "taper-flat:6,5,20", "chamfer:12,90,15"}) {
+    SCOPED_TRACE(spec);
+    const Cutter cutter = cutter_from_spec(spec);
+    const Profile& p = cutter.profile();
+    constexpr int kSamples = 20000;
+    const double step = p.height() / kSamples;
+    for (int k = 0; k <= 50; ++k) {
+      const double r = p.max_radius() * k / 50.0;
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (int m = 0; m <= kSamples; ++m) {
+        const double z = m * step;
+        if (p.radius_at(z) >= r) lo = std::min(lo, z), hi = std::max(hi, z);
+      }
+      const Interval heights = p.heights_reaching(r);
+      ASSERT_FALSE(heights.is_empty()) << "r = " << r;
+      EXPECT_NEAR(heights.lo, lo, step) << "r = " << r;
+      EXPECT_NEAR(heights.hi, hi, step) << "r = " << r;
+    }
+  }
+  // A flat end's side spans the whole height exactly.
+  const Cutter flat = cutter_from_spec("flat:10,20");
+  for (const double r : {-1.0, 0.0, 2.5, 5.0}) {
+    EXPECT_EQ(flat.profile().heights_reaching(r).lo, 0.0);
+    EXPECT_EQ(flat.profile().heights_reaching(r).hi, 20.0);
+  }
+  EXPECT_TRUE(flat.profile().heights_reaching(std::nextafter(5.0, 9.0)).is_empty());
 }
 
 TEST(Profile, SnapsEndPointsWithinInputTolerance) {
