@@ -8,11 +8,12 @@
 namespace cwe {
 namespace {
 
-// A linear sweep as a dexel cut: its box, its chords (ray by ray and row by row) and, where it
-// has one, its cheap reach.
-TriDexel::Cut cut_of(const LinearSweep& piece) {
+// A linear sweep as a dexel cut: its box (cut down to the tool's part that can reach the stock:
+// MoveSweep::reach_bounds), its chords (ray by ray and row by row) and, where it has one, its
+// cheap reach.
+TriDexel::Cut cut_of(const LinearSweep& piece, const Aabb& bounds) {
   TriDexel::Cut cut{
-      piece.bounds(),
+      bounds,
       [&piece](const Ray& ray) { return piece.chord(ray); },
       {},
       [&piece](const Ray& ray, int across, std::span<const double> at, std::span<Interval> chords) {
@@ -36,7 +37,9 @@ class DexelStepEngagement : public StepEngagement {
 
   double remove(const MoveSweep& sweep, Step* step) override {
     std::vector<TriDexel::Cut> cuts;
-    for (const LinearSweep& piece : sweep.pieces()) cuts.push_back(cut_of(piece));
+    for (std::size_t k = 0; k < sweep.pieces().size(); ++k) {
+      cuts.push_back(cut_of(sweep.pieces()[k], sweep.reach_bounds(k)));
+    }
     RemovalRecord* record = step != nullptr ? &static_cast<DexelStep*>(step)->removed : nullptr;
     double volume = 0.0;
     for (const TriDexel::Removal& r : stock_.remove(cuts, record)) volume += r.volume;
@@ -61,8 +64,8 @@ std::vector<double> DexelWorkpiece::remove(std::span<const MoveSweep> sweeps) {
   std::vector<TriDexel::Cut> cuts;
   std::vector<std::size_t> owner;  // sweep of each cut
   for (std::size_t m = 0; m < sweeps.size(); ++m) {
-    for (const LinearSweep& piece : sweeps[m].pieces()) {
-      cuts.push_back(cut_of(piece));
+    for (std::size_t k = 0; k < sweeps[m].pieces().size(); ++k) {
+      cuts.push_back(cut_of(sweeps[m].pieces()[k], sweeps[m].reach_bounds(k)));
       owner.push_back(m);
     }
   }

@@ -52,6 +52,58 @@ Cutter slab(const Cutter& cutter, const ProfileSegment& piece, int index) {
   return Cutter(Profile(std::move(segments), options.name), options);
 }
 
+// How high above its tip, and how far from it, a point of a tool of largest radius `radius` can
+// lie while inside `region`, anywhere along `move` (upper bounds). Every tip position lies in
+// the path's box, so no point of the region is farther from the tip than the farthest pair of
+// the two boxes' points. And where every axis of the move has a positive component n·a along
+// the outward normal n of one of the region's faces, a tool point at height h above the tip
+// lies at least n·p + h·(n·a) − radius along n, beyond the face once h passes
+// (face − min n·p + radius)/(n·a): the tool's part that can be inside is no higher. The axes
+// slerp along a great-circle arc shorter than π, on which n·a is smallest at an end; a piece's
+// axis lies on that arc and its tip on the path or a chord of it, so the bounds hold for the
+// pieces too.
+struct Within {
+  double height = 0.0;
+  double reach = 0.0;
+};
+Within within(const Aabb& region, const Move& move, double radius) {
+  const Aabb path = move.bounds();
+  double farthest = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    const double d = std::max(region.max[i] - path.min[i], path.max[i] - region.min[i]);
+    farthest += d * d;
+  }
+  Within w;
+  w.height = w.reach = std::sqrt(farthest);
+  const Vec3 a0 = move.axis(0.0), a1 = move.axis(1.0);
+  for (int i = 0; i < 3; ++i) {
+    for (const double side : {1.0, -1.0}) {
+      const double along = std::min(side * a0[i], side * a1[i]);
+      if (!(along > 0.0)) continue;
+      const double face = side > 0.0 ? region.max[i] : -region.min[i];
+      const double nearest = side > 0.0 ? path.min[i] : -path.max[i];
+      const double height = std::max(0.0, (face - nearest + radius) / along);
+      w.height = std::min(w.height, height);
+      w.reach = std::min(w.reach, std::hypot(radius, height));
+    }
+  }
+  return w;
+}
+
+// The box of a tool's part up to `height` above its tip at `tip` along unit `axis` (a cylinder
+// of `radius` about that stretch of the axis).
+Aabb part_box(const Vec3& tip, const Vec3& axis, double height, double radius) {
+  Aabb box;
+  box.extend(tip);
+  box.extend(tip + height * axis);
+  for (int i = 0; i < 3; ++i) {
+    const double e = radius * std::sqrt(std::max(0.0, 1.0 - axis[i] * axis[i]));
+    box.min[i] -= e;
+    box.max[i] += e;
+  }
+  return box;
+}
+
 }  // namespace
 
 ConvexParts::ConvexParts(const Cutter& cutter, double tolerance)
@@ -96,10 +148,20 @@ ConvexParts::ConvexParts(const Cutter& cutter, double tolerance)
   }
 }
 
-MoveSweep::MoveSweep(const ConvexParts& parts, const Move& move) : move_(move), parts_(&parts) {
+MoveSweep::MoveSweep(const ConvexParts& parts, const Move& move, const Aabb& region,
+                     PieceReach piece_reach)
+    : move_(move), parts_(&parts) {
   const double tolerance = parts.tolerance();
   const BoundingCylinder b = parts.cutter().bounding_cylinder();
-  const double reach = std::hypot(b.radius, b.z_max);
+  double reach = std::hypot(b.radius, b.z_max);
+  // Only the tool's part that can enter the region cuts: above `height` nothing does.
+  double height = b.z_max;
+  if (!region.is_empty()) {
+    const Within w = within(region, move, b.radius);
+    height = std::min(height, w.height);
+    // Tool points that never enter the region cut nothing, however far the pieces move them.
+    if (piece_reach == PieceReach::kRegion) reach = std::min(reach, w.reach);
+  }
   if (move.is_arc()) {
     path_pieces_ =
         std::max(path_pieces_,
@@ -118,14 +180,26 @@ MoveSweep::MoveSweep(const ConvexParts& parts, const Move& move) : move_(move), 
   deviation_bound_ =
       (move.is_arc() ? tolerance : 0.0) + (turning ? tolerance : 0.0) + parts.deviation();
   pieces_.reserve(static_cast<std::size_t>(path_pieces_) * parts.parts().size());
+  reach_bounds_.reserve(pieces_.capacity());
   for (int k = 0; k < path_pieces_; ++k) {
     const double u0 = static_cast<double>(k) / path_pieces_;
     const double u1 = static_cast<double>(k + 1) / path_pieces_;
     const Vec3 axis = exact ? move.start_axis.normalized() : move.axis(0.5 * (u0 + u1));
     const Vec3 a = k == 0 ? move.start : move.position(u0);
     const Vec3 e = k + 1 == path_pieces_ ? move.end : move.position(u1);
+    Aabb reach_box;  // the part up to `height` at both ends of the path piece
+    if (height < b.z_max) {
+      reach_box = part_box(a, axis, height, b.radius);
+      reach_box.extend(part_box(e, axis, height, b.radius));
+    }
     for (const ConvexParts::Part& part : parts.parts()) {
       pieces_.emplace_back(*part.cutter, a + part.offset * axis, e + part.offset * axis, axis);
+      Aabb box = pieces_.back().bounds();
+      if (!reach_box.is_empty()) {
+        box.min = box.min.cwiseMax(reach_box.min);
+        box.max = box.max.cwiseMin(reach_box.max);
+      }
+      reach_bounds_.push_back(box);
     }
   }
 }

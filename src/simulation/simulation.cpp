@@ -178,7 +178,7 @@ RemovalRun::RemovalRun(Workpiece& stock, const Cutter& cutter, const SimulationO
       cell_(stock.cell_volume()) {}
 
 void RemovalRun::add(const Move& move, const std::vector<std::string>& sources) {
-  sweeps_.emplace_back(parts_, move);
+  sweeps_.emplace_back(parts_, move, stock_.region());
   pending_.push_back(
       {move.is_rapid(), SourceLocation{source_file(move, sources, kNoFile), move.line}});
   pieces_ += sweeps_.back().pieces().size();
@@ -254,6 +254,7 @@ EngagementRun::EngagementRun(Workpiece& stock, const Cutter& cutter,
                              const EngagementRunOptions& options, const EngagementSink& sink,
                              MoveRemoved removed, ClPrepare prepare)
     : cell_(stock.cell_volume()),
+      region_(stock.region()),
       parts_(cutter, options.simulation.effective_tolerance()),
       engage_(stock.engagement(
           cutter, with_contact(options.engagement, options.simulation.effective_tolerance()))),
@@ -307,8 +308,16 @@ void EngagementRun::flush() {
   // A backend that removes moves whole does so before their parts are recorded; the parts'
   // pieces are then not counted again.
   const bool whole = engage_->removes_whole_moves();
+  // A step recorded for its engagement keeps the pieces of the whole tool's reach: its record
+  // is read against the tool's surface within the contact tolerance, and pieces for the reach
+  // into the stock alone (MoveSweep's region) would move that surface by up to the tolerance,
+  // several times the error of the whole reach's pieces there (on the bundled example's 5-axis
+  // pass, exit angles 2.8° off a 0.001 mm reference at the 99th percentile instead of 0.3°).
+  // Motion without a record needs the sweep within the tolerance only where the stock is.
   const auto remove_part = [&](const Move& move, double u0, double u1, StepEngagement::Step* step) {
-    const MoveSweep sweep(parts_, u0 == 0.0 && u1 == 1.0 ? move : move.part(u0, u1));
+    const MoveSweep sweep(
+        parts_, u0 == 0.0 && u1 == 1.0 ? move : move.part(u0, u1), region_,
+        step != nullptr ? MoveSweep::PieceReach::kWholeTool : MoveSweep::PieceReach::kRegion);
     if (!whole) {
       pieces += static_cast<int>(sweep.pieces().size());
       deviation = std::max(deviation, sweep.deviation_bound());
@@ -316,7 +325,7 @@ void EngagementRun::flush() {
     volume += engage_->remove(sweep, step);
   };
   const auto remove_whole = [&](const PendingMove& pending) {
-    const MoveSweep sweep(parts_, pending.move);
+    const MoveSweep sweep(parts_, pending.move, region_);
     pieces += static_cast<int>(sweep.pieces().size());
     deviation = std::max(deviation, sweep.deviation_bound());
     try {

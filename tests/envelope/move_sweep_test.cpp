@@ -50,14 +50,20 @@ bool inside(const MoveSweep& sweep, const Vec3& p, const Vec3& direction) {
 // Points near the move: inside the union of the pieces exactly when inside the union of densely
 // sampled true tool positions, outside a band of the deviation bound plus the sampling gap (the
 // farthest any tool point travels between two samples).
+// With `within`, the points are drawn in that box only.
 void expect_matches_true_sweep(const Cutter& cutter, const MoveSweep& sweep, const Move& move,
-                               test::Random& random, int points = 600) {
+                               test::Random& random, int points = 600,
+                               const Aabb& within = Aabb()) {
   constexpr int kPositions = 400;
   const BoundingCylinder b = cutter.bounding_cylinder();
   const double reach = std::hypot(b.radius, b.z_max);
   const double gap = (move.length() + reach * move.axis_angle()) / kPositions;
   const double band = sweep.deviation_bound() + gap + 1e-9;
-  const Aabb box = sweep.bounds();
+  Aabb box = sweep.bounds();
+  if (!within.is_empty()) {
+    box.min = box.min.cwiseMax(within.min);
+    box.max = box.max.cwiseMin(within.max);
+  }
   int in = 0, out = 0;
   for (int k = 0; k < points; ++k) {
     const Vec3 p = box.center() +
@@ -145,6 +151,59 @@ TEST(MoveSweep, ArcsHelicesAndFiveAxisBySubdivision) {
     // The quarter circle of radius 20 at sagitta ≤ 0.02: steps of 2·acos(1 - 0.02/20).
     EXPECT_EQ(MoveSweep(parts, quarter).path_pieces(),
               static_cast<int>(std::ceil((kPi / 2) / (2.0 * std::acos(1.0 - 0.001)))));
+  }
+}
+
+// A long tool tilting a few millimetres into the material: only the part of it that can enter
+// the region holding the material sets the pieces. Within the region the sweep is the true one
+// to the same bound with far fewer pieces; a region the whole tool can reach changes nothing.
+TEST(MoveSweep, FiveAxisPiecesReachOnlyIntoTheRegion) {
+  test::Random random(74);
+  for (const char* spec : {"flat:10,50", "ball:8,60", "bull:10,2,50"}) {
+    SCOPED_TRACE(spec);
+    const Cutter cutter = cutter_from_spec(spec);
+    const ConvexParts parts(cutter, 0.02);
+    // From vertical to 30° over the +X side, the tip 3 mm below the top of a 40 × 40 × 10 block.
+    const Move tilt =
+        line({0, 0, -3}, {15, 6, -3}, Vec3::UnitZ(), Vec3(std::sin(kPi / 6), 0, std::cos(kPi / 6)));
+    const Aabb block{{-20, -20, -10}, {20, 20, 0}};
+    const MoveSweep everywhere(parts, tilt);
+    const MoveSweep within(parts, tilt, block);
+    EXPECT_DOUBLE_EQ(within.deviation_bound(), everywhere.deviation_bound());
+    // The tool's part within reach: (0 − (−3) + R) / cos 30° above the tip, R the largest radius.
+    const double radius = cutter.bounding_cylinder().radius;
+    const double height = (3.0 + radius) / std::cos(kPi / 6);
+    const double turn = tilt.axis_angle();
+    EXPECT_EQ(within.path_pieces(),
+              static_cast<int>(std::ceil(turn * std::hypot(radius, height) / (2.0 * 0.02))));
+    EXPECT_LT(3 * within.path_pieces(), everywhere.path_pieces());
+    // What that rests on: no tool point higher than that, at any pose of the move or of a
+    // piece (its middle axis, its tip anywhere on its chord), lies in the block.
+    const Profile& profile = cutter.profile();
+    const auto clear_above = [&](const Vec3& tip, const Vec3& axis) {
+      const Vec3 e1 = axis.cross(Vec3::UnitY()).normalized(), e2 = axis.cross(e1);
+      for (double h = height + 1e-9; h <= profile.height(); h += 0.25) {
+        for (int k = 0; k < 72; ++k) {
+          const double phi = kTwoPi * k / 72;
+          const Vec3 point =
+              tip + h * axis + profile.radius_at(h) * (std::cos(phi) * e1 + std::sin(phi) * e2);
+          if (block.contains(point)) return false;
+        }
+      }
+      return true;
+    };
+    for (int k = 0; k <= 100; ++k) {
+      ASSERT_TRUE(clear_above(tilt.position(k / 100.0), tilt.axis(k / 100.0))) << k;
+    }
+    for (const LinearSweep& piece : within.pieces()) {
+      for (const double u : {0.0, 0.5, 1.0}) {
+        ASSERT_TRUE(clear_above(piece.start() + u * (piece.end() - piece.start()), piece.axis()));
+      }
+    }
+    expect_matches_true_sweep(cutter, within, tilt, random, 1500, block);
+    // A block as tall as the tool: no fewer pieces.
+    const Aabb tall{{-20, -20, -10}, {20, 20, 80}};
+    EXPECT_EQ(MoveSweep(parts, tilt, tall).path_pieces(), everywhere.path_pieces());
   }
 }
 

@@ -304,6 +304,43 @@ TEST(Simulation, IdenticalForAnyThreadCount) {
   EXPECT_LT(one.volume().mean(), 0.99 * 24000.0);  // the job did cut
 }
 
+// A sweep's pieces cut by their boxes cut down to the tool's part that can reach the stock
+// (MoveSweep::reach_bounds) remove exactly what their whole boxes remove, ray by ray: a long
+// bull nose tilting in and out of a block, and a vertical ball end, as the engagement's steps
+// sweep them (the whole tool's pieces).
+TEST(Simulation, ReachBoundsRemoveWhatWholeBoxesRemove) {
+  const Cutter bull = cutter_from_spec("bull:10,1,30");
+  const Cutter ball = cutter_from_spec("ball:6,40");
+  std::vector<std::pair<const Cutter*, Move>> moves = {
+      {&bull, line({-6, 15, 22}, {12, 15, 17}, Vec3::UnitZ())},
+      {&bull, line({12, 15, 17}, {30, 10, 16.5}, Vec3::UnitZ())},
+      {&ball, line({2, 2, 18}, {38, 27, 17})},
+      {&bull, line({30, 10, 16.5}, {38, 25, 19}, Vec3::UnitZ())}};
+  moves[1].second.end_axis = Vec3(0.3, 0.1, 0.95).normalized();
+  moves[3].second.start_axis = moves[1].second.end_axis;
+  moves[3].second.end_axis = Vec3(-0.2, 0.05, 0.98).normalized();
+  TriDexel whole = TriDexel::from_box(kBlock, 0.4);
+  TriDexel clipped = whole;
+  DexelWorkpiece whole_workpiece(whole), clipped_workpiece(clipped);
+  int narrower = 0;
+  for (const auto& [cutter, move] : moves) {
+    const ConvexParts parts(*cutter, 0.1);
+    const MoveSweep everywhere(parts, move, Aabb(), MoveSweep::PieceReach::kWholeTool);
+    const MoveSweep within(parts, move, kBlock, MoveSweep::PieceReach::kWholeTool);
+    ASSERT_EQ(within.pieces().size(), everywhere.pieces().size());
+    for (std::size_t k = 0; k < within.pieces().size(); ++k) {
+      const Aabb& box = within.reach_bounds(k);
+      narrower += box.size().z() < everywhere.reach_bounds(k).size().z() - 1.0 ? 1 : 0;
+    }
+    const std::vector<double> a = whole_workpiece.remove(std::span(&everywhere, 1));
+    const std::vector<double> b = clipped_workpiece.remove(std::span(&within, 1));
+    EXPECT_EQ(a, b);
+    EXPECT_GT(a.front(), 1.0);
+  }
+  EXPECT_GT(narrower, 20);
+  expect_identical(whole, clipped);
+}
+
 TEST(Simulation, StlStockOfABoxEqualsTheBoxStock) {
   std::vector<Vec3> corners;
   for (int k = 0; k < 8; ++k) {

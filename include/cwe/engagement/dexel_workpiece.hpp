@@ -17,6 +17,8 @@ class DexelWorkpiece : public Workpiece {
   // Works on `stock`, which must outlive it.
   explicit DexelWorkpiece(TriDexel& stock) : stock_(stock) {}
   double cell_volume() const override;
+  // The stock's domain: its rays reach no farther.
+  Aabb region() const override { return stock_.domain(); }
   std::vector<double> remove(std::span<const MoveSweep> sweeps) override;
   std::unique_ptr<StepEngagement> engagement(const Cutter& cutter,
                                              const EngagementOptions& options) override;

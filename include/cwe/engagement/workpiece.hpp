@@ -10,6 +10,7 @@
 
 #include "cwe/engagement/engagement_map.hpp"
 #include "cwe/envelope/move_sweep.hpp"
+#include "cwe/geometry/aabb.hpp"
 #include "cwe/kinematics/tool_state.hpp"
 #include "cwe/tool/cutter.hpp"
 
@@ -53,6 +54,10 @@ class Workpiece {
   virtual ~Workpiece() = default;
   // The smallest volume the workpiece resolves, mm³: a move that removes less cut nothing.
   virtual double cell_volume() const = 0;
+  // A box holding all the material there will ever be (removal only takes it away), within
+  // which alone sweeps need their deviation bound (MoveSweep's region); empty when the backend
+  // keeps its sweeps accurate everywhere.
+  virtual Aabb region() const { return Aabb(); }
   // Removes the sweeps, in order, in one pass where the backend can; the volume each removed.
   virtual std::vector<double> remove(std::span<const MoveSweep> sweeps) = 0;
   // The step engagement of `cutter` on this workpiece. An `options.contact` of 0 is the caller's

@@ -13,7 +13,13 @@
 //    swept with the axis at its middle, until the path's sagitta stays within the tolerance and
 //    the axis turns by less than 2·tolerance/reach per piece (reach: the farthest tool point from
 //    the tip), so every tool point of the true motion lies within the tolerance of a piece's
-//    sweep, and conversely (Aras 2008 §4.2.4).
+//    sweep, and conversely (Aras 2008 §4.2.4). Given the region that holds the material, reach
+//    is only that of the tool's points that can enter it (a piece's tool is rigid, its tip on
+//    the path or a chord of it, its axis on the arc of the true axes): no farther from the tip
+//    than any point of the region from any point of the path, and no higher along the axis
+//    than where the tool clears a face of the region that every axis of the move points out
+//    of. Points beyond cut nothing, however far the pieces move them: a 50 mm tool tilting a
+//    few millimetres into the stock needs a fraction of the pieces.
 // `deviation_bound()` is the resulting Hausdorff bound: 0 for exact sweeps (to rounding), the
 // tolerance for each of: an arc path, a turning axis, a concave profile part.
 
@@ -57,10 +63,20 @@ class ConvexParts {
 // The linear pieces of one move, each for each convex part.
 class MoveSweep {
  public:
-  // `parts` must outlive the sweep.
-  MoveSweep(const ConvexParts& parts, const Move& move);
+  // How many pieces a turning axis needs: enough for the whole tool's reach, or for the reach
+  // of its part that can enter the region only.
+  enum class PieceReach { kWholeTool, kRegion };
+  // `parts` must outlive the sweep. `region`: a box holding all the material the sweep will
+  // meet (an empty box: unknown). With PieceReach::kRegion the deviation bound holds within the
+  // region only.
+  MoveSweep(const ConvexParts& parts, const Move& move, const Aabb& region = Aabb(),
+            PieceReach piece_reach = PieceReach::kRegion);
 
   const std::vector<LinearSweep>& pieces() const { return pieces_; }
+  // Piece i's box, cut down to the part of the tool that can enter the region (its bounds()
+  // without a region): every stretch of its sweep within the region lies in it, so a backend
+  // that removes by the box reaches fewer rays for the same removal.
+  const Aabb& reach_bounds(std::size_t i) const { return reach_bounds_[i]; }
   // Number of path pieces the move was cut into (1 for an exact linear move).
   int path_pieces() const { return path_pieces_; }
   double deviation_bound() const { return deviation_bound_; }
@@ -73,6 +89,7 @@ class MoveSweep {
   Move move_;
   const ConvexParts* parts_;
   std::vector<LinearSweep> pieces_;
+  std::vector<Aabb> reach_bounds_;  // one per piece
   int path_pieces_ = 1;
   double deviation_bound_ = 0.0;
 };

@@ -202,6 +202,7 @@ class EngagementRun {
   };
   void flush();
   double cell_;
+  Aabb region_;  // the workpiece's (MoveSweep)
   ConvexParts parts_;
   std::unique_ptr<StepEngagement> engage_;
   ClSampler sampler_;
