@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "cwe/core/error.hpp"
@@ -157,53 +158,56 @@ TEST(MoveSweep, ArcsHelicesAndFiveAxisBySubdivision) {
 // A long tool tilting a few millimetres into the material: only the part of it that can enter
 // the region holding the material sets the pieces. Within the region the sweep is the true one
 // to the same bound with far fewer pieces; a region the whole tool can reach changes nothing.
+// From above (the axis up, the block's top face) and from below (the axis down, its bottom).
 TEST(MoveSweep, FiveAxisPiecesReachOnlyIntoTheRegion) {
   test::Random random(74);
   for (const char* spec : {"flat:10,50", "ball:8,60", "bull:10,2,50"}) {
-    SCOPED_TRACE(spec);
-    const Cutter cutter = cutter_from_spec(spec);
-    const ConvexParts parts(cutter, 0.02);
-    // From vertical to 30° over the +X side, the tip 3 mm below the top of a 40 × 40 × 10 block.
-    const Move tilt =
-        line({0, 0, -3}, {15, 6, -3}, Vec3::UnitZ(), Vec3(std::sin(kPi / 6), 0, std::cos(kPi / 6)));
-    const Aabb block{{-20, -20, -10}, {20, 20, 0}};
-    const MoveSweep everywhere(parts, tilt);
-    const MoveSweep within(parts, tilt, block);
-    EXPECT_DOUBLE_EQ(within.deviation_bound(), everywhere.deviation_bound());
-    // The tool's part within reach: (0 − (−3) + R) / cos 30° above the tip, R the largest radius.
-    const double radius = cutter.bounding_cylinder().radius;
-    const double height = (3.0 + radius) / std::cos(kPi / 6);
-    const double turn = tilt.axis_angle();
-    EXPECT_EQ(within.path_pieces(),
-              static_cast<int>(std::ceil(turn * std::hypot(radius, height) / (2.0 * 0.02))));
-    EXPECT_LT(3 * within.path_pieces(), everywhere.path_pieces());
-    // What that rests on: no tool point higher than that, at any pose of the move or of a
-    // piece (its middle axis, its tip anywhere on its chord), lies in the block.
-    const Profile& profile = cutter.profile();
-    const auto clear_above = [&](const Vec3& tip, const Vec3& axis) {
-      const Vec3 e1 = axis.cross(Vec3::UnitY()).normalized(), e2 = axis.cross(e1);
-      for (double h = height + 1e-9; h <= profile.height(); h += 0.25) {
-        for (int k = 0; k < 72; ++k) {
-          const double phi = kTwoPi * k / 72;
-          const Vec3 point =
-              tip + h * axis + profile.radius_at(h) * (std::cos(phi) * e1 + std::sin(phi) * e2);
-          if (block.contains(point)) return false;
+    for (const double up : {1.0, -1.0}) {
+      SCOPED_TRACE(std::string(spec) + (up > 0.0 ? " from above" : " from below"));
+      const Cutter cutter = cutter_from_spec(spec);
+      const ConvexParts parts(cutter, 0.02);
+      // From along ±Z to 30° over the +X side, the tip 3 mm inside a 40 × 40 × 10 block.
+      const Move tilt = line({0, 0, -3 * up}, {15, 6, -3 * up}, up * Vec3::UnitZ(),
+                             Vec3(std::sin(kPi / 6), 0, up * std::cos(kPi / 6)));
+      const Aabb block =
+          up > 0.0 ? Aabb{{-20, -20, -10}, {20, 20, 0}} : Aabb{{-20, -20, 0}, {20, 20, 10}};
+      const MoveSweep everywhere(parts, tilt);
+      const MoveSweep within(parts, tilt, block);
+      // The tool's part within reach: (3 + R) / cos 30° above the tip, R the largest radius.
+      const double radius = cutter.bounding_cylinder().radius;
+      const double height = (3.0 + radius) / std::cos(kPi / 6);
+      const double turn = tilt.axis_angle();
+      EXPECT_EQ(within.path_pieces(),
+                static_cast<int>(std::ceil(turn * std::hypot(radius, height) / (2.0 * 0.02))));
+      EXPECT_LT(3 * within.path_pieces(), everywhere.path_pieces());
+      // What that rests on: no tool point higher than that, at any pose of the move or of a
+      // piece (its middle axis, its tip anywhere on its chord), lies in the block.
+      const Profile& profile = cutter.profile();
+      const auto clear_above = [&](const Vec3& tip, const Vec3& axis) {
+        const Vec3 e1 = axis.cross(Vec3::UnitY()).normalized(), e2 = axis.cross(e1);
+        for (double h = height + 1e-9; h <= profile.height(); h += 0.25) {
+          for (int k = 0; k < 72; ++k) {
+            const double phi = kTwoPi * k / 72;
+            const Vec3 point =
+                tip + h * axis + profile.radius_at(h) * (std::cos(phi) * e1 + std::sin(phi) * e2);
+            if (block.contains(point)) return false;
+          }
+        }
+        return true;
+      };
+      for (int k = 0; k <= 100; ++k) {
+        ASSERT_TRUE(clear_above(tilt.position(k / 100.0), tilt.axis(k / 100.0))) << k;
+      }
+      for (const LinearSweep& piece : within.pieces()) {
+        for (const double u : {0.0, 0.5, 1.0}) {
+          ASSERT_TRUE(clear_above(piece.start() + u * (piece.end() - piece.start()), piece.axis()));
         }
       }
-      return true;
-    };
-    for (int k = 0; k <= 100; ++k) {
-      ASSERT_TRUE(clear_above(tilt.position(k / 100.0), tilt.axis(k / 100.0))) << k;
+      expect_matches_true_sweep(cutter, within, tilt, random, 1500, block);
+      // A block as tall as the tool: no fewer pieces.
+      const Aabb tall{{-20, -20, -80}, {20, 20, 80}};
+      EXPECT_EQ(MoveSweep(parts, tilt, tall).path_pieces(), everywhere.path_pieces());
     }
-    for (const LinearSweep& piece : within.pieces()) {
-      for (const double u : {0.0, 0.5, 1.0}) {
-        ASSERT_TRUE(clear_above(piece.start() + u * (piece.end() - piece.start()), piece.axis()));
-      }
-    }
-    expect_matches_true_sweep(cutter, within, tilt, random, 1500, block);
-    // A block as tall as the tool: no fewer pieces.
-    const Aabb tall{{-20, -20, -10}, {20, 20, 80}};
-    EXPECT_EQ(MoveSweep(parts, tilt, tall).path_pieces(), everywhere.path_pieces());
   }
 }
 

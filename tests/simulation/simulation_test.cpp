@@ -305,13 +305,21 @@ TEST(Simulation, IdenticalForAnyThreadCount) {
 }
 
 // A sweep's pieces cut by their boxes cut down to the tool's part that can reach the stock
-// (MoveSweep::reach_bounds) remove exactly what their whole boxes remove, ray by ray: a long
-// bull nose tilting in and out of a block, and a vertical ball end, as the engagement's steps
-// sweep them (the whole tool's pieces).
+// (MoveSweep::reach_bounds) remove exactly what their whole boxes remove, ray by ray: a tilted
+// corner-rounding tool (parts offset along the axis), a long bull nose tilting in and out of a
+// block, and a vertical ball end, as the engagement's steps sweep them (the whole tool's
+// pieces).
 TEST(Simulation, ReachBoundsRemoveWhatWholeBoxesRemove) {
   const Cutter bull = cutter_from_spec("bull:10,1,30");
   const Cutter ball = cutter_from_spec("ball:6,40");
+  // A corner-rounding tool (a concave arc): convex parts stacked along the axis.
+  using Seg = ProfileSegment;
+  const Cutter rounding(Profile({Seg::line({0, 0}, {2, 0}), Seg::line({2, 0}, {2, 1}),
+                                 Seg::arc({2, 1}, {5, 4}, {5, 1}, false), Seg::line({5, 4}, {8, 4}),
+                                 Seg::line({8, 4}, {8, 30})}),
+                        CutterOptions{});
   std::vector<std::pair<const Cutter*, Move>> moves = {
+      {&rounding, line({-9, 8, 19}, {20, 12, 18}, Vec3(0.2, 0, 1))},
       {&bull, line({-6, 15, 22}, {12, 15, 17}, Vec3::UnitZ())},
       {&bull, line({12, 15, 17}, {30, 10, 16.5}, Vec3::UnitZ())},
       {&ball, line({2, 2, 18}, {38, 27, 17})},

@@ -268,7 +268,7 @@ TEST(TriDexel, RemovalRecordIsWhatTheRaysLost) {
 
 // Removal skips a tile row of rays whose material it found clear of an earlier cut's box when
 // the next box lies in that clear stretch. A pocket cleared in 0.5 mm steps, each removed on its
-// own with its record (as the engagement's removal does), at two levels joined by ramps, ends
+// own with its record (as the engagement's removal does), at two levels joined by plunges, ends
 // with every ray as cutting each ray by every step's chord gives it, and each step's record is
 // what that ray lost: skipping changes nothing.
 TEST(TriDexel, SkippingClearRowsChangesNoRay) {
@@ -294,6 +294,16 @@ TEST(TriDexel, SkippingClearRowsChangesNoRay) {
     go({3, 3, z});
   }
   TriDexel stock = TriDexel::from_box(Aabb{{0, 0, 0}, {24, 16, 10}}, 0.25);
+  // The same steps as one batch (each tile applies them in turn, tiles in parallel): a span one
+  // step notes is used by the next within the pass.
+  TriDexel batched = stock;
+  {
+    std::vector<TriDexel::Cut> cuts;
+    for (const LinearSweep& step : steps) {
+      cuts.push_back({step.bounds(), [&step](const Ray& ray) { return step.chord(ray); }, {}, {}});
+    }
+    batched.remove(cuts);
+  }
   std::array<std::vector<DexelRay>, 3> reference;  // the rays, cut one by one
   for (int a = 0; a < 3; ++a) {
     for (int j = 0; j < stock.grid(a)[1]; ++j) {
@@ -341,13 +351,16 @@ TEST(TriDexel, SkippingClearRowsChangesNoRay) {
   for (int a = 0; a < 3; ++a) {
     for (int j = 0; j < stock.grid(a)[1]; ++j) {
       for (int i = 0; i < stock.grid(a)[0]; ++i) {
-        ASSERT_EQ(stock.at(a, i, j).intervals(),
-                  reference[a][static_cast<std::size_t>(j * stock.grid(a)[0] + i)].intervals());
+        const auto expected =
+            reference[a][static_cast<std::size_t>(j * stock.grid(a)[0] + i)].intervals();
+        ASSERT_EQ(stock.at(a, i, j).intervals(), expected);
+        ASSERT_EQ(batched.at(a, i, j).intervals(), expected);
       }
     }
   }
   // Rows were found clear and skipped; 3 + 4·18·2 + 3 steps of 0.5 mm per level at least.
   EXPECT_GT(stock.free_rows(), 100u);
+  EXPECT_GT(batched.free_rows(), 100u);
   EXPECT_GT(steps.size(), 300u);
   // The pocket: the 18 × 9 mm rectangle of the tool's centres grown by its 3 mm radius, 4 mm
   // deep; the families' mean within a third of perimeter × depth × spacing.

@@ -17,8 +17,13 @@ class DexelWorkpiece : public Workpiece {
   // Works on `stock`, which must outlive it.
   explicit DexelWorkpiece(TriDexel& stock) : stock_(stock) {}
   double cell_volume() const override;
-  // The stock's domain: its rays reach no farther.
-  Aabb region() const override { return stock_.domain(); }
+  // The stock's domain, grown by the rounding of the rays' stored ends (a ray filled to the
+  // far face stores that face's coordinate as a float, which may lie just beyond it).
+  Aabb region() const override {
+    Aabb box = stock_.domain();
+    box.inflate(4.0 * stock_.float_rounding());
+    return box;
+  }
   std::vector<double> remove(std::span<const MoveSweep> sweeps) override;
   std::unique_ptr<StepEngagement> engagement(const Cutter& cutter,
                                              const EngagementOptions& options) override;

@@ -80,10 +80,13 @@ void TriDexel::check_grid(const Aabb& box, double spacing, const SourceLocation&
                                           spacing, size.x(), size.y(), size.z(), rays));
     }
   }
-  // Each ray, and each kTile rays of a row their free span.
-  const double bytes_per_ray = static_cast<double>(sizeof(DexelRay)) +
-                               static_cast<double>(sizeof(FreeSpan)) / static_cast<double>(kTile);
-  check_memory(rays * bytes_per_ray,
+  // Each ray, and each row's tiles their free spans.
+  double bytes = rays * static_cast<double>(sizeof(DexelRay));
+  for (int a = 0; a < 3; ++a) {
+    bytes += static_cast<double>(sizeof(FreeSpan)) * n[static_cast<std::size_t>(cross_c(a))] *
+             std::ceil(n[static_cast<std::size_t>(cross_b(a))] / kTile);
+  }
+  check_memory(bytes,
                fmt::format("{:g} mm: the {:.3g} dexel rays of a {:g} × {:g} × {:g} mm stock",
                            spacing, rays, size.x(), size.y(), size.z()),
                where, "use a coarser resolution");

@@ -59,7 +59,8 @@ class TriDexel {
   // What from_box and from_mesh check before allocating: InputError at `where` (the option or
   // job-file key that gave the spacing) when a stock box at `spacing` would need more than 1e7
   // cells along an axis, more than kMaxRaysPerFamily rays in one family, or rays
-  // (sizeof(DexelRay) bytes each) beyond the memory limit. `spacing` must be positive.
+  // (sizeof(DexelRay) bytes each, and a FreeSpan for each kTile of a row) beyond the memory
+  // limit. `spacing` must be positive.
   static void check_grid(const Aabb& box, double spacing, const SourceLocation& where = {});
 
   // The ray spacing: the largest cell side (at most the spacing asked for).
