@@ -169,6 +169,19 @@ LinearSweep::LinearSweep(const Cutter& cutter, const Vec3& start, const Vec3& en
               grazing_point(samples.segment, branch, static_cast<double>(k) / kArcSamples, exists);
           samples.exists[static_cast<std::size_t>(k)] = exists;
         }
+        // The curve exists where |n_z·D_z| ≤ |n_ρ·lateral|, i.e. |tan θ| ≤ lateral/|D_z| for the
+        // normal's angle θ, which is linear in u along the arc. Between two samples where it
+        // exists at neither end and n_z keeps its strict sign, θ stays within one interval
+        // (0, π) mod π, on which |tan θ| is smallest at an end: no point between exists, and a
+        // sign change of the crossing function there is no grazing point (the search for it
+        // was most of a tilted bull nose's chord time).
+        for (int k = 1; k <= kArcSamples; ++k) {
+          const auto kk = static_cast<std::size_t>(k);
+          const double z0 = segment.normal_at(static_cast<double>(k - 1) / kArcSamples).y();
+          const double z1 = segment.normal_at(static_cast<double>(k) / kArcSamples).y();
+          samples.none_between[kk] = !samples.exists[kk - 1] && !samples.exists[kk] &&
+                                     ((z0 > 0.0 && z1 > 0.0) || (z0 < 0.0 && z1 < 0.0));
+        }
         arcs_.push_back(samples);
       }
     }
@@ -584,7 +597,7 @@ Interval LinearSweep::generic_chord(const Ray& ray) const {
       const double gu = n.dot(arc.point[kk]) - offset;
       if (gu == 0.0) {
         if (arc.exists[kk]) add_point(arc.point[kk]);
-      } else if (g_prev != 0.0 && (gu > 0.0) != (g_prev > 0.0)) {
+      } else if (g_prev != 0.0 && (gu > 0.0) != (g_prev > 0.0) && !arc.none_between[kk]) {
         if (const auto root = brent_root(g, static_cast<double>(k - 1) / kArcSamples,
                                          static_cast<double>(k) / kArcSamples)) {
           add_root(*root);

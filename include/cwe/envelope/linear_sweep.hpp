@@ -86,6 +86,8 @@ class LinearSweep {
     int branch = 0;
     std::array<Vec3, kArcSamples + 1> point;
     std::array<bool, kArcSamples + 1> exists{};
+    // Per sample interval k (from sample k - 1 to k): no point of the curve exists inside it.
+    std::array<bool, kArcSamples + 1> none_between{};
   };
 
   Vec3 grazing_point(int segment, int branch, double u, bool& exists) const;
