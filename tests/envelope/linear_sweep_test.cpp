@@ -82,6 +82,29 @@ TEST(LinearSweep, ChordsAgreeWithTheUnionOfToolPositions) {
 
 // The chord agrees with the hull mesh of swept_volume(): both contain each other's points up to
 // the hull's tessellation tolerance.
+// A barrel's arc whose normal turns through horizontal, on a nearly axial move: its grazing curve
+// exists only within 1.15° of the horizontal normal, narrower than the 3.8° between the arc's
+// samples, and neither sample about it sees the curve. The chord search must still look between
+// them (the normal's z component changes sign there): at heights that neither end of the tool
+// covers, the swept barrel's width comes from that stretch of the curve alone.
+TEST(LinearSweep, GrazingCurveNarrowerThanItsSamplesIsFound) {
+  using Seg = ProfileSegment;
+  const Cutter barrel(
+      Profile({Seg::line({0, 0}, {3, 0}), Seg::arc({3, 0}, {4, 9}, {1, 86.0 / 18.0}, true)}),
+      CutterOptions{});
+  const Move move = linear({0, 0, 0}, {0.4, 0, -20}, Vec3::UnitZ());
+  for (const double z : {-5.0, -7.0, -12.0}) {
+    for (const double x : {0.0, 0.2, 0.4}) {
+      SCOPED_TRACE("z " + std::to_string(z) + " x " + std::to_string(x));
+      const Ray ray{{x, -20, z}, Vec3::UnitY()};
+      expect_chord_matches_union(barrel, move, ray);
+      // Wider than the barrel's foot: its bulge (about 6.2 mm) passes every such height.
+      const LinearSweep sweep(barrel, move.start, move.end, move.start_axis);
+      EXPECT_GT(sweep.chord(ray).length(), 2.0 * 6.0);
+    }
+  }
+}
+
 TEST(LinearSweep, AgreesWithTheSweptVolumeMesh) {
   test::Random random(62);
   const Cutter cutter = cutter_from_spec("bull:10,2,20");

@@ -52,16 +52,20 @@ bool DexelRay::heap_overlaps(double lo, double hi) const {
 }
 
 bool DexelRay::heap_overlaps_or_bound(double lo, double hi, float& below, float& above) const {
-  if (heap_overlaps(lo, hi)) return true;
+  // The bounds move only when nothing overlaps: kept aside until the last interval is passed.
+  float low = below, high = above;
   const float* pairs = data();
   const int n = count();
   for (int k = 0; k < n; ++k) {
+    if (pairs[2 * k] < hi && pairs[2 * k + 1] > lo) return true;
     if (pairs[2 * k + 1] <= lo) {
-      below = std::max(below, pairs[2 * k + 1]);
+      low = std::max(low, pairs[2 * k + 1]);
     } else {
-      above = std::min(above, pairs[2 * k]);
+      high = std::min(high, pairs[2 * k]);
     }
   }
+  below = low;
+  above = high;
   return false;
 }
 

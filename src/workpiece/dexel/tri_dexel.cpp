@@ -265,8 +265,6 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
               return Ray{ray_origin(a, ob, oc), Vec3::Unit(a)};
             };
             const Ray row_ray = ray_at(domain_.min[b]);  // for `rows`, which set each ray's b
-            // The rays whose material the cut's box (and its reach) holds: with `rows`, gathered
-            // for one call; without, each ray's chord at once.
             // A tile row whose rays hold no material within the box is skipped unread.
             FreeSpan& free = free_spans[free_row(a, j, ti)];
             if (free.lo <= r.low && r.high <= free.hi) continue;
@@ -274,6 +272,8 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
             bool missed = true;
             float below = -std::numeric_limits<float>::infinity();
             float above = std::numeric_limits<float>::infinity();
+            // The rays whose material the cut's box (and its reach) holds: with `rows`, gathered
+            // for one call; without, each ray's chord at once.
             std::array<int, kTile> at_i;
             std::array<double, kTile> at;
             std::size_t n = 0;
