@@ -46,6 +46,48 @@ class DexelStepEngagement : public StepEngagement {
     return volume;
   }
 
+  std::vector<double> remove_parts(std::span<const Part> parts) override {
+    std::vector<TriDexel::Cut> cuts;
+    std::vector<RemovalRecord*> records;
+    std::vector<std::size_t> owner;  // part of each cut
+    for (std::size_t p = 0; p < parts.size(); ++p) {
+      const MoveSweep& sweep = *parts[p].sweep;
+      RemovalRecord* record =
+          parts[p].step != nullptr ? &static_cast<DexelStep*>(parts[p].step)->removed : nullptr;
+      // A step without pieces removed nothing; its record is emptied here, as no cut will.
+      if (record != nullptr && sweep.pieces().empty()) record->clear();
+      for (std::size_t k = 0; k < sweep.pieces().size(); ++k) {
+        cuts.push_back(cut_of(sweep.pieces()[k], sweep.reach_bounds(k)));
+        records.push_back(record);
+        owner.push_back(p);
+      }
+    }
+    std::vector<double> volumes(parts.size(), 0.0);
+    const std::vector<TriDexel::Removal> removed = stock_.remove(cuts, records);
+    for (std::size_t k = 0; k < cuts.size(); ++k) volumes[owner[k]] += removed[k].volume;
+    return volumes;
+  }
+
+  // Steps enough to give every thread tiles of its own, and records small beside the rays.
+  std::size_t steps_per_removal() const override { return 8; }
+  // A stretch for each ray of the sweep's boxes within the stock (a ray crossing material more
+  // than once may lose more, which the budget's margin absorbs).
+  std::size_t record_bytes(const MoveSweep& sweep) const override {
+    double rays = 0.0;
+    for (std::size_t k = 0; k < sweep.pieces().size(); ++k) {
+      const Aabb& reach = sweep.reach_bounds(k);
+      const Aabb box{reach.min.cwiseMax(stock_.domain().min),
+                     reach.max.cwiseMin(stock_.domain().max)};
+      if (box.is_empty()) continue;
+      for (int a = 0; a < 3; ++a) {
+        const int b = (a + 1) % 3, c = (a + 2) % 3;
+        rays +=
+            (box.size()[b] / stock_.spacing(b) + 1.0) * (box.size()[c] / stock_.spacing(c) + 1.0);
+      }
+    }
+    return static_cast<std::size_t>(rays) * sizeof(RemovalRecord::Stretch);
+  }
+
   // Reads the stock's grid only (never its rays), so later removals may run meanwhile.
   EngagementMap at(const ToolState& state, const Step& step) const override {
     return engage_.at(stock_, static_cast<const DexelStep&>(step).removed, state);

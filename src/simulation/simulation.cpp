@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <filesystem>
 #include <memory>
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_pipeline.h>
 #include <tbb/task_arena.h>
 
@@ -262,9 +264,10 @@ EngagementRun::EngagementRun(Workpiece& stock, const Cutter& cutter,
       sink_(sink),
       removed_(std::move(removed)),
       prepare_(std::move(prepare)) {
-  // Steps in flight: enough to keep every thread busy while one removes.
+  // Groups of steps in flight: enough to keep every thread busy while one removes. Their
+  // records are made as the groups first need them.
   const int tokens = std::max(4, 2 * tbb::this_task_arena::max_concurrency());
-  for (int k = 0; k < tokens; ++k) steps_.push_back(engage_->new_step());
+  steps_.resize(static_cast<std::size_t>(tokens));
 }
 
 EngagementRun::~EngagementRun() = default;
@@ -285,9 +288,7 @@ void EngagementRun::add(const Move& move, const std::vector<std::string>& source
 
 void EngagementRun::flush() {
   if (moves_.empty()) return;
-  // A step in flight: its location, its record and the engagement found there. Step n uses slot
-  // n mod tokens: the pipeline holds at most `tokens` steps and finishes them in order, so step
-  // n is done before step n + tokens starts.
+  // A step in flight: its location, its record and the engagement found there.
   struct Slot {
     std::size_t index = 0;  // of the location among the run's
     const PendingMove* move = nullptr;
@@ -299,12 +300,26 @@ void EngagementRun::flush() {
       return {index, move->move, files[move->file], at->cl, at->state, map, extra.get()};
     }
   };
+  // The steps removed by one remove_parts(), with the motion between them. Group n uses token
+  // n mod tokens: the pipeline holds at most `tokens` groups and finishes them in order, so
+  // group n is done before group n + tokens starts.
+  struct Group {
+    std::vector<Slot> slots;
+    std::deque<MoveSweep> sweeps;  // of the parts (a deque: parts point into it)
+    std::vector<StepEngagement::Part> parts;
+    std::vector<std::size_t> part_move;  // index in moves_ of each part's move
+  };
   const std::size_t tokens = steps_.size();
-  std::vector<Slot> slots(tokens);
+  std::vector<Group> groups(tokens);
+  const std::size_t budget = kRecordBudget / tokens;
+  const std::size_t most_steps = std::max<std::size_t>(1, engage_->steps_per_removal());
   std::size_t m = 0, next = 0;  // the move being removed and its next location
-  std::size_t started = 0;      // steps with a location started
-  int pieces = 0;
-  double deviation = 0.0, volume = 0.0;
+  bool entered = false;         // whether move m's motion before its first location is given
+  std::size_t recorded = 0;     // moves whose removal is summed up (record_move)
+  std::size_t started = 0;      // groups started
+  // Per move of the batch, summed as its parts are removed.
+  std::vector<int> pieces(moves_.size(), 0);
+  std::vector<double> deviation(moves_.size(), 0.0), volume(moves_.size(), 0.0);
   // A backend that removes moves whole does so before their parts are recorded; the parts'
   // pieces are then not counted again.
   const bool whole = engage_->removes_whole_moves();
@@ -314,80 +329,122 @@ void EngagementRun::flush() {
   // several times the error of the whole reach's pieces there (on the bundled example's 5-axis
   // pass, exit angles 2.8° off a 0.001 mm reference at the 99th percentile instead of 0.3°).
   // Motion without a record needs the sweep within the tolerance only where the stock is.
-  const auto remove_part = [&](const Move& move, double u0, double u1, StepEngagement::Step* step) {
-    const MoveSweep sweep(
+  const auto sweep_of = [&](const Move& move, double u0, double u1, bool recorded_step) {
+    return MoveSweep(
         parts_, u0 == 0.0 && u1 == 1.0 ? move : move.part(u0, u1), region_,
-        step != nullptr ? MoveSweep::PieceReach::kWholeTool : MoveSweep::PieceReach::kRegion);
+        recorded_step ? MoveSweep::PieceReach::kWholeTool : MoveSweep::PieceReach::kRegion);
+  };
+  const auto add_part = [&](Group& group, MoveSweep sweep, StepEngagement::Step* step) {
     if (!whole) {
-      pieces += static_cast<int>(sweep.pieces().size());
-      deviation = std::max(deviation, sweep.deviation_bound());
+      pieces[m] += static_cast<int>(sweep.pieces().size());
+      deviation[m] = std::max(deviation[m], sweep.deviation_bound());
     }
-    volume += engage_->remove(sweep, step);
+    group.sweeps.push_back(std::move(sweep));
+    group.parts.push_back({&group.sweeps.back(), step});
+    group.part_move.push_back(m);
   };
   const auto remove_whole = [&](const PendingMove& pending) {
     const MoveSweep sweep(parts_, pending.move, region_);
-    pieces += static_cast<int>(sweep.pieces().size());
-    deviation = std::max(deviation, sweep.deviation_bound());
+    pieces[m] += static_cast<int>(sweep.pieces().size());
+    deviation[m] = std::max(deviation[m], sweep.deviation_bound());
     try {
-      volume += engage_->remove_move(sweep);
+      volume[m] += engage_->remove_move(sweep);
     } catch (const ComputationError& e) {
       throw ComputationError(
           at_move(SourceLocation{files_[pending.file], pending.move.line}, e.what()));
     }
   };
   const auto move_done = [&] {
-    const PendingMove& done = moves_[m];
-    const bool rapid = done.move.is_rapid();
-    record_move(summary_, done.index, rapid,
-                rapid ? SourceLocation{files_[done.file], done.move.line} : SourceLocation{},
-                pieces, deviation, volume, cell_, removed_);
-    pieces = 0;
-    deviation = volume = 0.0;
     ++m;
     next = 0;
+    entered = false;
   };
-  // Removal, in order: each step from a location to the next is removed into its slot's record
+  // The moves done so far, summed up in order.
+  const auto record_done = [&] {
+    for (; recorded < m; ++recorded) {
+      const PendingMove& done = moves_[recorded];
+      const bool rapid = done.move.is_rapid();
+      record_move(summary_, done.index, rapid,
+                  rapid ? SourceLocation{files_[done.file], done.move.line} : SourceLocation{},
+                  pieces[recorded], deviation[recorded], volume[recorded], cell_, removed_);
+    }
+  };
+  // Removal, in order: each step from a location to the next is removed into its own record
   // (CWE = FCS ∩ (W ∩ SV): the engagement at a location is where that removal touches the
   // cutter); motion before a move's first location, and moves without one, are removed whole.
-  const auto remove_next = [&](tbb::flow_control& control) -> Slot* {
+  // A group gathers parts until it holds the steps the backend takes at once.
+  const auto remove_next = [&](tbb::flow_control& control) -> Group* {
+    const std::size_t token = started % tokens;
+    Group& group = groups[token];
+    auto& records = steps_[token];
+    group.slots.clear();
+    group.parts.clear();
+    group.sweeps.clear();
+    group.part_move.clear();
+    std::size_t bytes = 0;
     while (m < moves_.size()) {
       const PendingMove& pending = moves_[m];
-      if (whole && next == 0) remove_whole(pending);
-      if (pending.cl_count == 0) {
-        remove_part(pending.move, 0.0, 1.0, nullptr);
-        move_done();
-        continue;
+      if (!entered) {
+        // A move removed whole goes after the parts before it (the steps it must not touch).
+        if (whole) {
+          if (!group.parts.empty()) break;
+          remove_whole(pending);
+        }
+        entered = true;
+        if (pending.cl_count == 0) {
+          add_part(group, sweep_of(pending.move, 0.0, 1.0, false), nullptr);
+          move_done();
+          continue;
+        }
+        const double first = cls_[pending.first_cl].cl.u;
+        if (first > 0.0) add_part(group, sweep_of(pending.move, 0.0, first, false), nullptr);
       }
+      if (group.slots.size() == most_steps) break;
       const PendingCl* at = &cls_[pending.first_cl + next];
-      if (next == 0 && at->cl.u > 0.0) remove_part(pending.move, 0.0, at->cl.u, nullptr);
-      Slot& slot = slots[started % tokens];
-      slot.step = steps_[started % tokens].get();
-      ++started;
+      const bool last = next + 1 == pending.cl_count;
+      MoveSweep sweep = sweep_of(pending.move, at->cl.u, last ? 1.0 : (at + 1)->cl.u, true);
+      const std::size_t step_bytes = engage_->record_bytes(sweep);
+      if (!group.slots.empty() && bytes + step_bytes > budget) break;
+      bytes += step_bytes;
+      if (records.size() == group.slots.size()) records.push_back(engage_->new_step());
+      Slot& slot = group.slots.emplace_back();
+      slot.step = records[group.slots.size() - 1].get();
       slot.index = index_++;
       slot.move = &pending;
       slot.at = at;
-      const bool last = next + 1 == pending.cl_count;
-      remove_part(pending.move, at->cl.u, last ? 1.0 : (at + 1)->cl.u, slot.step);
+      add_part(group, std::move(sweep), slot.step);
       ++next;
       if (last) move_done();
-      return &slot;
     }
-    control.stop();
-    return nullptr;
+    if (group.parts.empty()) {
+      record_done();
+      control.stop();
+      return nullptr;
+    }
+    ++started;
+    const std::vector<double> removed = engage_->remove_parts(group.parts);
+    for (std::size_t p = 0; p < removed.size(); ++p) volume[group.part_move[p]] += removed[p];
+    record_done();
+    return &group;
   };
   tbb::parallel_pipeline(
       tokens,
-      tbb::make_filter<void, Slot*>(tbb::filter_mode::serial_in_order, remove_next) &
-          tbb::make_filter<Slot*, Slot*>(tbb::filter_mode::parallel,
-                                         [this](Slot* slot) {
-                                           slot->map = engage_->at(slot->at->state, *slot->step);
-                                           if (prepare_)
-                                             slot->extra = prepare_(slot->engagement(files_));
-                                           return slot;
-                                         }) &
-          tbb::make_filter<Slot*, void>(tbb::filter_mode::serial_in_order, [this](Slot* slot) {
-            sink_(slot->engagement(files_));
-            slot->extra.reset();
+      tbb::make_filter<void, Group*>(tbb::filter_mode::serial_in_order, remove_next) &
+          tbb::make_filter<Group*, Group*>(
+              tbb::filter_mode::parallel,
+              [this](Group* group) {
+                tbb::parallel_for(std::size_t{0}, group->slots.size(), [&](std::size_t k) {
+                  Slot& slot = group->slots[k];
+                  slot.map = engage_->at(slot.at->state, *slot.step);
+                  if (prepare_) slot.extra = prepare_(slot.engagement(files_));
+                });
+                return group;
+              }) &
+          tbb::make_filter<Group*, void>(tbb::filter_mode::serial_in_order, [this](Group* group) {
+            for (Slot& slot : group->slots) {
+              sink_(slot.engagement(files_));
+              slot.extra.reset();
+            }
           }));
   moves_.clear();
   files_.clear();

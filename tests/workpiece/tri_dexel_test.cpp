@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "cwe/core/error.hpp"
@@ -410,6 +412,144 @@ TEST(TriDexelRemoval, BallGrooveMatchesTheCircularSegment) {
   EXPECT_NEAR(removed, area * 40.0, bound);
   // Every family agrees within its own sampling error; the spread shows it.
   EXPECT_LT(d.volume().spread(), 2 * bound);
+}
+
+// Checks that `got` holds what `want` holds, stretch for stretch, and that the look-up engagement
+// makes finds each ray's stretches and nothing on the rays without, over `box` (a step's) grown
+// by a tile (tiles a group's other steps reached, whose records are reused). The stretches.
+std::size_t same_record(const RemovalRecord& got, const RemovalRecord& want, const Aabb& box,
+                        const TriDexel& grid) {
+  EXPECT_EQ(got.bounds().min, want.bounds().min);
+  EXPECT_EQ(got.bounds().max, want.bounds().max);
+  std::size_t stretches = 0;
+  for (int a = 0; a < 3; ++a) {
+    const std::vector<RemovalRecord::Stretch> mine = got.family(a), theirs = want.family(a);
+    EXPECT_EQ(mine.size(), theirs.size()) << a;
+    if (mine.size() != theirs.size()) return 0;
+    std::map<std::pair<int, int>, std::vector<std::pair<float, float>>> by_ray;
+    for (std::size_t n = 0; n < mine.size(); ++n) {
+      EXPECT_EQ(mine[n].i, theirs[n].i);
+      EXPECT_EQ(mine[n].j, theirs[n].j);
+      EXPECT_EQ(mine[n].lo, theirs[n].lo);
+      EXPECT_EQ(mine[n].hi, theirs[n].hi);
+      by_ray[{mine[n].i, mine[n].j}].emplace_back(mine[n].lo, mine[n].hi);
+    }
+    stretches += mine.size();
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    const double s = grid.spacing(), grow = (TriDexel::kTile + 1) * s;
+    const int first_i = std::max(0, static_cast<int>((box.min[b] - grow) / s));
+    const int first_j = std::max(0, static_cast<int>((box.min[c] - grow) / s));
+    const int last_i = std::min(grid.grid(a)[0] - 1, static_cast<int>((box.max[b] + grow) / s));
+    const int last_j = std::min(grid.grid(a)[1] - 1, static_cast<int>((box.max[c] + grow) / s));
+    for (int j = first_j; j <= last_j; ++j) {
+      for (int i = first_i; i <= last_i; ++i) {
+        std::vector<std::pair<float, float>> on;
+        for (const RemovalRecord::Stretch& x : got.on_ray(a, i, j)) on.emplace_back(x.lo, x.hi);
+        const auto it = by_ray.find({i, j});
+        EXPECT_EQ(on, it == by_ray.end() ? decltype(on){} : it->second)
+            << a << " " << i << " " << j;
+        if (::testing::Test::HasFailure()) return 0;
+      }
+    }
+  }
+  return stretches;
+}
+
+// Steps removed a group at a time, each into its own record (the main loop's groups), give every
+// ray, record and removal that one call per step gives: with groups of every size, steps without
+// a record among them, and a record holding two cuts.
+TEST(TriDexel, RecordsPerCutMatchOneCallPerStep) {
+  const Cutter ball = cutter_from_spec("ball:5,12");
+  std::vector<LinearSweep> steps;
+  Vec3 at(2, 2, 9);
+  const auto go = [&](const Vec3& to) {
+    const int n = std::max(1, static_cast<int>(std::ceil((to - at).norm() / 0.5)));
+    for (int k = 1; k <= n; ++k) {
+      const Vec3 next = at + (to - at) * (static_cast<double>(k) / n);
+      steps.emplace_back(ball, k == 1 ? at : steps.back().end(), next, Vec3::UnitZ());
+    }
+    at = to;
+  };
+  // A ramp down across the block, rows back and forth, then a plunge through a row: material
+  // left in several pieces on some rays.
+  go({22, 8, 6});
+  for (int row = 0; row < 3; ++row) {
+    go({at.x(), 3.0 + 5.0 * row, 6});
+    go({row % 2 == 0 ? 2.0 : 22.0, at.y(), 6});
+  }
+  go({12, 8, 6});
+  go({12, 8, 2});
+  go({12, 14, 4});
+  const auto cut_of = [](const LinearSweep& step) {
+    return TriDexel::Cut{
+        step.bounds(),
+        [&step](const Ray& ray) { return step.chord(ray); },
+        {},
+        [&step](const Ray& ray, int across, std::span<const double> along,
+                std::span<Interval> chords) { step.chords(ray, across, along, chords); }};
+  };
+  // Every third step is motion without a record; a step at 7 mod 10 shares its record with the
+  // step after it (one record of two cuts).
+  const auto recorded = [](std::size_t k) { return k % 3 != 2; };
+  const auto shares_next = [&](std::size_t k) {
+    return k % 10 == 7 && k + 1 < steps.size() && recorded(k) && recorded(k + 1);
+  };
+  // 0.1 mm rays: a group reaches more tiles than the serial bound, so it runs in parallel.
+  const TriDexel start = TriDexel::from_box(Aabb{{0, 0, 0}, {24, 17, 10}}, 0.1);
+  TriDexel one_by_one = start;
+  std::vector<RemovalRecord> expected(steps.size());
+  std::vector<TriDexel::Removal> expected_removals;
+  for (std::size_t k = 0; k < steps.size(); ++k) {
+    std::vector<TriDexel::Cut> cuts{cut_of(steps[k])};
+    if (shares_next(k)) cuts.push_back(cut_of(steps[k + 1]));
+    const std::vector<TriDexel::Removal> removed =
+        one_by_one.remove(cuts, recorded(k) ? &expected[k] : nullptr);
+    expected_removals.insert(expected_removals.end(), removed.begin(), removed.end());
+    if (shares_next(k)) ++k;
+  }
+  ASSERT_GT(steps.size(), 150u);
+  for (const std::size_t group : {1, 5, 16, 37}) {
+    SCOPED_TRACE(group);
+    TriDexel grouped = start;
+    // The records are reused group after group, as the main loop reuses them.
+    std::vector<RemovalRecord> pool(group);
+    std::vector<TriDexel::Removal> removals;
+    std::size_t stretches = 0;
+    for (std::size_t first = 0; first < steps.size();) {
+      std::vector<TriDexel::Cut> cuts;
+      std::vector<RemovalRecord*> owners;
+      std::vector<std::pair<std::size_t, RemovalRecord*>> checks;  // step, its record
+      std::size_t k = first;
+      for (std::size_t n = 0; n < group && k < steps.size(); ++n, ++k) {
+        cuts.push_back(cut_of(steps[k]));
+        owners.push_back(recorded(k) ? &pool[n] : nullptr);
+        if (recorded(k)) checks.emplace_back(k, &pool[n]);
+        if (shares_next(k)) {
+          cuts.push_back(cut_of(steps[++k]));
+          owners.push_back(&pool[n]);
+        }
+      }
+      first = k;
+      const std::vector<TriDexel::Removal> removed = grouped.remove(cuts, owners);
+      removals.insert(removals.end(), removed.begin(), removed.end());
+      for (const auto& [step, record] : checks) {
+        stretches += same_record(*record, expected[step], steps[step].bounds(), start);
+      }
+    }
+    ASSERT_EQ(removals.size(), expected_removals.size());
+    for (std::size_t k = 0; k < removals.size(); ++k) {
+      ASSERT_EQ(removals[k].rays, expected_removals[k].rays) << k;
+      ASSERT_EQ(removals[k].volume, expected_removals[k].volume) << k;
+    }
+    EXPECT_GT(stretches, 10000u);
+    for (int a = 0; a < 3; ++a) {
+      for (int j = 0; j < start.grid(a)[1]; ++j) {
+        for (int i = 0; i < start.grid(a)[0]; ++i) {
+          ASSERT_EQ(grouped.at(a, i, j).intervals(), one_by_one.at(a, i, j).intervals());
+        }
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -20,9 +20,9 @@ namespace cwe {
 // location to the next) is removed and recorded, and the engagement at the location is where
 // that removal touches the cutter (CWE = FCS ∩ (W ∩ SV), docs/engagement.md).
 //
-// Steps are removed in order, one at a time; the engagement of a step reads only that step's
-// record, so the main loop finds the engagement of several locations at once, and while later
-// steps are being removed (EngagementRun).
+// Steps are removed in order, one at a time or several in one call (remove_parts); the
+// engagement of a step reads only that step's record, so the main loop finds the engagement of
+// several locations at once, and while later steps are being removed (EngagementRun).
 class StepEngagement {
  public:
   // What one step removed, as the backend records it.
@@ -37,6 +37,26 @@ class StepEngagement {
   // record's contents, for `at`; without, the sweep is motion between locations (a stretch
   // before a move's first location).
   virtual double remove(const MoveSweep& sweep, Step* step) = 0;
+  // A part of the path: `sweep`, removed into `step` (null for motion between locations).
+  struct Part {
+    const MoveSweep* sweep = nullptr;
+    Step* step = nullptr;
+  };
+  // Removes the parts in order, each as remove(*sweep, step) would one after the other, with
+  // each step's record its own; the volume each removed, mm³. Each step appears once. The
+  // default removes them one by one; the tri-dexel backend in one parallel pass over its rays.
+  virtual std::vector<double> remove_parts(std::span<const Part> parts) {
+    std::vector<double> volumes;
+    volumes.reserve(parts.size());
+    for (const Part& part : parts) volumes.push_back(remove(*part.sweep, part.step));
+    return volumes;
+  }
+  // How many steps the main loop may give one remove_parts(): at most steps_per_removal(), and
+  // while the records' estimated sizes (record_bytes of each step's sweep, an upper estimate
+  // of its record's memory) stay within the loop's budget; one step at least. The defaults give
+  // one step at a time.
+  virtual std::size_t steps_per_removal() const { return 1; }
+  virtual std::size_t record_bytes(const MoveSweep& /*sweep*/) const { return 0; }
   // True for a backend that removes a move in one piece (the mesh workpiece: booleans step by
   // step would split the cut faces at every step). The loop then gives remove_move() each
   // move's whole sweep before any of its parts, and remove() only records the move's steps

@@ -168,17 +168,20 @@ struct EngagementRunOptions {
 // The main job (simulate_engagement) one move at a time: add() the moves in order, then finish().
 //
 // Moves are held until about kBatchLocations cutter locations (or kBatchMoves moves) are
-// waiting, then run as a pipeline: the steps are removed one after the other, each into a record
-// of its own, while the engagement of the steps already removed is found in parallel (it reads
-// only its step's record), and the locations go to `sink` in order, on one thread at a time
-// (not necessarily the caller's). So a move's locations reach `sink` during a later add() or
-// during finish(); the results are those of one step at a time, for any number of threads.
-// `prepare`, when given, runs with the engagement search and its result reaches `sink` with the
-// location.
+// waiting, then run as a pipeline: the steps are removed in order, a group at a time (as many as
+// the workpiece removes in one pass: StepEngagement::steps_per_removal, record_bytes within
+// kRecordBudget), each into a record of its own, while the engagement of the steps already
+// removed is found in parallel (it reads only its step's record), and the locations go to
+// `sink` in order, on one thread at a time (not necessarily the caller's). So a move's locations
+// reach `sink` during a later add() or during finish(); the results are those of one step at a
+// time, for any number of threads. `prepare`, when given, runs with the engagement search and its
+// result reaches `sink` with the location.
 class EngagementRun {
  public:
   static constexpr std::size_t kBatchLocations = 256;
   static constexpr std::size_t kBatchMoves = 1024;
+  // Bytes the records of the groups in flight may hold together (an estimate from the sweeps).
+  static constexpr std::size_t kRecordBudget = std::size_t{64} << 20;
   // `stock` and `cutter` must outlive the run.
   EngagementRun(Workpiece& stock, const Cutter& cutter, const EngagementRunOptions& options,
                 const EngagementSink& sink, MoveRemoved removed = {}, ClPrepare prepare = {});
@@ -214,7 +217,8 @@ class EngagementRun {
   std::vector<PendingMove> moves_;
   std::vector<std::string> files_;  // of the waiting moves, each name once in a row
   std::vector<PendingCl> cls_;
-  std::vector<std::unique_ptr<StepEngagement::Step>> steps_;  // one per step in flight
+  // The records of each group in flight (a group's steps, in order).
+  std::vector<std::vector<std::unique_ptr<StepEngagement::Step>>> steps_;
   std::size_t added_ = 0;                                     // moves given so far
   std::size_t index_ = 0;  // of the next CL among all of the run's to be removed
   Vec3 previous_x_ = Vec3::Zero();

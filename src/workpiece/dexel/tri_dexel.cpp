@@ -170,7 +170,30 @@ TriDexel::Removal TriDexel::remove(const Aabb& bounds, const ChordFunction& chor
 
 std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
                                                 RemovalRecord* record) {
-  if (record != nullptr) record->clear();
+  const std::vector<RemovalRecord*> records(cuts.size(), record);
+  if (record != nullptr && cuts.empty()) record->clear();
+  return remove(cuts, records);
+}
+
+std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
+                                                std::span<RemovalRecord* const> records) {
+  CWE_ASSERT(records.size() == cuts.size(), "one record (or null) per cut");
+  // The records, each once (its cuts follow one another): the first and last cut of each.
+  struct Owner {
+    RemovalRecord* record;
+    std::size_t first, last;
+  };
+  std::vector<Owner> owners;
+  std::vector<std::size_t> owner_of(cuts.size(), 0);  // index in owners, of cuts with a record
+  for (std::size_t k = 0; k < cuts.size(); ++k) {
+    if (records[k] == nullptr) continue;
+    if (owners.empty() || owners.back().record != records[k]) {
+      owners.push_back({records[k], k, k});
+      records[k]->clear();
+    }
+    owners.back().last = k;
+    owner_of[k] = owners.size() - 1;
+  }
   std::vector<Removal> removals(cuts.size());
   std::vector<double> lengths(cuts.size(), 0.0);  // volumes summed over the three families
   // What one tile did for one cut.
@@ -210,16 +233,34 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
     const int nti = all_is[1] / kTile - ti0 + 1, ntj = all_js[1] / kTile - tj0 + 1;
     std::vector<std::vector<std::pair<std::size_t, Tally>>> tallies(static_cast<std::size_t>(nti) *
                                                                     static_cast<std::size_t>(ntj));
-    // The stretches each tile takes go straight to the record's tile of the same number.
-    RemovalRecord::Family* taken = nullptr;
-    if (record != nullptr) {
-      taken = &record->families_[static_cast<std::size_t>(a)];
-      taken->first_i = ti0;
-      taken->first_j = tj0;
-      taken->tiles_i = nti;
-      taken->tiles_j = ntj;
-      if (taken->tiles.size() < tallies.size()) taken->tiles.resize(tallies.size());
+    // Each record's tiles are those its cuts reach; the stretches a tile takes for a cut go
+    // straight to the same tile of the cut's record.
+    for (const Owner& owner : owners) {
+      std::array<int, 2> is{std::numeric_limits<int>::max(), -1}, js = is;
+      for (std::size_t k = owner.first; k <= owner.last; ++k) {
+        const Reach& r = reach[k];
+        if (r.is[0] > r.is[1] || r.js[0] > r.js[1]) continue;
+        is = {std::min(is[0], r.is[0]), std::max(is[1], r.is[1])};
+        js = {std::min(js[0], r.js[0]), std::max(js[1], r.js[1])};
+      }
+      RemovalRecord::Family& family = owner.record->families_[static_cast<std::size_t>(a)];
+      if (is[0] > is[1]) continue;  // left with no tiles by clear()
+      family.first_i = is[0] / kTile;
+      family.first_j = js[0] / kTile;
+      family.tiles_i = is[1] / kTile - family.first_i + 1;
+      family.tiles_j = js[1] / kTile - family.first_j + 1;
+      const auto tiles =
+          static_cast<std::size_t>(family.tiles_i) * static_cast<std::size_t>(family.tiles_j);
+      if (family.tiles.size() < tiles) family.tiles.resize(tiles);
     }
+    // Tile (ti, tj) of a record's family, or null outside its tiles.
+    const auto tile_of = [a](RemovalRecord* record, int ti, int tj) -> RemovalRecord::Tile* {
+      RemovalRecord::Family& family = record->families_[static_cast<std::size_t>(a)];
+      const int li = ti - family.first_i, lj = tj - family.first_j;
+      if (li < 0 || lj < 0 || li >= family.tiles_i || lj >= family.tiles_j) return nullptr;
+      return &family.tiles[static_cast<std::size_t>(lj) * static_cast<std::size_t>(family.tiles_i) +
+                           static_cast<std::size_t>(li)];
+    };
     auto& family = rays_[static_cast<std::size_t>(a)];
     auto& free_spans = free_[static_cast<std::size_t>(a)];
     const int row_rays = grid_[static_cast<std::size_t>(a)][0];
@@ -236,6 +277,8 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
                     j1 = std::min(r.js[1], tj * kTile + kTile - 1);
           if (i0 > i1 || j0 > j1) continue;
           Tally sum;
+          RemovalRecord::Tile* const taken =
+              records[k] != nullptr ? tile_of(records[k], ti, tj) : nullptr;
           // Takes `chord` from ray (i, j).
           const auto take = [&](DexelRay& material, int i, int j, const Interval& chord) {
             if (chord.is_empty()) return;
@@ -247,7 +290,7 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
               stretches.clear();
               removed = material.subtract(chord.lo, chord.hi, &stretches);
               for (const Interval& s : stretches) {
-                taken->tiles[t].stretches.push_back(
+                taken->stretches.push_back(
                     {i, j, static_cast<float>(s.lo), static_cast<float>(s.hi)});
               }
             }
@@ -317,12 +360,19 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
           }
           if (sum.changed > 0) tallies[t].emplace_back(k, sum);
         }
-        if (taken != nullptr) index_tile(taken->tiles[t], tj * kTile, cuts.size() > 1);
+        // Every tile of a record is indexed, those its cuts left empty too. A record of
+        // several cuts gets their stretches cut by cut, and sorts them by ray.
+        for (const Owner& owner : owners) {
+          if (RemovalRecord::Tile* tile = tile_of(owner.record, ti, tj)) {
+            index_tile(*tile, tj * kTile, owner.last > owner.first);
+          }
+        }
       }
     };
-    // A few tiles (a step between cutter locations) are not worth a hand-off between threads.
+    // A few tiles (a step between cutter locations) are not worth a hand-off between threads;
+    // a few tiles that each apply a group of steps are.
     const tbb::blocked_range<std::size_t> all_tiles(0, tallies.size(), 1);
-    if (tallies.size() <= kSerialTiles) {
+    if (tallies.size() * cuts.size() <= kSerialTiles) {
       apply(all_tiles);
     } else {
       tbb::parallel_for(all_tiles, apply);
@@ -334,9 +384,13 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
         heap_bytes_ = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(heap_bytes_) + sum.heap);
       }
     }
-    if (taken != nullptr) {
-      for (std::size_t t = 0; t < tallies.size(); ++t) {
-        const RemovalRecord::Tile& tile = taken->tiles[t];
+    for (const Owner& owner : owners) {
+      RemovalRecord* const record = owner.record;
+      const RemovalRecord::Family& taken = record->families_[static_cast<std::size_t>(a)];
+      const auto tiles =
+          static_cast<std::size_t>(taken.tiles_i) * static_cast<std::size_t>(taken.tiles_j);
+      for (std::size_t t = 0; t < tiles; ++t) {
+        const RemovalRecord::Tile& tile = taken.tiles[t];
         if (tile.stretches.empty()) continue;
         record->stretches_ += tile.stretches.size();
         // The tile's box: its rays' extent across the family, its stretches' along it.

@@ -82,7 +82,8 @@ class TriDexel {
   // `bounds` are skipped without calling `chord`.
   using ChordFunction = std::function<Interval(const Ray&)>;
   static constexpr int kTile = 32;
-  // Removals that reach at most this many tiles of a family run on the calling thread.
+  // Removals whose tiles of a family times their cuts come to at most this run on the calling
+  // thread.
   static constexpr std::size_t kSerialTiles = 8;
   struct Removal {
     std::size_t rays = 0;
@@ -109,6 +110,12 @@ class TriDexel {
         rows;
   };
   std::vector<Removal> remove(const std::vector<Cut>& cuts, RemovalRecord* record = nullptr);
+  // The same with a record per cut: records[k] (null for none) receives what cut k took, and
+  // cuts that share a record must follow one another. So the steps between several cutter
+  // locations are removed in one parallel pass, each into its own record, with every ray and
+  // record as removing them one call after the other gives.
+  std::vector<Removal> remove(const std::vector<Cut>& cuts,
+                              std::span<RemovalRecord* const> records);
 
   // Material volume as each family measures it (Σ lengths × s²), mm³.
   struct Volume {
