@@ -293,6 +293,10 @@ double BrepWorkpiece::remove(const MoveSweep& sweep, std::vector<BrepStock::Soli
                                : stock_.cut_helix(cutter, move, removed);
     });
   }
+  if (!move.is_arc() && (move.end - move.start).norm() <= tol::kLength) {
+    // A tilt in place: the tool's ends, meridian section and top disc revolved (exact).
+    return or_in_lines([&] { return stock_.cut_tilt(cutter, move, removed); });
+  }
   if (!move.is_arc()) {
     // A simultaneous 5-axis line, lofted through its poses within the sweep tolerance; refused
     // where its silhouettes change their kind or are off the sweep (lofted_sweep_solid).

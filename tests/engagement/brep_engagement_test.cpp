@@ -340,5 +340,47 @@ TEST(BrepEngagement, HelixOfSeveralTurnsIsCutExactly) {
   EXPECT_NEAR(exact, dexel, 0.5 * kSpacing * 530.0);  // measured: 0.1 mm³
 }
 
+// A tilt in place at the end of a slot (a 6 mm end mill 2 mm deep, tilting 30° sideways, then
+// across, then back upright: BrepShapes.TiltInPlaceIsTheUnionOfItsPoses holds its solids to the
+// union of the poses) is cut exactly, not as linear pieces, and removes what the dexel workpiece
+// removes at s = 0.05 (its linear pieces within 0.005 mm): the three tilts take 36.0 mm³; the
+// dexel's error, s/2 over the wedges' new faces (some 40 mm²), bounds the difference.
+TEST(BrepEngagement, TiltInPlaceIsCutExactly) {
+  const Aabb block{{0, 0, -8}, {30, 20, 0}};
+  const Cutter cutter = cutter_from_spec("flat:6,20");
+  const Vec3 at(10, 10, -2), up = Vec3::UnitZ();
+  Toolpath path;
+  path.sources = {"test"};
+  // A move of the tip from `from` to `to` with the axis turning from `a0` to `a1`.
+  const auto tilt = [](const Vec3& from, const Vec3& to, const Vec3& a0, const Vec3& a1) {
+    Move move = test::line(from, to);
+    move.start_axis = a0.normalized();
+    move.end_axis = a1.normalized();
+    return move;
+  };
+  const Vec3 side(0, -0.5, 0.866025), across(0.5, 0, 0.866025);
+  path.moves = {test::line({-5, 10, -2}, at), tilt(at, at, up, side), tilt(at, at, side, across),
+                tilt(at, at, across, up), test::line(at, {25, 10, -2})};
+  const double s = 0.05, t = 0.005;
+  BrepStock stock = BrepStock::from_box(block);
+  BrepWorkpiece workpiece(stock, s);
+  const std::vector<double> exact =
+      remove_toolpath(workpiece, cutter, path, {s, t}).removed_by_move;
+  EXPECT_EQ(stock.moves_in_lines(), 0);
+  TriDexel rays = TriDexel::from_box(block, s);
+  const std::vector<double> dexel = remove_toolpath(rays, cutter, path, {s, t}).removed_by_move;
+  ASSERT_EQ(exact.size(), 5u);
+  ASSERT_EQ(dexel.size(), 5u);
+  const double tilts = exact[1] + exact[2] + exact[3];
+  EXPECT_GT(tilts, 20.0);
+  EXPECT_NEAR(tilts, dexel[1] + dexel[2] + dexel[3], 0.5 * s * 40.0);  // measured: 0.05 mm³
+  double total = 0.0, total_dexel = 0.0;
+  for (std::size_t k = 0; k < 5; ++k) {
+    total += exact[k];
+    total_dexel += dexel[k];
+  }
+  EXPECT_NEAR(total, total_dexel, 0.5 * s * 200.0);  // the slot's surface under 200 mm²
+}
+
 }  // namespace
 }  // namespace cwe

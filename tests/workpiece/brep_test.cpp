@@ -438,6 +438,52 @@ TEST(BrepShapes, FiveAxisMoveIsLoftedWithinItsDeviation) {
   }
 }
 
+// A tilt in place (the tip still, the axis turning about a line through it) is swept exactly:
+// random points round the tool's poses are inside the solids where the union of the poses holds
+// them (test::union_side; points within 1e-3 of its boundary are left out). Flat, ball,
+// bull-nose, chamfer and tapered ball ends, tilts of 30° to 120° and an antipodal half turn. A
+// side that narrows towards the top (an APT cutter with a negative taper) is refused.
+TEST(BrepShapes, TiltInPlaceIsTheUnionOfItsPoses) {
+  struct Case {
+    const char* spec;
+    Vec3 start_axis, end_axis;
+  };
+  const std::vector<Case> cases = {
+      {"flat:6,12", {0, 0, 1}, {0, -0.5, 0.866025}},
+      {"ball:6,12", {0, 0.258819, 0.965926}, {0.5, -0.4, 0.768115}},
+      {"bull:10,2,20", {0, 0, 1}, {0.866025, 0, -0.5}},
+      {"chamfer:12,90,15", {0.1, 0.17, 0.98}, {-0.3, -0.17, 0.95}},
+      {"taper-ball:4,3,30", {0, 0, 1}, {0, 0, -1}},
+  };
+  test::Random random;
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.spec);
+    const Cutter cutter = cutter_from_spec(c.spec);
+    const Vec3 tip(10, 20, -3);
+    const Move move = test::line(tip, tip, c.start_axis.normalized(), c.end_axis.normalized());
+    LoftedSweep sweep;
+    sweep.solids = tilt_sweep_solids(cutter, move);
+    EXPECT_EQ(sweep.solids.size(), 6u);
+    // The box of the poses' axes grown by the tool's radius: the union fills a good part of it.
+    const Profile& profile = cutter.profile();
+    Aabb around;
+    for (int k = 0; k <= 16; ++k) {
+      around.extend(tip);
+      around.extend(tip + profile.height() * move.axis(k / 16.0));
+    }
+    around.inflate(profile.max_radius() + 0.5);
+    expect_union_of_poses(cutter, move, sweep, around.min, around.max, random);
+  }
+  const Cutter narrowing = cutter_from_spec("apt:10,0,5,0,0,-5,20");
+  const Move tilt = test::line({0, 0, 0}, {0, 0, 0}, {0, 0, 1}, {0, -0.5, 0.866025});
+  try {
+    tilt_sweep_solids(narrowing, tilt);
+    ADD_FAILURE() << "swept";
+  } catch (const ComputationError& e) {
+    EXPECT_NE(std::string(e.what()).find("narrows"), std::string::npos) << e.what();
+  }
+}
+
 // A move whose grazing curve changes its kind of edges is lofted in parts, with the tool at the
 // change between them; the parts together are the union of the tool's poses, within the
 // deviation they report.

@@ -54,7 +54,9 @@
 #include <TopoDS_Vertex.hxx>
 #include <TopoDS_Wire.hxx>
 #include <gp_Ax1.hxx>
+#include <gp_Ax2.hxx>
 #include <gp_Ax3.hxx>
+#include <gp_Circ.hxx>
 #include <gp_Dir2d.hxx>
 #include <gp_Pln.hxx>
 #include <gp_Pnt2d.hxx>
@@ -63,6 +65,7 @@
 #include "cwe/core/computation_error.hpp"
 #include "cwe/core/error.hpp"
 #include "cwe/envelope/swept_volume.hpp"
+#include "cwe/geometry/tolerance.hpp"
 
 namespace cwe {
 namespace {
@@ -666,6 +669,93 @@ std::vector<TopoDS_Shape> helix_piece_solids(const Cutter& cutter, const Move& h
 }
 
 }  // namespace
+
+std::vector<TopoDS_Shape> tilt_sweep_solids(const Cutter& cutter, const Move& move) {
+  const Vec3 tip = move.start, a0 = move.start_axis.normalized(), mid = move.axis(0.5);
+  if (move.is_arc() || (move.end - move.start).norm() > tol::kLength) {
+    throw ComputationError(fmt::format("{}: not a tilt in place (the tip moves)", cutter.name()));
+  }
+  // L along a0 × the middle axis (slerp turns a0 through it, antipodal axes too), the turn
+  // twice the angle to the middle.
+  const Vec3 turn = a0.cross(mid);
+  const double angle = 2.0 * std::atan2(turn.norm(), a0.dot(mid));
+  if (!(turn.norm() > tol::kAngle)) {
+    throw ComputationError(fmt::format("{}: not a tilt in place (the axis stays)", cutter.name()));
+  }
+  // The radius never narrows towards the top: every piece's tangent keeps a ρ component ≥ 0
+  // (arcs, at most half circles, checked at both ends and the middle).
+  for (const ProfileSegment& piece : cutter.profile().segments()) {
+    if (piece.length() < 1e-9) continue;
+    for (const double u : {0.0, 0.5, 1.0}) {
+      if (piece.tangent_at(u).x() < -1e-12) {
+        throw ComputationError(fmt::format(
+            "{}: a tilt in place is swept for tools whose radius never narrows towards the top; "
+            "this profile narrows between heights {:.4g} and {:.4g} mm",
+            cutter.name(), piece.min_z(), piece.max_z()));
+      }
+    }
+  }
+  try {
+    // In the tool's frame with x along L: the meridian section lies in the xz plane (local_tool's
+    // own), its other half turned half round the axis, and a turn about +x by `angle` takes +z to
+    // the end axis (a1 = cos·a0 + sin·(L × a0), and L × a0 is the frame's −y).
+    const Vec3 along = turn.normalized();
+    const Profile& profile = cutter.profile();
+    const auto xz = [](const Vec2& p) { return gp_Pnt(p.x(), 0.0, p.y()); };
+    BRepBuilderAPI_MakeWire wire;
+    for (const ProfileSegment& piece : profile.segments()) {
+      if ((piece.end - piece.start).norm() < 1e-9) continue;
+      if (piece.kind == ProfileSegment::Kind::kArc) {
+        const Handle(Geom_TrimmedCurve) arc =
+            GC_MakeArcOfCircle(xz(piece.start), xz(piece.point_at(0.5)), xz(piece.end)).Value();
+        wire.Add(BRepBuilderAPI_MakeEdge(arc).Edge());
+      } else {
+        wire.Add(BRepBuilderAPI_MakeEdge(xz(piece.start), xz(piece.end)).Edge());
+      }
+    }
+    const double height = profile.height(), top = profile.top_radius();
+    if (top > 1e-9) {
+      wire.Add(BRepBuilderAPI_MakeEdge(xz(Vec2(top, height)), xz(Vec2(0, height))).Edge());
+    }
+    wire.Add(BRepBuilderAPI_MakeEdge(xz(Vec2(0, height)), xz(Vec2(0, 0))).Edge());
+    check_done(wire.IsDone(), "closing the meridian section", cutter);
+    const TopoDS_Face half = BRepBuilderAPI_MakeFace(wire.Wire(), /*OnlyPlane=*/true).Face();
+    gp_Trsf half_turn;
+    half_turn.SetRotation(gp_Ax1(gp::Origin(), gp::DZ()), M_PI);
+    const TopoDS_Shape other = BRepBuilderAPI_Transform(half, half_turn, true).Shape();
+    std::vector<TopoDS_Shape> faces{half, other};
+    // The top disc in halves either side of its diameter along x: a whole disc's two halves
+    // lie at the same distances from the line, and its revolved rim would overlap itself.
+    if (top > 1e-9) {
+      for (const double side : {1.0, -1.0}) {
+        const gp_Pnt left(-top, 0, height), right(top, 0, height), apex(0, side * top, height);
+        const Handle(Geom_TrimmedCurve) rim = GC_MakeArcOfCircle(left, apex, right).Value();
+        const TopoDS_Wire half_disc =
+            BRepBuilderAPI_MakeWire(BRepBuilderAPI_MakeEdge(rim).Edge(),
+                                    BRepBuilderAPI_MakeEdge(right, left).Edge())
+                .Wire();
+        faces.push_back(BRepBuilderAPI_MakeFace(half_disc, /*OnlyPlane=*/true).Face());
+      }
+    }
+    const gp_Trsf to_world = placement(tip, a0, along);
+    std::vector<TopoDS_Shape> solids{tool_solid(cutter, tip, a0),
+                                     tool_solid(cutter, tip, move.end_axis.normalized())};
+    for (const TopoDS_Shape& face : faces) {
+      BRepPrimAPI_MakeRevol revol(face, gp_Ax1(gp::Origin(), gp::DX()), angle);
+      check_done(revol.IsDone(), "revolving the section about the tilt's line", cutter);
+      TopExp_Explorer solid(revol.Shape(), TopAbs_SOLID);
+      check_done(solid.More(), "revolving the section about the tilt's line", cutter);
+      solids.push_back(BRepBuilderAPI_Transform(solid.Current(), to_world, true).Shape());
+    }
+    for (const TopoDS_Shape& solid : solids) {
+      check_done(BRepCheck_Analyzer(solid).IsValid(), "checking the tilt's solids", cutter);
+    }
+    return solids;
+  } catch (const Standard_Failure& e) {
+    throw ComputationError(fmt::format("{}: OpenCASCADE could not sweep the tilt in place ({})",
+                                       cutter.name(), e.GetMessageString()));
+  }
+}
 
 std::vector<TopoDS_Shape> helix_sweep_solids(const Cutter& cutter, const Move& helix) {
   // Over more than a turn, the poses a whole turn apart differ by a shift of δ (the pitch)

@@ -184,6 +184,10 @@ double BrepStock::cut_helix(const Cutter& cutter, const Move& helix, std::vector
   return cut_all(solids(helix_sweep_solids(cutter, helix)), removed);
 }
 
+double BrepStock::cut_tilt(const Cutter& cutter, const Move& tilt, std::vector<Solid>* removed) {
+  return cut_all(solids(tilt_sweep_solids(cutter, tilt)), removed);
+}
+
 double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed) {
   return cut(cutter, removed, /*merge_faces=*/true);
 }

@@ -71,6 +71,18 @@ std::vector<TopoDS_Shape> planar_arc_sweep_solids(const Cutter& cutter, const Mo
 // helix not wider than the tool, or when OpenCASCADE cannot build a piece.
 std::vector<TopoDS_Shape> helix_sweep_solids(const Cutter& cutter, const Move& helix);
 
+// The volume the cutter sweeps in a tilt in place: a line whose tip stays still while the axis
+// turns from the start axis to the end axis (slerp: about the line L through the tip square to
+// both). Exact, as six solids: the tool at both ends, the two halves of its meridian section in
+// the plane of the start axis and L revolved about L through the turn, and the two halves of its
+// top disc (either side of the diameter along L) revolved likewise. About L, a tool whose radius
+// never narrows towards its top meets each circle round L within its height of L in one arc through
+// that plane, and each circle farther out in two arcs that start at the top disc; so the revolved
+// section and disc join each arc at the start to the same arc at the end. Throws ComputationError
+// for a profile that narrows towards its top (the argument fails there), for a move that does not
+// tilt in place, or when OpenCASCADE cannot build a solid.
+std::vector<TopoDS_Shape> tilt_sweep_solids(const Cutter& cutter, const Move& move);
+
 // The volume the cutter sweeps along a line whose axis turns (a simultaneous 5-axis move),
 // lofted (Aras 2008 builds the envelope from its grazing curves): at poses evenly spaced along
 // the move, the tool's faces are cut along the grazing curve of the motion at that instant

@@ -39,11 +39,13 @@ class BrepStock {
   // intersection; its volume checked against the stock's change) are appended to it.
   double cut_linear(const Cutter& cutter, const Vec3& start, const Vec3& end, const Vec3& axis,
                     std::vector<Solid>* removed = nullptr);
-  // The same for a planar arc with the tool along its normal (planar_arc_sweep_solids), and for
-  // a helix (helix_sweep_solids), their solids cut one after the other.
+  // The same for a planar arc with the tool along its normal (planar_arc_sweep_solids), for a
+  // helix (helix_sweep_solids) and for a tilt in place (tilt_sweep_solids), their solids cut one
+  // after the other.
   double cut_planar_arc(const Cutter& cutter, const Move& arc,
                         std::vector<Solid>* removed = nullptr);
   double cut_helix(const Cutter& cutter, const Move& helix, std::vector<Solid>* removed = nullptr);
+  double cut_tilt(const Cutter& cutter, const Move& tilt, std::vector<Solid>* removed = nullptr);
   // The same for lines one after the other, all or none (a move the caller cut into linear
   // pieces: a simultaneous 5-axis move, each piece with one axis).
   struct Line {
