@@ -83,13 +83,9 @@ gp_Trsf placement(const Vec3& tip, const Vec3& axis, const Vec3& x_hint = Vec3::
   return trsf;
 }
 
-// The tool in its own frame: the meridian section (ρ along X, z along Z) revolved about Z.
-TopoDS_Solid local_tool(const Cutter& cutter) {
-  if (!is_convex(cutter)) {
-    throw InputError(SourceLocation{cutter.name()},
-                     "the B-rep workpiece sweeps convex cutters (every APT cutter); this "
-                     "profile has a concave part");
-  }
+// The half of the tool's meridian section at ρ ≥ 0 in its own frame (ρ along X, z along Z),
+// from the tip round the profile, across the top and down the axis.
+TopoDS_Face meridian_section(const Cutter& cutter) {
   const Profile& profile = cutter.profile();
   const auto xz = [](const Vec2& p) { return gp_Pnt(p.x(), 0.0, p.y()); };
   BRepBuilderAPI_MakeWire wire;
@@ -110,8 +106,17 @@ TopoDS_Solid local_tool(const Cutter& cutter) {
     throw ComputationError(
         fmt::format("{}: the profile does not make a closed outline", cutter.name()));
   }
-  const TopoDS_Face section = BRepBuilderAPI_MakeFace(wire.Wire(), /*OnlyPlane=*/true).Face();
-  BRepPrimAPI_MakeRevol revol(section, gp_Ax1(gp::Origin(), gp::DZ()), 2.0 * M_PI);
+  return BRepBuilderAPI_MakeFace(wire.Wire(), /*OnlyPlane=*/true).Face();
+}
+
+// The tool in its own frame: the meridian section revolved about Z.
+TopoDS_Solid local_tool(const Cutter& cutter) {
+  if (!is_convex(cutter)) {
+    throw InputError(SourceLocation{cutter.name()},
+                     "the B-rep workpiece sweeps convex cutters (every APT cutter); this "
+                     "profile has a concave part");
+  }
+  BRepPrimAPI_MakeRevol revol(meridian_section(cutter), gp_Ax1(gp::Origin(), gp::DZ()), 2.0 * M_PI);
   TopExp_Explorer solid(revol.Shape(), TopAbs_SOLID);
   if (!solid.More()) {
     throw ComputationError(fmt::format("{}: revolving the profile gave no solid", cutter.name()));
@@ -701,25 +706,8 @@ std::vector<TopoDS_Shape> tilt_sweep_solids(const Cutter& cutter, const Move& mo
     // the end axis (a1 = cos·a0 + sin·(L × a0), and L × a0 is the frame's −y).
     const Vec3 along = turn.normalized();
     const Profile& profile = cutter.profile();
-    const auto xz = [](const Vec2& p) { return gp_Pnt(p.x(), 0.0, p.y()); };
-    BRepBuilderAPI_MakeWire wire;
-    for (const ProfileSegment& piece : profile.segments()) {
-      if ((piece.end - piece.start).norm() < 1e-9) continue;
-      if (piece.kind == ProfileSegment::Kind::kArc) {
-        const Handle(Geom_TrimmedCurve) arc =
-            GC_MakeArcOfCircle(xz(piece.start), xz(piece.point_at(0.5)), xz(piece.end)).Value();
-        wire.Add(BRepBuilderAPI_MakeEdge(arc).Edge());
-      } else {
-        wire.Add(BRepBuilderAPI_MakeEdge(xz(piece.start), xz(piece.end)).Edge());
-      }
-    }
     const double height = profile.height(), top = profile.top_radius();
-    if (top > 1e-9) {
-      wire.Add(BRepBuilderAPI_MakeEdge(xz(Vec2(top, height)), xz(Vec2(0, height))).Edge());
-    }
-    wire.Add(BRepBuilderAPI_MakeEdge(xz(Vec2(0, height)), xz(Vec2(0, 0))).Edge());
-    check_done(wire.IsDone(), "closing the meridian section", cutter);
-    const TopoDS_Face half = BRepBuilderAPI_MakeFace(wire.Wire(), /*OnlyPlane=*/true).Face();
+    const TopoDS_Face half = meridian_section(cutter);
     gp_Trsf half_turn;
     half_turn.SetRotation(gp_Ax1(gp::Origin(), gp::DZ()), M_PI);
     const TopoDS_Shape other = BRepBuilderAPI_Transform(half, half_turn, true).Shape();
