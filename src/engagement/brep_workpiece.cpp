@@ -84,12 +84,11 @@ constexpr double kOnFace = 1e-7;
 // The solid-model CWE (Aras 2008 §6.1): at a location, the engaged part of each band's circle
 // (a disc or ring of the engagement grid) is where the circle, a hair outside the cutter, lies
 // inside the move's RV and moves into the material (f > 0), and was not taken earlier on the
-// move. The circle's crossings with the RV's faces (IntCurvesFace_ShapeIntersector, exact; it
-// makes each face's polyhedron once per location, where BRepIntCurveSurface_Inter made it again
-// for every circle) and the roots of f cut it into arcs, each wholly in or out: its midpoint is
-// classified by a ray's crossings (inside()). The intervals are exact up to OpenCASCADE's
-// tolerances, not a grid's cells; a crossing OpenCASCADE misses at a tangency drops an island
-// thinner than its tolerance.
+// move. The circle's crossings with the RV's faces (BRepIntCurveSurface_Inter, exact) and the
+// roots of f cut it into arcs, each wholly in or out: its midpoint is classified by two rays'
+// crossings, OpenCASCADE's solid classifier where they cannot decide (inside()). The intervals
+// are exact up to OpenCASCADE's tolerances, not a grid's cells; a crossing OpenCASCADE misses at
+// a tangency drops an island thinner than its tolerance.
 class BrepStepEngagement : public StepEngagement {
  public:
   BrepStepEngagement(BrepWorkpiece& workpiece, const Cutter& cutter, double spacing,
@@ -165,7 +164,8 @@ class BrepStepEngagement : public StepEngagement {
     static const std::array<gp_Dir, 3> kRays = {gp_Dir(0.5773, 0.6123, 0.5402),
                                                 gp_Dir(-0.4127, 0.7071, -0.5742),
                                                 gp_Dir(0.8105, -0.3306, 0.4836)};
-    const double far = std::sqrt(box.SquareExtent()) + std::sqrt(box.Distance(Bnd_Box(p, p))) + 1.0;
+    // Beyond the part's box from anywhere (callers give a p within it).
+    const double far = std::sqrt(box.SquareExtent()) + box.Distance(Bnd_Box(p, p)) + 1.0;
     int votes = 0, odd = 0;
     for (const gp_Dir& direction : kRays) {
       r.rays.Perform(gp_Lin(p, direction), -kNear, far);

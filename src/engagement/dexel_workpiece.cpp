@@ -1,5 +1,6 @@
 #include "cwe/engagement/dexel_workpiece.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "cwe/engagement/dexel_engagement.hpp"
@@ -54,8 +55,15 @@ class DexelStepEngagement : public StepEngagement {
       const MoveSweep& sweep = *parts[p].sweep;
       RemovalRecord* record =
           parts[p].step != nullptr ? &static_cast<DexelStep*>(parts[p].step)->removed : nullptr;
-      // A step without pieces removed nothing; its record is emptied here, as no cut will.
-      if (record != nullptr && sweep.pieces().empty()) record->clear();
+      // A step without pieces removed nothing; its record is emptied here, as no cut will. A
+      // record holding far more than this step can need gives its buffers back, so that the
+      // records kept stay within what the groups in flight may hold (EngagementRun's budget).
+      if (record != nullptr) {
+        if (record->held_bytes() > std::max(2 * record_bytes(sweep), kKeptRecordBytes)) {
+          record->release();
+        }
+        if (sweep.pieces().empty()) record->clear();
+      }
       for (std::size_t k = 0; k < sweep.pieces().size(); ++k) {
         cuts.push_back(cut_of(sweep.pieces()[k], sweep.reach_bounds(k)));
         records.push_back(record);
@@ -67,6 +75,9 @@ class DexelStepEngagement : public StepEngagement {
     for (std::size_t k = 0; k < cuts.size(); ++k) volumes[owner[k]] += removed[k].volume;
     return volumes;
   }
+
+  // What a record may keep beyond its step's need, bytes.
+  static constexpr std::size_t kKeptRecordBytes = std::size_t{1} << 20;
 
   // Steps enough to give every thread tiles of its own, and records small beside the rays.
   std::size_t steps_per_removal() const override { return 8; }

@@ -684,7 +684,7 @@ std::vector<TopoDS_Shape> tilt_sweep_solids(const Cutter& cutter, const Move& mo
   // twice the angle to the middle.
   const Vec3 turn = a0.cross(mid);
   const double angle = 2.0 * std::atan2(turn.norm(), a0.dot(mid));
-  if (!(turn.norm() > tol::kAngle)) {
+  if (!(angle > tol::kAngle)) {
     throw ComputationError(fmt::format("{}: not a tilt in place (the axis stays)", cutter.name()));
   }
   // The radius never narrows towards the top: every piece's tangent keeps a ρ component ≥ 0

@@ -25,6 +25,21 @@ void RemovalRecord::clear() {
   bounds_ = Aabb();
 }
 
+std::size_t RemovalRecord::held_bytes() const {
+  std::size_t bytes = 0;
+  for (const Family& family : families_) {
+    bytes += family.tiles.capacity() * sizeof(Tile);
+    for (const Tile& tile : family.tiles) bytes += tile.stretches.capacity() * sizeof(Stretch);
+  }
+  return bytes;
+}
+
+void RemovalRecord::release() {
+  for (Family& family : families_) family = Family();
+  stretches_ = 0;
+  bounds_ = Aabb();
+}
+
 static_assert(RemovalRecord::kTileRows == TriDexel::kTile, "a record's tiles are the removal's");
 
 std::vector<RemovalRecord::Stretch> RemovalRecord::family(int axis) const {

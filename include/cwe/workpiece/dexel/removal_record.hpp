@@ -30,6 +30,10 @@ class RemovalRecord {
   static constexpr int kTileRows = 32;  // rays along a tile's side: TriDexel::kTile
 
   void clear();
+  // Bytes the record holds (its buffers, kept by clear() for the next step), and a release of
+  // them all (a record that once held a large step need not keep that much).
+  std::size_t held_bytes() const;
+  void release();
   bool empty() const { return stretches_ == 0; }
   // A box holding every stretch (empty when nothing was removed).
   const Aabb& bounds() const { return bounds_; }
