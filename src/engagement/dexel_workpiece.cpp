@@ -36,15 +36,10 @@ class DexelStepEngagement : public StepEngagement {
 
   std::unique_ptr<Step> new_step() const override { return std::make_unique<DexelStep>(); }
 
+  // One step: a group of one.
   double remove(const MoveSweep& sweep, Step* step) override {
-    std::vector<TriDexel::Cut> cuts;
-    for (std::size_t k = 0; k < sweep.pieces().size(); ++k) {
-      cuts.push_back(cut_of(sweep.pieces()[k], sweep.reach_bounds(k)));
-    }
-    RemovalRecord* record = step != nullptr ? &static_cast<DexelStep*>(step)->removed : nullptr;
-    double volume = 0.0;
-    for (const TriDexel::Removal& r : stock_.remove(cuts, record)) volume += r.volume;
-    return volume;
+    const Part part{&sweep, step};
+    return remove_parts({&part, 1}).front();
   }
 
   std::vector<double> remove_parts(std::span<const Part> parts) override {
