@@ -24,6 +24,14 @@ TriDexel::Cut cut_of(const LinearSweep& piece, const Aabb& bounds) {
   return cut;
 }
 
+// The cuts of a sweep's pieces, appended to `cuts`; their number.
+std::size_t append_cuts(const MoveSweep& sweep, std::vector<TriDexel::Cut>& cuts) {
+  for (std::size_t k = 0; k < sweep.pieces().size(); ++k) {
+    cuts.push_back(cut_of(sweep.pieces()[k], sweep.reach_bounds(k)));
+  }
+  return sweep.pieces().size();
+}
+
 // A step's record: the dexel stretches it removed.
 struct DexelStep : StepEngagement::Step {
   RemovalRecord removed;
@@ -59,11 +67,9 @@ class DexelStepEngagement : public StepEngagement {
         }
         if (sweep.pieces().empty()) record->clear();
       }
-      for (std::size_t k = 0; k < sweep.pieces().size(); ++k) {
-        cuts.push_back(cut_of(sweep.pieces()[k], sweep.reach_bounds(k)));
-        records.push_back(record);
-        owner.push_back(p);
-      }
+      const std::size_t added = append_cuts(sweep, cuts);
+      records.insert(records.end(), added, record);
+      owner.insert(owner.end(), added, p);
     }
     std::vector<double> volumes(parts.size(), 0.0);
     const std::vector<TriDexel::Removal> removed = stock_.remove(cuts, records);
@@ -112,10 +118,7 @@ std::vector<double> DexelWorkpiece::remove(std::span<const MoveSweep> sweeps) {
   std::vector<TriDexel::Cut> cuts;
   std::vector<std::size_t> owner;  // sweep of each cut
   for (std::size_t m = 0; m < sweeps.size(); ++m) {
-    for (std::size_t k = 0; k < sweeps[m].pieces().size(); ++k) {
-      cuts.push_back(cut_of(sweeps[m].pieces()[k], sweeps[m].reach_bounds(k)));
-      owner.push_back(m);
-    }
+    owner.insert(owner.end(), append_cuts(sweeps[m], cuts), m);
   }
   const std::vector<TriDexel::Removal> removed = stock_.remove(cuts);
   std::vector<double> volume(sweeps.size(), 0.0);
