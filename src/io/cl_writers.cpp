@@ -184,8 +184,13 @@ void EngagementFiles::flush(bool force) {
   forces_block_.clear();
 }
 
+// The figures' tasks have a context of their own (isolated). A task_group's default context
+// binds, when its first task is run, to the context of the task running it: here a stage of the
+// main loop's pipeline, which ends while the figures go on. A later pipeline's cancellation (an
+// error in a move) then walked the dead context as an ancestor of this one and crashed.
 struct Figures::Drawing {
-  tbb::task_group tasks;
+  tbb::task_group_context context{tbb::task_group_context::isolated};
+  tbb::task_group tasks{context};
 };
 
 Figures::Figures(const std::filesystem::path& folder, MapChoice maps, MapChoice curves, bool forces,
