@@ -382,5 +382,37 @@ TEST(BrepEngagement, TiltInPlaceIsCutExactly) {
   EXPECT_NEAR(total, total_dexel, 0.5 * s * 200.0);  // the slot's surface under 200 mm²
 }
 
+// A 5-axis retract from a slot's end (a 6 mm end mill 2 mm deep), 60 mm up and 10 mm on while
+// its axis tilts 30° forward: it shaves a wedge off the slot's end wall as it leaves. Only the
+// stretch of the move whose pieces can meet the block is lofted (most of its pieces are far
+// above it); that stretch must hold all the move takes: against the dexel workpiece at
+// s = 0.05, within its error of s/2 over the wedge's new faces (under 40 mm²). Measured: 2.04
+// against 2.05 mm³; a loft of the move's other end takes nothing.
+TEST(BrepEngagement, FiveAxisRetractIsLoftedWhereItMeetsTheBlock) {
+  const Aabb block{{0, 0, -8}, {30, 20, 0}};
+  const Cutter cutter = cutter_from_spec("flat:6,20");
+  const Vec3 end(15, 10, -2);
+  Toolpath path;
+  path.sources = {"test"};
+  Move retract = test::line(end, {25, 10, 58});
+  retract.start_axis = Vec3::UnitZ();
+  retract.end_axis = Vec3(0.5, 0, 0.866025).normalized();
+  path.moves = {test::line({-5, 10, -2}, end), retract};
+  const double s = 0.05, t = 0.005;
+  BrepStock stock = BrepStock::from_box(block);
+  BrepWorkpiece workpiece(stock, s);
+  const std::vector<double> exact =
+      remove_toolpath(workpiece, cutter, path, {s, t}).removed_by_move;
+  EXPECT_EQ(stock.moves_lofted(), 1);
+  EXPECT_EQ(stock.moves_in_lines(), 0);
+  TriDexel rays = TriDexel::from_box(block, s);
+  const std::vector<double> dexel = remove_toolpath(rays, cutter, path, {s, t}).removed_by_move;
+  ASSERT_EQ(exact.size(), 2u);
+  ASSERT_EQ(dexel.size(), 2u);
+  EXPECT_GT(dexel[1], 1.0);
+  EXPECT_NEAR(exact[1], dexel[1], 0.5 * s * 40.0);  // measured: 0.01 mm³
+  EXPECT_NEAR(exact[0], dexel[0], 0.5 * s * 200.0);  // the slot's surface under 200 mm²
+}
+
 }  // namespace
 }  // namespace cwe

@@ -111,6 +111,12 @@ BrepStock brep_stock(const TopoDS_Shape& shape) {
 
 Aabb BrepStock::bounds() const { return aabb_of(box_of(solid_->shape)); }
 
+Aabb BrepStock::tight_bounds() const {
+  Bnd_Box tight;
+  BRepBndLib::AddOptimal(solid_->shape, tight, /*useTriangulation=*/false);
+  return aabb_of(tight);
+}
+
 int BrepStock::faces() const {
   int n = 0;
   for (TopExp_Explorer e(solid_->shape, TopAbs_FACE); e.More(); e.Next()) ++n;
@@ -166,11 +172,7 @@ double BrepStock::cut_lines(const Cutter& cutter, const std::vector<Line>& lines
 
 double BrepStock::cut_lofted(const Cutter& cutter, const Move& move, double tolerance,
                              std::vector<Solid>* removed) {
-  // The stock's box from its faces' geometry (BRepBndLib::AddOptimal): the box of their
-  // control points grows round a loft's B-spline faces once the stock holds them.
-  Bnd_Box tight;
-  BRepBndLib::AddOptimal(solid_->shape, tight, /*useTriangulation=*/false);
-  Aabb within = aabb_of(tight);
+  Aabb within = tight_bounds();
   within.inflate(tolerance);
   const LoftedSweep loft = lofted_sweep_parts(cutter, move, tolerance, within);
   // Not merged: the loft's faces share no surface with the stock's.

@@ -73,6 +73,9 @@ class BrepStock {
 
   double volume() const { return volume_; }  // mm³, exact (BRepGProp)
   Aabb bounds() const;
+  // The box of the faces' geometry (BRepBndLib::AddOptimal): bounds() is that of their control
+  // points, which grows round a loft's B-spline faces once the stock holds them.
+  Aabb tight_bounds() const;
   int faces() const;
 
   const Solid& solid() const { return *solid_; }
