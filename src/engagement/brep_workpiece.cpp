@@ -324,16 +324,20 @@ double BrepWorkpiece::remove(const MoveSweep& sweep, std::vector<BrepStock::Soli
   if (!move.is_arc() && constant_axis) {
     return stock_.cut_linear(cutter, move.start, move.end, axis, removed);
   }
-  // The pieces [first, last) whose tool can meet the stock: every point of the true motion lies
-  // within the deviation bound of a piece's sweep, of the same stretch of the move, so beyond
-  // them the move cuts nothing. A retract that turns the axis on its way up (the CATIA
-  // program's last rapid: 90 mm up, 1,316 pieces) meets the stock over its first few. Found
-  // when a cut needs them (the stock's tight box is not free).
+  // The pieces [first, last) whose tool can come within a clearance of the stock: every point of
+  // the true motion lies within the deviation bound of a piece's sweep, of the same stretch of
+  // the move, so beyond them the move cuts nothing. A retract that turns the axis on its way up
+  // (the CATIA program's last rapid: 90 mm up, 1,316 pieces) meets the stock over its first
+  // few. The clearance (the tool's radius, at least 1 mm) keeps the ends of what is cut clear of
+  // the stock: trimmed to the stock's box itself, the bundled example's 5-axis pass started its
+  // loft with the tool touching the block's side, and the stock's tessellation no longer
+  // closed. Found when a cut needs them (the stock's tight box is not free).
   const std::vector<LinearSweep>& pieces = sweep.pieces();
   std::size_t first = 0, last = 0;
   const auto find_reaching = [&] {
     Aabb stock_box = stock_.tight_bounds();
-    stock_box.inflate(sweep.deviation_bound() + tol::kLength);
+    const double clearance = std::max(1.0, cutter.bounding_cylinder().radius);
+    stock_box.inflate(sweep.deviation_bound() + clearance);
     first = 0;
     last = pieces.size();
     while (first < last && !pieces[first].bounds().intersects(stock_box)) ++first;
@@ -384,7 +388,7 @@ double BrepWorkpiece::remove(const MoveSweep& sweep, std::vector<BrepStock::Soli
     // A simultaneous 5-axis line, lofted through its poses within the sweep tolerance; refused
     // where its silhouettes change their kind or are off the sweep (lofted_sweep_solid). Only
     // its stretch over the pieces that can meet the stock: lofted whole and then as its 1,316
-    // linear pieces, the CATIA program's retract took 3 min to be refused; trimmed, 16 s.
+    // linear pieces, the CATIA program's retract took 3 min to be refused.
     find_reaching();
     if (first == last) return 0.0;
     const auto n = static_cast<double>(pieces.size());
