@@ -207,6 +207,12 @@ TEST(BrepShapes, PlanarArcSweepIsTheRevolvedSection) {
                         {"flat:10,20", 3.0, 0.5 * kPi, -Vec3::UnitZ(), 3},
                         {"ball:10,20", 2.0, 0.5 * kPi, Vec3::UnitZ(), 3},
                         {"bull:10,2,20", 4.0, 0.5 * kPi, Vec3::UnitZ(), 3},
+                        // FreeCAD's profile round a block's corner: an arc of the tool's radius
+                        // (the tool's side on the arc's axis), and one whose axis crosses the
+                        // corner's torus. With the section cut from the placed tool both were
+                        // refused (a 40 mm tool's were still being checked after 200 s).
+                        {"bull:6,1.5,20", 3.0, 0.5 * kPi, -Vec3::UnitZ(), 3},
+                        {"bull:6,1.5,20", 2.5, 0.5 * kPi, Vec3::UnitZ(), 3},
                         {"chamfer:12,90,15", 14.0, 0.4 * kPi, -Vec3::UnitZ(), 1}};
   for (const Case& c : cases) {
     SCOPED_TRACE(testing::Message() << c.tool << " R " << c.radius << " sweep " << c.sweep);

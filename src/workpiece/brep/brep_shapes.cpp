@@ -12,6 +12,7 @@
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepAlgoAPI_Common.hxx>
 #include <BRepAlgoAPI_Cut.hxx>
+#include <BRepAlgoAPI_Fuse.hxx>
 #include <BRepAlgoAPI_Splitter.hxx>
 #include <BRepBndLib.hxx>
 #include <BRepBuilderAPI_MakeEdge.hxx>
@@ -39,6 +40,7 @@
 #include <GeomFill.hxx>
 #include <Geom_CylindricalSurface.hxx>
 #include <Geom_Surface.hxx>
+#include <ShapeUpgrade_UnifySameDomain.hxx>
 #include <Standard_Failure.hxx>
 #include <TColStd_HArray1OfReal.hxx>
 #include <TColgp_HArray1OfPnt.hxx>
@@ -433,6 +435,41 @@ TopoDS_Shape linear_sweep_solid(const Cutter& cutter, const Vec3& start, const V
   }
 }
 
+namespace {
+
+// The tool's meridian section in the plane through its axis and the arc's, on the tool's side of
+// the arc's axis: the profile's half sections on both sides of the tool's axis, the one towards
+// the arc's axis cut at it (`big_r` from the tool's axis along unit `radial`), made from the
+// profile's exact lines and circles. The section the placed tool and a half-plane had in common
+// (OpenCASCADE's intersection curves) made rings whose sweeps were refused or never finished
+// their check where the arc's axis meets the tool's side or corner: FreeCAD's profile round a
+// block's corners, arcs of the tool's radius, fell back to linear pieces or hung. Made so, the
+// corners of FreeCAD's two-tool program are cut exactly in 1 to 7 s each.
+TopoDS_Shape arc_section(const Cutter& cutter, const Vec3& tip, const Vec3& axis,
+                         const Vec3& radial, double big_r) {
+  const TopoDS_Face half = meridian_section(cutter);
+  gp_Trsf mirror;
+  mirror.SetMirror(gp_Ax2(gp::Origin(), gp::DX()));
+  TopoDS_Shape towards = BRepBuilderAPI_Transform(half, mirror, true).Shape();
+  const double rho = cutter.profile().max_radius(), height = cutter.profile().height();
+  if (big_r < rho) {
+    // The plane y = 0, u along x and v along −z.
+    const gp_Pln xz(gp_Ax3(gp::Origin(), gp::DY(), gp::DX()));
+    const TopoDS_Face keep =
+        BRepBuilderAPI_MakeFace(xz, -big_r, 0.0, -height - 1.0, 1.0).Face();
+    BRepAlgoAPI_Common cut(towards, keep);
+    check_done(cut.IsDone() && !cut.HasErrors(), "the tool's section at the arc's axis", cutter);
+    towards = cut.Shape();
+  }
+  BRepAlgoAPI_Fuse both(half, towards);
+  check_done(both.IsDone() && !both.HasErrors(), "the tool's section", cutter);
+  ShapeUpgrade_UnifySameDomain one(both.Shape(), true, true, true);
+  one.Build();
+  return BRepBuilderAPI_Transform(one.Shape(), placement(tip, axis, radial), true).Shape();
+}
+
+}  // namespace
+
 std::vector<TopoDS_Shape> planar_arc_sweep_solids(const Cutter& cutter, const Move& arc) {
   try {
     const Vec3 axis = arc.start_axis.normalized();
@@ -472,12 +509,9 @@ std::vector<TopoDS_Shape> planar_arc_sweep_solids(const Cutter& cutter, const Mo
       return {swept};
     }
     // A full circle, or a corner (the tool covers the arc's axis): the section on the tool's
-    // side of the arc's axis, revolved, and the tool at both ends.
-    const gp_Ax3 frame(point(arc.center), direction(travel), direction(radial));
-    const TopoDS_Face half = BRepBuilderAPI_MakeFace(gp_Pln(frame), 0.0, big, -big, big).Face();
-    BRepAlgoAPI_Common section(start, half);
-    check_done(section.IsDone() && !section.HasErrors(), "the tool's section", cutter);
-    BRepPrimAPI_MakeRevol ring(section.Shape(), arc_axis, angle);
+    // side of the arc's axis (arc_section), revolved, and the tool at both ends.
+    BRepPrimAPI_MakeRevol ring(arc_section(cutter, arc.start, axis, radial / big_r, big_r),
+                               arc_axis, angle);
     check_done(ring.IsDone(), "revolving the tool's section", cutter);
     // A solid of revolution's volume is proportional to its angle (Pappus): the ring's is the full
     // circle's sweep's share.
