@@ -340,6 +340,26 @@ TEST(BrepEngagement, HelixOfSeveralTurnsIsCutExactly) {
   EXPECT_NEAR(exact, dexel, 0.5 * kSpacing * 530.0);  // measured: 0.1 mm³
 }
 
+// What each move of `path` takes from `block` on the B-rep workpiece (exact) and on the dexel one,
+// at spacing s and sweep tolerance t, with the B-rep stock's counts of lofted moves and of moves
+// cut as linear pieces.
+struct Removals {
+  std::vector<double> exact, dexel;
+  int lofted = 0, in_lines = 0;
+};
+Removals removed_on_both(const Aabb& block, const Cutter& cutter, const Toolpath& path, double s,
+                         double t) {
+  Removals r;
+  BrepStock stock = BrepStock::from_box(block);
+  BrepWorkpiece workpiece(stock, s);
+  r.exact = remove_toolpath(workpiece, cutter, path, {s, t}).removed_by_move;
+  r.lofted = stock.moves_lofted();
+  r.in_lines = stock.moves_in_lines();
+  TriDexel rays = TriDexel::from_box(block, s);
+  r.dexel = remove_toolpath(rays, cutter, path, {s, t}).removed_by_move;
+  return r;
+}
+
 // A tilt in place at the end of a slot (a 6 mm end mill 2 mm deep, tilting 30° sideways, then
 // across, then back upright: BrepShapes.TiltInPlaceIsTheUnionOfItsPoses holds its solids to the
 // union of the poses) is cut exactly, not as linear pieces, and removes what the dexel workpiece
@@ -362,13 +382,10 @@ TEST(BrepEngagement, TiltInPlaceIsCutExactly) {
   path.moves = {test::line({-5, 10, -2}, at), tilt(at, at, up, side), tilt(at, at, side, across),
                 tilt(at, at, across, up), test::line(at, {25, 10, -2})};
   const double s = 0.05, t = 0.005;
-  BrepStock stock = BrepStock::from_box(block);
-  BrepWorkpiece workpiece(stock, s);
-  const std::vector<double> exact =
-      remove_toolpath(workpiece, cutter, path, {s, t}).removed_by_move;
-  EXPECT_EQ(stock.moves_in_lines(), 0);
-  TriDexel rays = TriDexel::from_box(block, s);
-  const std::vector<double> dexel = remove_toolpath(rays, cutter, path, {s, t}).removed_by_move;
+  const Removals r = removed_on_both(block, cutter, path, s, t);
+  const std::vector<double>& exact = r.exact;
+  const std::vector<double>& dexel = r.dexel;
+  EXPECT_EQ(r.in_lines, 0);
   ASSERT_EQ(exact.size(), 5u);
   ASSERT_EQ(dexel.size(), 5u);
   const double tilts = exact[1] + exact[2] + exact[3];
@@ -399,14 +416,11 @@ TEST(BrepEngagement, FiveAxisRetractIsLoftedWhereItMeetsTheBlock) {
   retract.end_axis = Vec3(0.5, 0, 0.866025).normalized();
   path.moves = {test::line({-5, 10, -2}, end), retract};
   const double s = 0.05, t = 0.005;
-  BrepStock stock = BrepStock::from_box(block);
-  BrepWorkpiece workpiece(stock, s);
-  const std::vector<double> exact =
-      remove_toolpath(workpiece, cutter, path, {s, t}).removed_by_move;
-  EXPECT_EQ(stock.moves_lofted(), 1);
-  EXPECT_EQ(stock.moves_in_lines(), 0);
-  TriDexel rays = TriDexel::from_box(block, s);
-  const std::vector<double> dexel = remove_toolpath(rays, cutter, path, {s, t}).removed_by_move;
+  const Removals r = removed_on_both(block, cutter, path, s, t);
+  const std::vector<double>& exact = r.exact;
+  const std::vector<double>& dexel = r.dexel;
+  EXPECT_EQ(r.lofted, 1);
+  EXPECT_EQ(r.in_lines, 0);
   ASSERT_EQ(exact.size(), 2u);
   ASSERT_EQ(dexel.size(), 2u);
   EXPECT_GT(dexel[1], 1.0);
