@@ -327,8 +327,8 @@ double BrepWorkpiece::remove(const MoveSweep& sweep, std::vector<BrepStock::Soli
   // The pieces [first, last) whose tool can come within a clearance of the stock: every point of
   // the true motion lies within the deviation bound of a piece's sweep, of the same stretch of
   // the move, so beyond them the move cuts nothing. A retract that turns the axis on its way up
-  // (the CATIA program's last rapid: 90 mm up, 1,316 pieces) meets the stock over its first
-  // few. The clearance (the tool's radius, at least 1 mm) keeps the ends of what is cut clear of
+  // (the CATIA program's last rapid: 90 mm up, 1,316 pieces) comes near the stock over its first
+  // 136. The clearance (the tool's radius, at least 1 mm) keeps the ends of what is cut clear of
   // the stock: trimmed to the stock's box itself, the bundled example's 5-axis pass started its
   // loft with the tool touching the block's side, and the stock's tessellation no longer
   // closed. Found when a cut needs them (the stock's tight box is not free).

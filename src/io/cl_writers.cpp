@@ -204,8 +204,11 @@ Figures::Figures(const std::filesystem::path& folder, MapChoice maps, MapChoice 
 }
 
 Figures::~Figures() {
-  // Unwinding from an error elsewhere: the figures' own errors no longer matter.
+  // After commit() nothing is left to draw. Before it (an error elsewhere) the figures are never
+  // written: those not yet started are dropped (their context is the figures' own, so an error's
+  // cancellation of the main loop does not reach them), and their own errors no longer matter.
   try {
+    drawing_->tasks.cancel();
     drawing_->tasks.wait();
   } catch (...) {  // NOLINT(bugprone-empty-catch)
   }

@@ -401,31 +401,52 @@ TEST(BrepEngagement, TiltInPlaceIsCutExactly) {
 
 // A 5-axis retract from a slot's end (a 6 mm end mill 2 mm deep), 60 mm up and 10 mm on while
 // its axis tilts 30° forward: it shaves a wedge off the slot's end wall as it leaves. Only the
-// stretch of the move whose pieces can meet the block is lofted (most of its pieces are far
-// above it); that stretch must hold all the move takes: against the dexel workpiece at
+// stretch of the move whose pieces can come near the block is lofted (most of its pieces are
+// far above it); that stretch must hold all the move takes: against the dexel workpiece at
 // s = 0.05, within its error of s/2 over the wedge's new faces (under 40 mm²). Measured: 2.04
-// against 2.05 mm³; a loft of the move's other end takes nothing.
-TEST(BrepEngagement, FiveAxisRetractIsLoftedWhereItMeetsTheBlock) {
+// against 2.05 mm³; a loft of the move's other end takes nothing. The same move backwards (an
+// approach that plunges into the block, its stretch at its end) takes a pocket of 58.6 mm³
+// (58.589 against 58.587): within s/2 over its floor, wall and wedge (under 120 mm²).
+TEST(BrepEngagement, FiveAxisMovesAreLoftedWhereTheyMeetTheBlock) {
   const Aabb block{{0, 0, -8}, {30, 20, 0}};
   const Cutter cutter = cutter_from_spec("flat:6,20");
-  const Vec3 end(15, 10, -2);
-  Toolpath path;
-  path.sources = {"test"};
-  Move retract = test::line(end, {25, 10, 58});
-  retract.start_axis = Vec3::UnitZ();
-  retract.end_axis = Vec3(0.5, 0, 0.866025).normalized();
-  path.moves = {test::line({-5, 10, -2}, end), retract};
+  const Vec3 end(15, 10, -2), above(25, 10, 58), slot_start(-5, 10, -2);
+  const Vec3 tilted = Vec3(0.5, 0, 0.866025).normalized();
   const double s = 0.05, t = 0.005;
-  const Removals r = removed_on_both(block, cutter, path, s, t);
-  const std::vector<double>& exact = r.exact;
-  const std::vector<double>& dexel = r.dexel;
-  EXPECT_EQ(r.lofted, 1);
-  EXPECT_EQ(r.in_lines, 0);
-  ASSERT_EQ(exact.size(), 2u);
-  ASSERT_EQ(dexel.size(), 2u);
-  EXPECT_GT(dexel[1], 1.0);
-  EXPECT_NEAR(exact[1], dexel[1], 0.5 * s * 40.0);  // measured: 0.01 mm³
-  EXPECT_NEAR(exact[0], dexel[0], 0.5 * s * 200.0);  // the slot's surface under 200 mm²
+  {
+    SCOPED_TRACE("retract");
+    Toolpath path;
+    path.sources = {"test"};
+    Move retract = test::line(end, above);
+    retract.start_axis = Vec3::UnitZ();
+    retract.end_axis = tilted;
+    path.moves = {test::line(slot_start, end), retract};
+    const Removals r = removed_on_both(block, cutter, path, s, t);
+    EXPECT_EQ(r.lofted, 1);
+    EXPECT_EQ(r.in_lines, 0);
+    ASSERT_EQ(r.exact.size(), 2u);
+    ASSERT_EQ(r.dexel.size(), 2u);
+    EXPECT_GT(r.dexel[1], 1.0);
+    EXPECT_NEAR(r.exact[1], r.dexel[1], 0.5 * s * 40.0);   // measured: 0.01 mm³
+    EXPECT_NEAR(r.exact[0], r.dexel[0], 0.5 * s * 200.0);  // the slot's surface under 200 mm²
+  }
+  {
+    SCOPED_TRACE("approach");
+    Toolpath path;
+    path.sources = {"test"};
+    Move approach = test::line(above, end);
+    approach.start_axis = tilted;
+    approach.end_axis = Vec3::UnitZ();
+    path.moves = {approach, test::line(end, slot_start)};
+    const Removals r = removed_on_both(block, cutter, path, s, t);
+    EXPECT_EQ(r.lofted, 1);
+    EXPECT_EQ(r.in_lines, 0);
+    ASSERT_EQ(r.exact.size(), 2u);
+    ASSERT_EQ(r.dexel.size(), 2u);
+    EXPECT_GT(r.dexel[0], 50.0);
+    EXPECT_NEAR(r.exact[0], r.dexel[0], 0.5 * s * 120.0);
+    EXPECT_NEAR(r.exact[1], r.dexel[1], 0.5 * s * 200.0);
+  }
 }
 
 }  // namespace
