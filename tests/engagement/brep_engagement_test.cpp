@@ -413,40 +413,34 @@ TEST(BrepEngagement, FiveAxisMovesAreLoftedWhereTheyMeetTheBlock) {
   const Vec3 end(15, 10, -2), above(25, 10, 58), slot_start(-5, 10, -2);
   const Vec3 tilted = Vec3(0.5, 0, 0.866025).normalized();
   const double s = 0.05, t = 0.005;
-  {
-    SCOPED_TRACE("retract");
+  // The 5-axis move from `from` to `to` (axis `a0` to `a1`) and the slot, in that order or the
+  // other: what each takes on both workpieces, the 5-axis move lofted.
+  const auto cut = [&](const Vec3& from, const Vec3& to, const Vec3& a0, const Vec3& a1,
+                       bool slot_first) {
     Toolpath path;
     path.sources = {"test"};
-    Move retract = test::line(end, above);
-    retract.start_axis = Vec3::UnitZ();
-    retract.end_axis = tilted;
-    path.moves = {test::line(slot_start, end), retract};
-    const Removals r = removed_on_both(block, cutter, path, s, t);
+    Move move = test::line(from, to);
+    move.start_axis = a0;
+    move.end_axis = a1;
+    const Move slot = slot_first ? test::line(slot_start, end) : test::line(end, slot_start);
+    path.moves = slot_first ? std::vector<Move>{slot, move} : std::vector<Move>{move, slot};
+    Removals r = removed_on_both(block, cutter, path, s, t);
     EXPECT_EQ(r.lofted, 1);
     EXPECT_EQ(r.in_lines, 0);
-    ASSERT_EQ(r.exact.size(), 2u);
-    ASSERT_EQ(r.dexel.size(), 2u);
-    EXPECT_GT(r.dexel[1], 1.0);
-    EXPECT_NEAR(r.exact[1], r.dexel[1], 0.5 * s * 40.0);   // measured: 0.01 mm³
-    EXPECT_NEAR(r.exact[0], r.dexel[0], 0.5 * s * 200.0);  // the slot's surface under 200 mm²
-  }
-  {
-    SCOPED_TRACE("approach");
-    Toolpath path;
-    path.sources = {"test"};
-    Move approach = test::line(above, end);
-    approach.start_axis = tilted;
-    approach.end_axis = Vec3::UnitZ();
-    path.moves = {approach, test::line(end, slot_start)};
-    const Removals r = removed_on_both(block, cutter, path, s, t);
-    EXPECT_EQ(r.lofted, 1);
-    EXPECT_EQ(r.in_lines, 0);
-    ASSERT_EQ(r.exact.size(), 2u);
-    ASSERT_EQ(r.dexel.size(), 2u);
-    EXPECT_GT(r.dexel[0], 50.0);
-    EXPECT_NEAR(r.exact[0], r.dexel[0], 0.5 * s * 120.0);
-    EXPECT_NEAR(r.exact[1], r.dexel[1], 0.5 * s * 200.0);
-  }
+    EXPECT_EQ(r.exact.size(), 2u);
+    EXPECT_EQ(r.dexel.size(), 2u);
+    r.exact.resize(2, 0.0);
+    r.dexel.resize(2, 0.0);
+    return r;
+  };
+  const Removals retract = cut(end, above, Vec3::UnitZ(), tilted, true);
+  EXPECT_GT(retract.dexel[1], 1.0);
+  EXPECT_NEAR(retract.exact[1], retract.dexel[1], 0.5 * s * 40.0);   // measured: 0.01 mm³
+  EXPECT_NEAR(retract.exact[0], retract.dexel[0], 0.5 * s * 200.0);  // the slot's surface
+  const Removals approach = cut(above, end, tilted, Vec3::UnitZ(), false);
+  EXPECT_GT(approach.dexel[0], 50.0);
+  EXPECT_NEAR(approach.exact[0], approach.dexel[0], 0.5 * s * 120.0);  // measured: 0.002 mm³
+  EXPECT_NEAR(approach.exact[1], approach.dexel[1], 0.5 * s * 200.0);
 }
 
 }  // namespace
