@@ -331,10 +331,13 @@ double BrepWorkpiece::remove(const MoveSweep& sweep, std::vector<BrepStock::Soli
   // 136. The clearance (the tool's radius, at least 1 mm) keeps the ends of what is cut clear of
   // the stock: trimmed to the stock's box itself, the bundled example's 5-axis pass started its
   // loft with the tool touching the block's side, and the stock's tessellation no longer
-  // closed. Found when a cut needs them (the stock's tight box is not free).
+  // closed. Found once, when a cut needs them (the stock's tight box is not free).
   const std::vector<LinearSweep>& pieces = sweep.pieces();
   std::size_t first = 0, last = 0;
+  bool found = false;
   const auto find_reaching = [&] {
+    if (found) return;
+    found = true;
     Aabb stock_box = stock_.tight_bounds();
     const double clearance = std::max(1.0, cutter.bounding_cylinder().radius);
     stock_box.inflate(sweep.deviation_bound() + clearance);
