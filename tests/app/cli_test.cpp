@@ -896,6 +896,46 @@ TEST(CliSimulate, BrepStockOfAFreeCadPocketTessellatesClosed) {
   std::filesystem::remove_all(dir);
 }
 
+// FreeCAD's two-tool program cut down to a plunge and a slot of its end mill (lines 1-22 of
+// freecad_two_tools.ngc), then the bull nose's first level round the block (lines 96-120): four
+// straight sides and four corners of the tool's radius, the first of them a hair less (2.99956
+// mm). On the B-rep workpiece the straight side after the third corner left an invalid solid
+// (exit 3) while the bull nose's corner (a horn torus: flat and corner radius 1.5 mm) was a
+// general surface of revolution; its faces are tori now. Against the dexel workpiece at
+// s = 0.025 within the dexel's family spread (measured 0.06 mm³ apart, spread 0.25).
+TEST(CliSimulate, BrepCutsABullNoseRoundABlockAfterAPocket) {
+  const auto dir = scratch_dir("simulate-brep-freecad-bullnose");
+  std::filesystem::create_directories(dir);
+  const std::filesystem::path data = test::source_dir() / "tests/app/data";
+  {
+    std::ifstream in(data / "freecad_two_tools.ngc");
+    std::ofstream out(dir / "loop.ngc");
+    std::string line;
+    for (int n = 1; n <= 120 && std::getline(in, line); ++n) {
+      if (n <= 22 || n >= 96) out << line << "\n";
+      if (n == 22) out << "G0 Z21\n";
+    }
+    out << "G0 Z21\nM2\n";
+  }
+  double removed[2] = {0.0, 0.0}, spread = 0.0;
+  for (const std::string workpiece : {"dexel", "brep"}) {
+    const Result r =
+        run_cwe({"simulate", "--path", (dir / "loop.ngc").string(), "--tools",
+                 (data / "freecad/Library/Default.fctl").string(), "--stock",
+                 "box:-1,-1,-1,61,41,16", "--workpiece", workpiece, "--resolution", "0.025",
+                 "--stock-only", "--out", (dir / workpiece).string(), "--quiet"});
+    ASSERT_EQ(r.status, 0) << r.err;
+    const nlohmann::json summary =
+        nlohmann::json::parse(std::ifstream(dir / workpiece / "summary.json"));
+    removed[workpiece == "brep"] = summary["removed_volume_mm3"].get<double>();
+    if (workpiece == "dexel") spread = summary["volume_spread_mm3"].get<double>();
+  }
+  // Most of the frame round the block (204 mm² by 5 mm: 1,020 mm³) is cut.
+  EXPECT_GT(removed[1], 900.0);
+  EXPECT_NEAR(removed[1], removed[0], spread);
+  std::filesystem::remove_all(dir);
+}
+
 // The bundled example (examples/jobs/example.json's operations: the program with two tools,
 // slot, side milling, ramp, a helical entry of three turns and the circle after it, plunge, peck
 // drilling, the ball end's finishing passes; then the simultaneous 5-axis pass) on the B-rep

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <fmt/format.h>
@@ -31,15 +32,22 @@
 #include <BRepPrimAPI_MakePrism.hxx>
 #include <BRepPrimAPI_MakeRevol.hxx>
 #include <BRepTools.hxx>
+#include <BRepTools_Modification.hxx>
+#include <BRepTools_Modifier.hxx>
 #include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
 #include <GC_MakeArcOfCircle.hxx>
 #include <GProp_GProps.hxx>
+#include <Geom2d_Curve.hxx>
 #include <Geom2d_Line.hxx>
 #include <GeomAPI_Interpolate.hxx>
 #include <GeomFill.hxx>
+#include <Geom_Circle.hxx>
 #include <Geom_CylindricalSurface.hxx>
 #include <Geom_Surface.hxx>
+#include <Geom_SurfaceOfRevolution.hxx>
+#include <Geom_ToroidalSurface.hxx>
+#include <Geom_TrimmedCurve.hxx>
 #include <ShapeUpgrade_UnifySameDomain.hxx>
 #include <Standard_Failure.hxx>
 #include <TColStd_HArray1OfReal.hxx>
@@ -63,6 +71,7 @@
 #include <gp_Pln.hxx>
 #include <gp_Pnt2d.hxx>
 #include <gp_Trsf.hxx>
+#include <gp_Vec2d.hxx>
 
 #include "cwe/core/computation_error.hpp"
 #include "cwe/core/error.hpp"
@@ -83,6 +92,118 @@ gp_Trsf placement(const Vec3& tip, const Vec3& axis, const Vec3& x_hint = Vec3::
   trsf.SetTransformation(gp_Ax3(point(tip), direction(frame.z()), direction(frame.x())),
                          gp_Ax3(gp::Origin(), gp::DZ(), gp::DX()));
   return trsf;
+}
+
+// A surface of revolution whose meridian is a circle in a plane through the axis, its centre off
+// the axis, as the torus with the same points: (u, v) on the surface is (u, v + shift) on the
+// torus. The torus may be a horn or a spindle one (major radius at or below the minor), as the
+// sections of a tool reaching the axis of an arc make. None where the meridian is not such a
+// circle.
+struct TorusOf {
+  Handle(Geom_ToroidalSurface) torus;
+  double shift = 0.0;
+};
+
+std::optional<TorusOf> torus_of(const Handle(Geom_Surface)& surface) {
+  const Handle(Geom_SurfaceOfRevolution) revolution =
+      Handle(Geom_SurfaceOfRevolution)::DownCast(surface);
+  if (revolution.IsNull()) return std::nullopt;
+  Handle(Geom_Curve) meridian = revolution->BasisCurve();
+  while (const Handle(Geom_TrimmedCurve) trimmed = Handle(Geom_TrimmedCurve)::DownCast(meridian)) {
+    meridian = trimmed->BasisCurve();
+  }
+  const Handle(Geom_Circle) circle = Handle(Geom_Circle)::DownCast(meridian);
+  if (circle.IsNull()) return std::nullopt;
+  const gp_Ax1 axis = revolution->Axis();
+  const gp_XYZ a = axis.Direction().XYZ(), centre = circle->Location().XYZ();
+  const double r = circle->Radius();
+  const gp_XYZ foot = axis.Location().XYZ() + ((centre - axis.Location().XYZ()) * a) * a;
+  const double big_r = (centre - foot).Modulus();
+  // On the axis the meridian makes a sphere, which OpenCASCADE finds.
+  if (!(big_r > 1e-7)) return std::nullopt;
+  const gp_XYZ x = (centre - foot) / big_r;
+  const gp_XYZ xc = circle->XAxis().Direction().XYZ(), yc = circle->YAxis().Direction().XYZ();
+  const double alpha = std::atan2(xc * a, xc * x);
+  const double sigma = yc * (-std::sin(alpha) * x + std::cos(alpha) * a) > 0.0 ? 1.0 : -1.0;
+  gp_Ax3 frame(gp_Pnt(foot), gp_Dir(sigma * a), gp_Dir(x));
+  if (sigma < 0.0) frame.YReverse();  // u turns about a either way
+  TorusOf result{new Geom_ToroidalSurface(frame, big_r, r), sigma* alpha};
+  // The same points, or none (the circle not in a plane through the axis).
+  for (const double u : {0.0, 1.1, 2.9}) {
+    for (const double v : {0.0, 0.7, 2.3, 4.1}) {
+      const gp_Pnt p = revolution->Value(u, v), q = result.torus->Value(u, v + result.shift);
+      if (p.Distance(q) > 1e-9 * (big_r + r)) return std::nullopt;
+    }
+  }
+  return result;
+}
+
+// The faces whose surface torus_of makes a torus given it, with their curves on it shifted.
+// OpenCASCADE's revolve makes a torus of a circle only where the major radius is above the minor
+// and the circle's parameter starts at its point farthest from the axis. So the corner of a bull
+// nose whose flat radius equals its corner radius (FreeCAD's 6 mm one, corner 1.5: a horn
+// torus) and the sections mirrored for an arc's corner were general surfaces of revolution, and
+// the straight side after FreeCAD's third corner round a block left an invalid solid. The plane
+// through the tool's axis cut such a face along a B-spline, and the straight move's sweep was
+// extruded from it. Tori are among OpenCASCADE's analytic surfaces, which it intersects in closed
+// form where it can. Every face the tools and their sweeps have on a torus must be one: with the
+// tool's tori and the arcs' rings as surfaces of revolution, an arc's pieces cut 2,785 mm³ where
+// its motion sweeps 2,789.
+class ToriOfRevolution final : public BRepTools_Modification {
+ public:
+  Standard_Boolean NewSurface(const TopoDS_Face& face, Handle(Geom_Surface)& surface,
+                              TopLoc_Location& location, Standard_Real& tolerance,
+                              Standard_Boolean& reverse_wires,
+                              Standard_Boolean& reverse_face) override {
+    const std::optional<TorusOf> torus = torus_of(BRep_Tool::Surface(face, location));
+    if (!torus) return false;
+    surface = torus->torus;
+    tolerance = BRep_Tool::Tolerance(face);
+    reverse_wires = false;
+    reverse_face = false;
+    return true;
+  }
+  Standard_Boolean NewCurve(const TopoDS_Edge&, Handle(Geom_Curve)&, TopLoc_Location&,
+                            Standard_Real&) override {
+    return false;
+  }
+  Standard_Boolean NewPoint(const TopoDS_Vertex&, gp_Pnt&, Standard_Real&) override {
+    return false;
+  }
+  Standard_Boolean NewCurve2d(const TopoDS_Edge& edge, const TopoDS_Face& face, const TopoDS_Edge&,
+                              const TopoDS_Face&, Handle(Geom2d_Curve)& curve,
+                              Standard_Real& tolerance) override {
+    TopLoc_Location location;
+    const std::optional<TorusOf> torus = torus_of(BRep_Tool::Surface(face, location));
+    if (!torus) return false;
+    double first = 0.0, last = 0.0;
+    const Handle(Geom2d_Curve) old = BRep_Tool::CurveOnSurface(edge, face, first, last);
+    if (old.IsNull()) return false;
+    curve = Handle(Geom2d_Curve)::DownCast(old->Translated(gp_Vec2d(0.0, torus->shift)));
+    tolerance = BRep_Tool::Tolerance(edge);
+    return true;
+  }
+  Standard_Boolean NewParameter(const TopoDS_Vertex&, const TopoDS_Edge&, Standard_Real&,
+                                Standard_Real&) override {
+    return false;
+  }
+  GeomAbs_Shape Continuity(const TopoDS_Edge& edge, const TopoDS_Face& face1,
+                           const TopoDS_Face& face2, const TopoDS_Edge&, const TopoDS_Face&,
+                           const TopoDS_Face&) override {
+    return BRep_Tool::Continuity(edge, face1, face2);
+  }
+};
+
+// `shape` with its toroidal surfaces of revolution made tori (ToriOfRevolution).
+TopoDS_Shape with_tori(const TopoDS_Shape& shape) {
+  bool any = false;
+  for (TopExp_Explorer f(shape, TopAbs_FACE); f.More() && !any; f.Next()) {
+    any = torus_of(BRep_Tool::Surface(TopoDS::Face(f.Current()))).has_value();
+  }
+  if (!any) return shape;
+  BRepTools_Modifier modifier(shape, new ToriOfRevolution);
+  if (!modifier.IsDone()) return shape;
+  return modifier.ModifiedShape(shape);
 }
 
 // The half of the tool's meridian section at ρ ≥ 0 in its own frame (ρ along X, z along Z),
@@ -119,7 +240,8 @@ TopoDS_Solid local_tool(const Cutter& cutter) {
                      "profile has a concave part");
   }
   BRepPrimAPI_MakeRevol revol(meridian_section(cutter), gp_Ax1(gp::Origin(), gp::DZ()), 2.0 * M_PI);
-  TopExp_Explorer solid(revol.Shape(), TopAbs_SOLID);
+  const TopoDS_Shape revolved = with_tori(revol.Shape());
+  TopExp_Explorer solid(revolved, TopAbs_SOLID);
   if (!solid.More()) {
     throw ComputationError(fmt::format("{}: revolving the profile gave no solid", cutter.name()));
   }
@@ -501,7 +623,7 @@ std::vector<TopoDS_Shape> planar_arc_sweep_solids(const Cutter& cutter, const Mo
       const auto band = [&](const TopoDS_Edge& edge) {
         BRepPrimAPI_MakeRevol revol(edge, arc_axis, angle, /*Copy=*/true);
         check_done(revol.IsDone(), "revolving the silhouette", cutter);
-        return revol.Shape();
+        return with_tori(revol.Shape());
       };
       const TopoDS_Shape swept = sewn_sweep(faces, trails, turn, band, 1e-6 * reach, cutter);
       check_volume(swept, planar_arc_swept_volume(cutter, big_r, angle), cutter,
@@ -513,37 +635,63 @@ std::vector<TopoDS_Shape> planar_arc_sweep_solids(const Cutter& cutter, const Mo
     BRepPrimAPI_MakeRevol ring(arc_section(cutter, arc.start, axis, radial / big_r, big_r),
                                arc_axis, angle);
     check_done(ring.IsDone(), "revolving the tool's section", cutter);
+    const TopoDS_Shape ring_solid = with_tori(ring.Shape());
     // A solid of revolution's volume is proportional to its angle (Pappus): the ring's is the full
     // circle's sweep's share.
-    check_volume(ring.Shape(),
+    check_volume(ring_solid,
                  planar_arc_swept_volume(cutter, big_r, 2.0 * M_PI) * angle / (2.0 * M_PI), cutter,
                  "revolved section");
-    if (angle >= 2.0 * M_PI) return {ring.Shape()};
-    // The tools first, then the ring, one after the other: the other way round, OpenCASCADE cut
-    // a bull-nose's end tool as nothing after the ring (whose end sections lie on the tools'
-    // surfaces). Their union's volume is checked as what they cut, in this order, from a block
-    // holding them.
-    const std::vector<TopoDS_Shape> pieces{start, tool_solid(cutter, arc.end, axis), ring.Shape()};
+    if (angle >= 2.0 * M_PI) return {ring_solid};
+    // The pieces are cut one after the other, and their union's volume is checked as what they
+    // cut, in that order, from a block holding them (with the fuzzy value the stock's cuts take
+    // first). OpenCASCADE gets some orders wrong, the ring's end sections lying on the tools'
+    // surfaces. The ring first cut a bull nose's end tool as nothing. The ring last cut a 10 mm
+    // bull nose's (corner 2) round an arc of radius 4, whose ring reaches across the arc's axis,
+    // 2.3e-5 short of its motion's sweep, where the motion's order (start, ring, end) cut it to
+    // 3e-7. Without the fuzzy value, the ring last took 23 s for a 6 mm bull nose round a corner
+    // at its radius, and the other orders were 2e-6 short. So the orders in turn, the first whose
+    // cut is what the motion sweeps.
+    const TopoDS_Solid end = tool_solid(cutter, arc.end, axis);
+    const std::vector<TopoDS_Shape> orders[] = {
+        {start, end, ring_solid}, {start, ring_solid, end}, {ring_solid, start, end}};
     Bnd_Box bounds;
-    for (const TopoDS_Shape& piece : pieces) BRepBndLib::Add(piece, bounds, false);
+    for (const TopoDS_Shape& piece : orders[0]) BRepBndLib::Add(piece, bounds, false);
     bounds.Enlarge(1.0);
     double x0 = 0, y0 = 0, z0 = 0, x1 = 0, y1 = 0, z1 = 0;
     bounds.Get(x0, y0, z0, x1, y1, z1);
-    TopoDS_Shape block = BRepPrimAPI_MakeBox(gp_Pnt(x0, y0, z0), gp_Pnt(x1, y1, z1)).Shape();
-    const double full = shape_volume(block);
-    for (const TopoDS_Shape& piece : pieces) {
-      BRepAlgoAPI_Cut cut(block, piece);
-      check_done(cut.IsDone() && !cut.HasErrors(), "cutting the arc's pieces from a block", cutter);
-      block = cut.Shape();
-    }
-    const double swept = full - shape_volume(block);
+    const TopoDS_Shape box = BRepPrimAPI_MakeBox(gp_Pnt(x0, y0, z0), gp_Pnt(x1, y1, z1)).Shape();
+    const double full = shape_volume(box);
     const double expected = planar_arc_swept_volume(cutter, big_r, angle);
-    if (!(std::abs(swept - expected) <= 1e-5 * expected)) {
-      throw ComputationError(fmt::format(
-          "{}: the arc's pieces cut {:.6g} mm³ from a block where the motion sweeps {:.6g} mm³",
-          cutter.name(), swept, expected));
+    std::string cuts;
+    for (const std::vector<TopoDS_Shape>& pieces : orders) {
+      TopoDS_Shape block = box;
+      bool done = true;
+      for (const TopoDS_Shape& piece : pieces) {
+        TopTools_ListOfShape arguments, tools;
+        arguments.Append(block);
+        tools.Append(piece);
+        BRepAlgoAPI_Cut cut;
+        cut.SetArguments(arguments);
+        cut.SetTools(tools);
+        cut.SetFuzzyValue(1e-6 * std::sqrt(bounds.SquareExtent()));
+        cut.SetRunParallel(false);
+        cut.Build();
+        done = cut.IsDone() && !cut.HasErrors();
+        if (!done) break;
+        block = cut.Shape();
+      }
+      const double swept = done ? full - shape_volume(block) : -1.0;
+      if (done && std::abs(swept - expected) <= 1e-5 * expected &&
+          BRepCheck_Analyzer(block).IsValid()) {
+        return pieces;
+      }
+      cuts += cuts.empty() ? "" : ", ";
+      cuts += done ? fmt::format("{:.6g}", swept) : std::string("an error");
     }
-    return pieces;
+    throw ComputationError(fmt::format(
+        "{}: the arc's pieces cut {} mm³ from a block (in three orders) where the motion sweeps "
+        "{:.6g} mm³",
+        cutter.name(), cuts, expected));
   } catch (const Standard_Failure& e) {
     throw ComputationError(fmt::format("{}: OpenCASCADE could not build the arc's sweep ({})",
                                        cutter.name(), e.GetMessageString()));
@@ -765,7 +913,8 @@ std::vector<TopoDS_Shape> tilt_sweep_solids(const Cutter& cutter, const Move& mo
     for (const TopoDS_Shape& face : faces) {
       BRepPrimAPI_MakeRevol revol(face, gp_Ax1(gp::Origin(), gp::DX()), angle);
       check_done(revol.IsDone(), "revolving the section about the tilt's line", cutter);
-      TopExp_Explorer solid(revol.Shape(), TopAbs_SOLID);
+      const TopoDS_Shape revolved = with_tori(revol.Shape());
+      TopExp_Explorer solid(revolved, TopAbs_SOLID);
       check_done(solid.More(), "revolving the section about the tilt's line", cutter);
       solids.push_back(BRepBuilderAPI_Transform(solid.Current(), to_world, true).Shape());
     }
