@@ -10,11 +10,13 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <map>
 #include <set>
 #include <sstream>
 #include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -857,6 +859,25 @@ TEST(CliSimulate, BrepWorkpieceRunsAFreeCadPocket) {
   std::filesystem::remove_all(dir);
 }
 
+// Writes the lines of the program `from` in `ranges` (first and last line, numbered from 1) to
+// `to`, `after` following each range, and M2 at the end.
+void write_excerpt(const std::filesystem::path& from, const std::filesystem::path& to,
+                   std::initializer_list<std::pair<int, int>> ranges, const std::string& after) {
+  std::ifstream in(from);
+  std::ofstream out(to);
+  std::string line;
+  auto range = ranges.begin();
+  for (int n = 1; range != ranges.end() && std::getline(in, line); ++n) {
+    if (n < range->first) continue;
+    out << line << "\n";
+    if (n == range->second) {
+      out << after;
+      ++range;
+    }
+  }
+  out << "M2\n";
+}
+
 // The end mill's part of FreeCAD's two-tool program (lines 1-99 of freecad_two_tools.ngc) on the
 // B-rep workpiece: its fuzzy cuts leave edges and vertices tolerant, and the two faces on such an
 // edge stored their copies of its points 5.3e-4 mm apart, beyond the welder's tolerance (the
@@ -867,13 +888,7 @@ TEST(CliSimulate, BrepStockOfAFreeCadPocketTessellatesClosed) {
   const auto dir = scratch_dir("simulate-brep-freecad-endmill");
   std::filesystem::create_directories(dir);
   const std::filesystem::path data = test::source_dir() / "tests/app/data";
-  {
-    std::ifstream in(data / "freecad_two_tools.ngc");
-    std::ofstream out(dir / "endmill.ngc");
-    std::string line;
-    for (int n = 0; n < 99 && std::getline(in, line); ++n) out << line << "\n";
-    out << "M2\n";
-  }
+  write_excerpt(data / "freecad_two_tools.ngc", dir / "endmill.ngc", {{1, 99}}, "");
   const Result r =
       run_cwe({"simulate", "--path", (dir / "endmill.ngc").string(), "--tools",
                (data / "freecad/Library/Default.fctl").string(), "--stock", "box:-1,-1,-1,61,41,16",
@@ -907,16 +922,7 @@ TEST(CliSimulate, BrepCutsABullNoseRoundABlockAfterAPocket) {
   const auto dir = scratch_dir("simulate-brep-freecad-bullnose");
   std::filesystem::create_directories(dir);
   const std::filesystem::path data = test::source_dir() / "tests/app/data";
-  {
-    std::ifstream in(data / "freecad_two_tools.ngc");
-    std::ofstream out(dir / "loop.ngc");
-    std::string line;
-    for (int n = 1; n <= 120 && std::getline(in, line); ++n) {
-      if (n <= 22 || n >= 96) out << line << "\n";
-      if (n == 22) out << "G0 Z21\n";
-    }
-    out << "G0 Z21\nM2\n";
-  }
+  write_excerpt(data / "freecad_two_tools.ngc", dir / "loop.ngc", {{1, 22}, {96, 120}}, "G0 Z21\n");
   double removed[2] = {0.0, 0.0}, spread = 0.0;
   for (const std::string workpiece : {"dexel", "brep"}) {
     const Result r =
@@ -933,6 +939,47 @@ TEST(CliSimulate, BrepCutsABullNoseRoundABlockAfterAPocket) {
   // Most of the frame round the block (204 mm² by 5 mm: 1,020 mm³) is cut.
   EXPECT_GT(removed[1], 900.0);
   EXPECT_NEAR(removed[1], removed[0], spread);
+  std::filesystem::remove_all(dir);
+}
+
+// An 8 mm bull nose (corner 1) round a 60 x 40 block at two levels, its corners arcs of its
+// radius, plunging where the loop closes. OpenCASCADE cut the second level's plunge and the side
+// after it as nothing (a common of the same shapes held nothing either): the run lost 474 mm³ of
+// 1,997 and ended with exit 0. Whatever OpenCASCADE does with it, the B-rep workpiece must either
+// cut it as the dexel workpiece does (at s = 0.025, within its family spread) or refuse it with
+// exit 3 and write nothing; it refuses it now, at the plunge, where points inside the swept
+// volume are left inside the stock.
+TEST(CliSimulate, BrepNeverLosesACutSilently) {
+  const auto dir = scratch_dir("simulate-brep-silent");
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream out(dir / "loop.ngc");
+    out << "G21 G90 G17\nG0 Z25\n";
+    for (const int z : {11, 6}) {
+      out << "G0 X-4 Y0\nG0 Z20\nG1 Z" << z << " F500\n"
+          << "G1 X-4 Y40\nG2 X0 Y44 I4 J0\nG1 X60 Y44\nG2 X64 Y40 I0 J-4\n"
+          << "G1 X64 Y0\nG2 X60 Y-4 I-4 J0\nG1 X0 Y-4\nG2 X-4 Y0 I0 J4\nG0 Z25\n";
+    }
+    out << "M2\n";
+  }
+  const auto run = [&](const std::string& workpiece) {
+    return run_cwe({"simulate", "--path", (dir / "loop.ngc").string(), "--tool", "bull:8,1,30",
+                    "--stock", "box:-1,-1,-1,61,41,16", "--workpiece", workpiece, "--resolution",
+                    "0.025", "--stock-only", "--out", (dir / workpiece).string(), "--quiet"});
+  };
+  const Result dexel = run("dexel");
+  ASSERT_EQ(dexel.status, 0) << dexel.err;
+  const nlohmann::json reference = nlohmann::json::parse(std::ifstream(dir / "dexel/summary.json"));
+  const Result brep = run("brep");
+  if (brep.status == 0) {
+    const nlohmann::json summary = nlohmann::json::parse(std::ifstream(dir / "brep/summary.json"));
+    EXPECT_NEAR(summary["removed_volume_mm3"].get<double>(),
+                reference["removed_volume_mm3"].get<double>(),
+                reference["volume_spread_mm3"].get<double>());
+  } else {
+    EXPECT_EQ(brep.status, 3) << brep.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "brep/summary.json"));
+  }
   std::filesystem::remove_all(dir);
 }
 

@@ -127,7 +127,7 @@ std::optional<TorusOf> torus_of(const Handle(Geom_Surface)& surface) {
   const double sigma = yc * (-std::sin(alpha) * x + std::cos(alpha) * a) > 0.0 ? 1.0 : -1.0;
   gp_Ax3 frame(gp_Pnt(foot), gp_Dir(sigma * a), gp_Dir(x));
   if (sigma < 0.0) frame.YReverse();  // u turns about a either way
-  TorusOf result{new Geom_ToroidalSurface(frame, big_r, r), sigma* alpha};
+  TorusOf result{new Geom_ToroidalSurface(frame, big_r, r), sigma * alpha};
   // The same points, or none (the circle not in a plane through the axis).
   for (const double u : {0.0, 1.1, 2.9}) {
     for (const double v : {0.0, 0.7, 2.3, 4.1}) {
