@@ -913,11 +913,12 @@ TEST(CliSimulate, BrepStockOfAFreeCadPocketTessellatesClosed) {
 
 // FreeCAD's two-tool program cut down to a plunge and a slot of its end mill (lines 1-22 of
 // freecad_two_tools.ngc), then the bull nose's first level round the block (lines 96-120): four
-// straight sides and four corners of the tool's radius, the first of them a hair less (2.99956
-// mm). On the B-rep workpiece the straight side after the third corner left an invalid solid
-// (exit 3) while the bull nose's corner (a horn torus: flat and corner radius 1.5 mm) was a
-// general surface of revolution; its faces are tori now. Against the dexel workpiece at
-// s = 0.025 within the dexel's family spread (measured 0.06 mm³ apart, spread 0.25).
+// straight sides and four corners, arcs of the tool's radius (the first corner in two arcs, the
+// one it starts on a hair less: 2.99956 mm). On the B-rep workpiece the straight side after the
+// third corner left an invalid solid (exit 3) while the bull nose's corner (a horn torus: flat
+// and corner radius 1.5 mm) was a general surface of revolution; its faces are tori now. Against
+// the dexel workpiece at s = 0.025 within the dexel's family spread (measured 0.06 mm³ apart,
+// spread 0.25).
 TEST(CliSimulate, BrepCutsABullNoseRoundABlockAfterAPocket) {
   const auto dir = scratch_dir("simulate-brep-freecad-bullnose");
   std::filesystem::create_directories(dir);
@@ -978,6 +979,8 @@ TEST(CliSimulate, BrepNeverLosesACutSilently) {
                 reference["volume_spread_mm3"].get<double>());
   } else {
     EXPECT_EQ(brep.status, 3) << brep.err;
+    // Refused where the cut went wrong, not on an earlier move.
+    EXPECT_NE(brep.err.find("loop.ngc:17:"), std::string::npos) << brep.err;
     EXPECT_FALSE(std::filesystem::exists(dir / "brep/summary.json"));
   }
   std::filesystem::remove_all(dir);

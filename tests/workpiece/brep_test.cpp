@@ -191,8 +191,9 @@ Move planar_arc(double radius, double from, double sweep, const Vec3& normal) {
 
 // Planar arcs (G2 and G3, the tool along the arc's normal) against the slice-by-slice area of a
 // disc swept along an arc: arcs off the tool (R > ρmax), a full circle, and corners (R < ρmax),
-// where the section is clamped at the arc's axis and cut after the tools at both ends: there the
-// pieces' union is measured as what they cut from a block holding them, one after the other.
+// where the section is clamped at the arc's axis and revolved into a ring, cut with the tools at
+// both ends: there the pieces' union is measured as what they cut from a block holding them, one
+// after the other.
 TEST(BrepShapes, PlanarArcSweepIsTheRevolvedSection) {
   struct Case {
     const char* tool;

@@ -643,14 +643,14 @@ std::vector<TopoDS_Shape> planar_arc_sweep_solids(const Cutter& cutter, const Mo
                  "revolved section");
     if (angle >= 2.0 * M_PI) return {ring_solid};
     // The pieces are cut one after the other, and their union's volume is checked as what they
-    // cut, in that order, from a block holding them (with the fuzzy value the stock's cuts take
-    // first). OpenCASCADE gets some orders wrong, the ring's end sections lying on the tools'
-    // surfaces. The ring first cut a bull nose's end tool as nothing. The ring last cut a 10 mm
-    // bull nose's (corner 2) round an arc of radius 4, whose ring reaches across the arc's axis,
-    // 2.3e-5 short of its motion's sweep, where the motion's order (start, ring, end) cut it to
-    // 3e-7. Without the fuzzy value, the ring last took 23 s for a 6 mm bull nose round a corner
-    // at its radius, and the other orders were 2e-6 short. So the orders in turn, the first whose
-    // cut is what the motion sweeps.
+    // cut, in that order, from a block holding them (with a fuzzy value of 1e-6 of the block's
+    // size, the rule the stock's cuts take first). OpenCASCADE gets some orders wrong, the
+    // ring's end sections lying on the tools' surfaces. The ring first cut a bull nose's end
+    // tool as nothing. The ring last cut a 10 mm bull nose's (corner 2) round an arc of radius
+    // 4, whose ring reaches across the arc's axis, 2.3e-5 short of its motion's sweep, where the
+    // motion's order (start, ring, end) cut it to 3e-7. Without the fuzzy value, the ring last
+    // took 23 s for a 6 mm bull nose round a corner at its radius, and the other orders were
+    // 2e-6 short. So the orders in turn, the first whose cut is what the motion sweeps.
     const TopoDS_Solid end = tool_solid(cutter, arc.end, axis);
     const std::vector<TopoDS_Shape> orders[] = {
         {start, end, ring_solid}, {start, ring_solid, end}, {ring_solid, start, end}};
@@ -664,33 +664,39 @@ std::vector<TopoDS_Shape> planar_arc_sweep_solids(const Cutter& cutter, const Mo
     const double expected = planar_arc_swept_volume(cutter, big_r, angle);
     std::string cuts;
     for (const std::vector<TopoDS_Shape>& pieces : orders) {
-      TopoDS_Shape block = box;
-      bool done = true;
-      for (const TopoDS_Shape& piece : pieces) {
-        TopTools_ListOfShape arguments, tools;
-        arguments.Append(block);
-        tools.Append(piece);
-        BRepAlgoAPI_Cut cut;
-        cut.SetArguments(arguments);
-        cut.SetTools(tools);
-        cut.SetFuzzyValue(1e-6 * std::sqrt(bounds.SquareExtent()));
-        cut.SetRunParallel(false);
-        cut.Build();
-        done = cut.IsDone() && !cut.HasErrors();
-        if (!done) break;
-        block = cut.Shape();
-      }
-      const double swept = done ? full - shape_volume(block) : -1.0;
-      if (done && std::abs(swept - expected) <= 1e-5 * expected &&
-          BRepCheck_Analyzer(block).IsValid()) {
-        return pieces;
-      }
       cuts += cuts.empty() ? "" : ", ";
-      cuts += done ? fmt::format("{:.6g}", swept) : std::string("an error");
+      try {
+        TopoDS_Shape block = box;
+        bool done = true;
+        for (const TopoDS_Shape& piece : pieces) {
+          TopTools_ListOfShape arguments, tools;
+          arguments.Append(block);
+          tools.Append(piece);
+          BRepAlgoAPI_Cut cut;
+          cut.SetArguments(arguments);
+          cut.SetTools(tools);
+          cut.SetFuzzyValue(1e-6 * std::sqrt(bounds.SquareExtent()));
+          cut.SetRunParallel(false);
+          cut.Build();
+          done = cut.IsDone() && !cut.HasErrors();
+          if (!done) break;
+          block = cut.Shape();
+        }
+        if (!done) {
+          cuts += "an error";
+          continue;
+        }
+        const double swept = full - shape_volume(block);
+        const bool valid = BRepCheck_Analyzer(block).IsValid();
+        if (valid && std::abs(swept - expected) <= 1e-5 * expected) return pieces;
+        cuts += fmt::format("{:.6g}{}", swept, valid ? "" : " (an invalid solid)");
+      } catch (const Standard_Failure& e) {
+        cuts += fmt::format("an error ({})", e.GetMessageString());
+      }
     }
     throw ComputationError(fmt::format(
-        "{}: the arc's pieces cut {} mm³ from a block (in three orders) where the motion sweeps "
-        "{:.6g} mm³",
+        "{}: the arc's pieces cut from a block (in three orders): {} mm³, where the motion "
+        "sweeps {:.6g} mm³",
         cutter.name(), cuts, expected));
   } catch (const Standard_Failure& e) {
     throw ComputationError(fmt::format("{}: OpenCASCADE could not build the arc's sweep ({})",
