@@ -397,6 +397,18 @@ double shape_volume(const TopoDS_Shape& shape) {
   return props.Mass();
 }
 
+void run_boolean(BRepAlgoAPI_BooleanOperation& op, const TopoDS_Shape& argument,
+                 const TopoDS_Shape& tool, double fuzzy) {
+  TopTools_ListOfShape arguments, tools;
+  arguments.Append(argument);
+  tools.Append(tool);
+  op.SetArguments(arguments);
+  op.SetTools(tools);
+  op.SetRunParallel(false);
+  if (fuzzy > 0.0) op.SetFuzzyValue(fuzzy);
+  op.Build();
+}
+
 TopoDS_Solid tool_solid(const Cutter& cutter, const Vec3& tip, const Vec3& axis) {
   try {
     const TopoDS_Shape placed =
@@ -669,15 +681,8 @@ std::vector<TopoDS_Shape> planar_arc_sweep_solids(const Cutter& cutter, const Mo
         TopoDS_Shape block = box;
         bool done = true;
         for (const TopoDS_Shape& piece : pieces) {
-          TopTools_ListOfShape arguments, tools;
-          arguments.Append(block);
-          tools.Append(piece);
           BRepAlgoAPI_Cut cut;
-          cut.SetArguments(arguments);
-          cut.SetTools(tools);
-          cut.SetFuzzyValue(1e-6 * std::sqrt(bounds.SquareExtent()));
-          cut.SetRunParallel(false);
-          cut.Build();
+          run_boolean(cut, block, piece, 1e-6 * std::sqrt(bounds.SquareExtent()));
           done = cut.IsDone() && !cut.HasErrors();
           if (!done) break;
           block = cut.Shape();

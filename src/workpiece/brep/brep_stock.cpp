@@ -104,19 +104,6 @@ bool tool_left_material(const TopoDS_Shape& stock, const TopoDS_Shape& tool, dou
   return false;
 }
 
-// Runs a boolean of the stock and one tool, in this thread, with the fuzzy value if positive.
-void run_boolean(BRepAlgoAPI_BooleanOperation& op, const TopoDS_Shape& stock,
-                 const TopoDS_Shape& tool, double fuzzy) {
-  TopTools_ListOfShape arguments, tools;
-  arguments.Append(stock);
-  tools.Append(tool);
-  op.SetArguments(arguments);
-  op.SetTools(tools);
-  op.SetRunParallel(false);
-  if (fuzzy > 0.0) op.SetFuzzyValue(fuzzy);
-  op.Build();
-}
-
 // Appends the solids of a boolean's result to `out` and returns their volume.
 double solids_of(const TopoDS_Shape& shape, std::vector<BrepStock::Solid>& out) {
   double volume = 0.0;

@@ -22,6 +22,7 @@
 //    guide curves interpolate it, cuts it there.
 // Under a plunge the flank that d runs along is kept at the start, and the rim below it swept.
 
+#include <BRepAlgoAPI_BooleanOperation.hxx>
 #include <TopoDS_Shape.hxx>
 #include <TopoDS_Solid.hxx>
 
@@ -119,6 +120,11 @@ LoftedSweep lofted_sweep_parts(const Cutter& cutter, const Move& move, double to
 
 // Volume of a shape, mm³ (BRepGProp).
 double shape_volume(const TopoDS_Shape& shape);
+
+// Runs a boolean of `argument` (the stock) and one tool, in this thread, with the fuzzy value if
+// positive.
+void run_boolean(BRepAlgoAPI_BooleanOperation& op, const TopoDS_Shape& argument,
+                 const TopoDS_Shape& tool, double fuzzy);
 
 struct BrepStock::Solid {
   TopoDS_Shape shape;
