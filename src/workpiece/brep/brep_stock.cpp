@@ -18,6 +18,7 @@
 #include <BRepExtrema_DistShapeShape.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRep_Builder.hxx>
+#include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
 #include <ShapeUpgrade_UnifySameDomain.hxx>
 #include <Standard_Failure.hxx>
@@ -102,6 +103,13 @@ bool tool_left_material(const TopoDS_Shape& stock, const TopoDS_Shape& tool, dou
     }
   }
   return false;
+}
+
+// The largest tolerance of a shape's vertices and edges, mm: how far OpenCASCADE lets them lie
+// off their faces.
+double max_tolerance(const TopoDS_Shape& shape) {
+  return std::max(BRep_Tool::MaxTolerance(shape, TopAbs_VERTEX),
+                  BRep_Tool::MaxTolerance(shape, TopAbs_EDGE));
 }
 
 // Appends the solids of a boolean's result to `out` and returns their volume.
@@ -240,37 +248,58 @@ double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed, bool mer
   // BRepGProp integrates curved faces numerically: a relative 1e-7 of the stock is far above
   // its error and far below any chip.
   const double slack = 1e-7 * std::max(volume_, 1.0);
-  std::string failure;
   // With OpenCASCADE's fuzzy option first (faces within 1e-6 of the stock's size taken as
   // touching: a zigzag's ends against the walls earlier passes left at the tool's radius leave
   // slivers of 1e-10 mm² otherwise, and FreeCAD's pocket failed on its third level; with it the
-  // whole program runs, its volume within 0.01 % of the dexel workpiece's), then as it is.
-  for (const double fuzzy : {1e-6 * size, 0.0}) {
+  // whole program runs, its volume within 0.01 % of the dexel workpiece's), then as it is, then
+  // with 1e-5 of the size: a bull nose's second-level plunge where its first level's loop
+  // closed, the tool's faces on the stock's, took nothing with the first two (refused by
+  // tool_left_material) and was cut right with the third. It stays a tenth of that check's depth.
+  const double fuzzy_values[] = {1e-6 * size, 0.0, 1e-5 * size};
+  // Why each attempt was refused, in turn.
+  std::vector<std::string> failures;
+  // A result may hold edges whose tolerance OpenCASCADE raised, by up to 0.05 mm on the bundled
+  // example's 5-axis pass (a 125 mm stock) and FreeCAD's two-tool program (78 mm). A 6 mm bull
+  // nose's straight move after a corner at its radius gave a face of no width bounded by one
+  // edge of tolerance 3 mm, a valid solid by BRepCheck and the right volume; the next cut's
+  // face-face intersection on it never finished (IntPatch_Intersection::CheckSingularPoints
+  // stepping along that edge by a step too small to move its parameter). A result whose
+  // tolerance exceeds its inputs' by more than 1e-3 of the stock's size is refused.
+  const double tolerance_allowed =
+      std::max(max_tolerance(solid_->shape), max_tolerance(cutter.shape)) + 1e-3 * size;
+  for (const double fuzzy : fuzzy_values) {
     try {
       BRepAlgoAPI_Cut cut;
       run_boolean(cut, solid_->shape, cutter.shape, fuzzy);
       if (!cut.IsDone() || cut.HasErrors()) {
-        failure = "BRepAlgoAPI_Cut reported an error";
+        failures.emplace_back("BRepAlgoAPI_Cut reported an error");
         continue;
       }
       TopoDS_Shape result = cut.Shape();
       if (!BRepCheck_Analyzer(result).IsValid()) {
-        failure = "the result is not a valid solid (BRepCheck)";
+        failures.emplace_back("the result is not a valid solid (BRepCheck)");
+        continue;
+      }
+      if (const double tolerance = max_tolerance(result); tolerance > tolerance_allowed) {
+        failures.push_back(fmt::format(
+            "the result has an edge or vertex of tolerance {:g} mm, its inputs' at most {:g}",
+            tolerance, tolerance_allowed - 1e-3 * size));
         continue;
       }
       double after = shape_volume(result);
       const double taken = volume_ - after;
       if (taken < -slack || taken > swept + slack) {
-        failure = fmt::format(
-            "the stock's volume changed by {:g} mm³, outside [0, {:g}] mm³ "
-            "(the swept volume's)",
-            -taken, swept);
+        failures.push_back(
+            fmt::format("the stock's volume changed by {:g} mm³, outside [0, {:g}] mm³ "
+                        "(the swept volume's)",
+                        -taken, swept));
         continue;
       }
       // Deeper than 1e-4 of the stock's size (the diagonal of its box: 17 µm on a 100 mm cube),
       // far above the fuzzy value and the faces' tolerances.
       if (tool_left_material(result, cutter.shape, 1e-4 * size)) {
-        failure = "points inside the swept volume are still inside the stock after the cut";
+        failures.emplace_back(
+            "points inside the swept volume are still inside the stock after the cut");
         continue;
       }
       std::vector<Solid> took;
@@ -303,11 +332,11 @@ double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed, bool mer
         // gave 0.6 %); beyond, the cut is refused.
         const double off = std::abs(in_rv - taken);
         if (off > slack + 1e-2 * taken) {
-          failure = in_rv < 0.0 ? "BRepAlgoAPI_Common (the removal volume) reported an error"
-                                : fmt::format(
-                                      "the removal volume holds {:g} mm³ where the stock lost "
-                                      "{:g} mm³",
-                                      in_rv, taken);
+          failures.push_back(
+              in_rv < 0.0
+                  ? "BRepAlgoAPI_Common (the removal volume) reported an error"
+                  : fmt::format("the removal volume holds {:g} mm³ where the stock lost {:g} mm³",
+                                in_rv, taken));
           continue;
         }
         if (off > slack + 1e-4 * taken) {
@@ -332,7 +361,8 @@ double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed, bool mer
           unify.Build();
           const TopoDS_Shape merged = unify.Shape();
           const double merged_volume = shape_volume(merged);
-          if (std::abs(merged_volume - after) <= slack && BRepCheck_Analyzer(merged).IsValid()) {
+          if (std::abs(merged_volume - after) <= slack &&
+              max_tolerance(merged) <= tolerance_allowed && BRepCheck_Analyzer(merged).IsValid()) {
             result = merged;
             after = merged_volume;
           }
@@ -344,12 +374,19 @@ double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed, bool mer
       volume_ = after;
       return std::max(0.0, taken);
     } catch (const Standard_Failure& e) {
-      failure =
-          fmt::format("OpenCASCADE failed ({}: {})", e.DynamicType()->Name(), e.GetMessageString());
+      failures.push_back(fmt::format("OpenCASCADE failed ({}: {})", e.DynamicType()->Name(),
+                                     e.GetMessageString()));
     }
   }
-  throw ComputationError(fmt::format(
-      "B-rep removal: {} (with a fuzzy value of {:g} mm and without)", failure, 1e-6 * size));
+  std::string tried;
+  for (std::size_t k = 0; k < failures.size(); ++k) {
+    const double fuzzy = fuzzy_values[k];
+    tried += fmt::format("{}{}: {}", k == 0 ? "" : "; ",
+                         fuzzy > 0.0 ? fmt::format("with a fuzzy value of {:g} mm", fuzzy)
+                                     : std::string("without one"),
+                         failures[k]);
+  }
+  throw ComputationError(fmt::format("B-rep removal: {}", tried));
 }
 
 }  // namespace cwe
