@@ -405,6 +405,10 @@ void run_boolean(BRepAlgoAPI_BooleanOperation& op, const TopoDS_Shape& argument,
   op.SetArguments(arguments);
   op.SetTools(tools);
   op.SetRunParallel(false);
+  // Without it OpenCASCADE may raise the tolerances of the arguments' own edges and vertices
+  // while it intersects them, also on an attempt that is then refused: the stock kept as it was
+  // before a refused cut is no longer what it was.
+  op.SetNonDestructive(true);
   if (fuzzy > 0.0) op.SetFuzzyValue(fuzzy);
   op.Build();
 }
