@@ -878,6 +878,31 @@ void write_excerpt(const std::filesystem::path& from, const std::filesystem::pat
   out << "M2\n";
 }
 
+// The volumes a `simulate` run (`args`, with --stock-only at s = 0.025) removes on the dexel and
+// the B-rep workpiece (outputs in dir/dexel and dir/brep), and the dexel's family spread.
+struct AgainstDexel {
+  double dexel = 0.0, brep = 0.0, spread = 0.0;
+};
+AgainstDexel removed_against_dexel(const std::vector<std::string>& args,
+                                   const std::filesystem::path& dir) {
+  AgainstDexel out;
+  for (const std::string workpiece : {"dexel", "brep"}) {
+    std::vector<std::string> run = args;
+    run.insert(run.end(), {"--workpiece", workpiece, "--resolution", "0.025", "--stock-only",
+                           "--out", (dir / workpiece).string(), "--quiet"});
+    const Result r = run_cwe(run);
+    if (r.status != 0) {
+      ADD_FAILURE() << workpiece << ": exit " << r.status << ": " << r.err;
+      continue;
+    }
+    const nlohmann::json summary =
+        nlohmann::json::parse(std::ifstream(dir / workpiece / "summary.json"));
+    (workpiece == "brep" ? out.brep : out.dexel) = summary["removed_volume_mm3"].get<double>();
+    if (workpiece == "dexel") out.spread = summary["volume_spread_mm3"].get<double>();
+  }
+  return out;
+}
+
 // The end mill's part of FreeCAD's two-tool program (lines 1-99 of freecad_two_tools.ngc) on the
 // B-rep workpiece: its fuzzy cuts leave edges and vertices tolerant, and the two faces on such an
 // edge stored their copies of its points 5.3e-4 mm apart, beyond the welder's tolerance (the
@@ -924,22 +949,13 @@ TEST(CliSimulate, BrepCutsABullNoseRoundABlockAfterAPocket) {
   std::filesystem::create_directories(dir);
   const std::filesystem::path data = test::source_dir() / "tests/app/data";
   write_excerpt(data / "freecad_two_tools.ngc", dir / "loop.ngc", {{1, 22}, {96, 120}}, "G0 Z21\n");
-  double removed[2] = {0.0, 0.0}, spread = 0.0;
-  for (const std::string workpiece : {"dexel", "brep"}) {
-    const Result r =
-        run_cwe({"simulate", "--path", (dir / "loop.ngc").string(), "--tools",
-                 (data / "freecad/Library/Default.fctl").string(), "--stock",
-                 "box:-1,-1,-1,61,41,16", "--workpiece", workpiece, "--resolution", "0.025",
-                 "--stock-only", "--out", (dir / workpiece).string(), "--quiet"});
-    ASSERT_EQ(r.status, 0) << r.err;
-    const nlohmann::json summary =
-        nlohmann::json::parse(std::ifstream(dir / workpiece / "summary.json"));
-    removed[workpiece == "brep"] = summary["removed_volume_mm3"].get<double>();
-    if (workpiece == "dexel") spread = summary["volume_spread_mm3"].get<double>();
-  }
+  const AgainstDexel removed = removed_against_dexel(
+      {"simulate", "--path", (dir / "loop.ngc").string(), "--tools",
+       (data / "freecad/Library/Default.fctl").string(), "--stock", "box:-1,-1,-1,61,41,16"},
+      dir);
   // Most of the frame round the block (204 mm² by 5 mm: 1,020 mm³) is cut.
-  EXPECT_GT(removed[1], 900.0);
-  EXPECT_NEAR(removed[1], removed[0], spread);
+  EXPECT_GT(removed.brep, 900.0);
+  EXPECT_NEAR(removed.brep, removed.dexel, removed.spread);
   std::filesystem::remove_all(dir);
 }
 
@@ -1003,22 +1019,14 @@ TEST(CliSimulate, BrepCutsAHornTorusBullNoseRoundABlock) {
         << "G1 X-3 Y40\nG2 X0 Y43 I3 J0\nG1 X60 Y43\nG2 X63 Y40 I0 J-3\n"
         << "G1 X63 Y0\nG2 X60 Y-3 I-3 J0\nG1 X0 Y-3\nG2 X-3 Y0 I0 J3\nG0 Z25\nM2\n";
   }
-  double removed[2] = {0.0, 0.0}, spread = 0.0;
-  for (const std::string workpiece : {"dexel", "brep"}) {
-    const Result r =
-        run_cwe({"simulate", "--path", (dir / "loop.ngc").string(), "--tool", "bull:6,1.5,30",
-                 "--stock", "box:-1,-1,-1,61,41,16", "--workpiece", workpiece, "--resolution",
-                 "0.025", "--stock-only", "--out", (dir / workpiece).string(), "--quiet"});
-    ASSERT_EQ(r.status, 0) << r.err;
-    const nlohmann::json summary =
-        nlohmann::json::parse(std::ifstream(dir / workpiece / "summary.json"));
-    removed[workpiece == "brep"] = summary["removed_volume_mm3"].get<double>();
-    if (workpiece == "dexel") spread = summary["volume_spread_mm3"].get<double>();
-  }
+  const AgainstDexel removed =
+      removed_against_dexel({"simulate", "--path", (dir / "loop.ngc").string(), "--tool",
+                             "bull:6,1.5,30", "--stock", "box:-1,-1,-1,61,41,16"},
+                            dir);
   // The frame round the block (204 mm² by 5 mm) less the fillet the tool's corner leaves along
   // the block's sides: about 925 mm³.
-  EXPECT_GT(removed[1], 900.0);
-  EXPECT_NEAR(removed[1], removed[0], spread);
+  EXPECT_GT(removed.brep, 900.0);
+  EXPECT_NEAR(removed.brep, removed.dexel, removed.spread);
   std::filesystem::remove_all(dir);
 }
 
