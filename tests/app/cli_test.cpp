@@ -966,7 +966,8 @@ TEST(CliSimulate, BrepCutsABullNoseRoundABlockAfterAPocket) {
 // cut it as the dexel workpiece does (at s = 0.025, within its family spread) or refuse it with
 // exit 3 and write nothing. The first two attempts at the plunge leave points inside the swept
 // volume inside the stock and are refused; the third, with the larger fuzzy value, cuts it
-// (measured 0.03 mm³ from the dexel workpiece, spread 0.08).
+// (measured 0.03 mm³ from the dexel workpiece, spread 0.08). This test guards the silent loss;
+// BrepCutsAHornTorusBullNoseRoundABlock needs the third attempt to pass.
 TEST(CliSimulate, BrepNeverLosesACutSilently) {
   const auto dir = scratch_dir("simulate-brep-silent");
   std::filesystem::create_directories(dir);

@@ -122,7 +122,7 @@ LoftedSweep lofted_sweep_parts(const Cutter& cutter, const Move& move, double to
 double shape_volume(const TopoDS_Shape& shape);
 
 // Runs a boolean of `argument` (the stock) and one tool, in this thread, with the fuzzy value if
-// positive.
+// positive, leaving both as they were (OpenCASCADE's non-destructive mode).
 void run_boolean(BRepAlgoAPI_BooleanOperation& op, const TopoDS_Shape& argument,
                  const TopoDS_Shape& tool, double fuzzy);
 

@@ -4,9 +4,10 @@
 // (cwe/workpiece/brep/brep_shapes.hpp) and cut from the solid with BRepAlgoAPI_Cut, with a fuzzy
 // value of 1e-6 of the stock's size (near-coincident faces taken as touching, so that cuts along
 // walls earlier passes left leave no slivers); after every cut the solid must be valid
-// (BRepCheck) and have lost between 0 and the swept volume's volume, else the cut is tried again
-// without the fuzzy value, and then the move is refused (ComputationError): a run never goes on
-// with a broken solid.
+// (BRepCheck), have lost between 0 and the swept volume's volume, keep no point well inside the
+// tool and no edge whose tolerance jumped, else the cut is tried again without the fuzzy value,
+// then with 1e-5 of the size, and then the move is refused (ComputationError): a run never goes
+// on with a broken solid. The booleans leave their arguments as they were (non-destructive).
 //
 // OpenCASCADE's types stay behind this header; cwe/workpiece/brep/brep_shapes.hpp gives the
 // solid itself to the code that needs it (STEP output, tessellation, tests).
