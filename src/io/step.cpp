@@ -143,6 +143,110 @@ TriangleMesh without_unused_vertices(TriangleMesh mesh) {
   return mesh;
 }
 
+// The tessellation of one solid (or of a shape without solids) that BRepMesh has meshed, its
+// faces joined at their shared points; throws ComputationError unless it closes.
+TriangleMesh tessellated_part(const TopoDS_Shape& shape, double tolerance, double deviation,
+                              const std::string& source) {
+  TriangleMesh mesh;
+  Welder welder(tolerance);
+  // Each face's triangulation nodes as mesh vertices (1-based, as the triangulation's).
+  TopTools_IndexedMapOfShape faces;
+  TopExp::MapShapes(shape, TopAbs_FACE, faces);
+  std::vector<std::vector<int>> node_vertex(static_cast<std::size_t>(faces.Extent()) + 1);
+  for (int f = 1; f <= faces.Extent(); ++f) {
+    const TopoDS_Face& face = TopoDS::Face(faces(f));
+    TopLoc_Location location;
+    const Handle(Poly_Triangulation) triangulation = BRep_Tool::Triangulation(face, location);
+    if (triangulation.IsNull()) {
+      throw ComputationError(
+          fmt::format("{}: face {} could not be tessellated (BRepMesh left it empty)", source, f));
+    }
+    const gp_Trsf& move = location.Transformation();
+    std::vector<int>& index = node_vertex[static_cast<std::size_t>(f)];
+    index.assign(static_cast<std::size_t>(triangulation->NbNodes()) + 1, -1);
+    for (int n = 1; n <= triangulation->NbNodes(); ++n) {
+      const gp_Pnt p = triangulation->Node(n).Transformed(move);
+      index[static_cast<std::size_t>(n)] = welder.add(Vec3(p.X(), p.Y(), p.Z()), mesh);
+    }
+  }
+  // Faces meet on their edges by topology too: BRepMesh discretises each edge once, but every
+  // face on it stores the points as its own nodes, and where booleans left the edge and its
+  // vertices tolerant the copies lie apart by up to their tolerance (seen: 5.3e-4 mm on a FreeCAD
+  // pocket's stock whose edges' largest tolerance was 4.0e-4, the welder's). The k-th point of an
+  // edge's polygon on each of its faces is one vertex, where the two copies lie within the
+  // deviation of each other (copies farther apart are not the same point: they stay apart, and
+  // the closure check below reports them).
+  std::vector<int> same(mesh.vertices.size());
+  std::iota(same.begin(), same.end(), 0);
+  const auto root = [&same](int v) {
+    while (same[static_cast<std::size_t>(v)] != v) {
+      const int up = same[static_cast<std::size_t>(v)];
+      v = same[static_cast<std::size_t>(v)] = same[static_cast<std::size_t>(up)];
+    }
+    return v;
+  };
+  TopTools_IndexedDataMapOfShapeListOfShape edge_faces;
+  TopExp::MapShapesAndAncestors(shape, TopAbs_EDGE, TopAbs_FACE, edge_faces);
+  for (int e = 1; e <= edge_faces.Extent(); ++e) {
+    const TopoDS_Edge& edge = TopoDS::Edge(edge_faces.FindKey(e));
+    std::vector<int> first;  // the edge's points as vertices, from its first face
+    for (const TopoDS_Shape& on : edge_faces(e)) {
+      const int f = faces.FindIndex(on);
+      TopLoc_Location location;
+      const Handle(Poly_Triangulation) triangulation =
+          BRep_Tool::Triangulation(TopoDS::Face(on), location);
+      const Handle(Poly_PolygonOnTriangulation) polygon =
+          BRep_Tool::PolygonOnTriangulation(edge, triangulation, location);
+      if (polygon.IsNull()) continue;
+      const std::vector<int>& index = node_vertex[static_cast<std::size_t>(f)];
+      std::vector<int> points;
+      for (int k = 1; k <= polygon->NbNodes(); ++k) {
+        points.push_back(index[static_cast<std::size_t>(polygon->Node(k))]);
+      }
+      if (first.empty()) {
+        first = std::move(points);
+      } else if (points.size() == first.size()) {
+        for (std::size_t k = 0; k < points.size(); ++k) {
+          const Vec3& pa = mesh.vertices[static_cast<std::size_t>(first[k])];
+          const Vec3& pb = mesh.vertices[static_cast<std::size_t>(points[k])];
+          if ((pa - pb).norm() > deviation) continue;
+          const int a = root(first[k]), b = root(points[k]);
+          if (a != b) same[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+        }
+      }
+    }
+  }
+  for (std::size_t f = 1; f < node_vertex.size(); ++f) {
+    const TopoDS_Face& face = TopoDS::Face(faces(static_cast<int>(f)));
+    TopLoc_Location location;
+    const Handle(Poly_Triangulation) triangulation = BRep_Tool::Triangulation(face, location);
+    const std::vector<int>& index = node_vertex[f];
+    const bool reversed = face.Orientation() == TopAbs_REVERSED;
+    for (int t = 1; t <= triangulation->NbTriangles(); ++t) {
+      int a = 0, b = 0, c = 0;
+      triangulation->Triangle(t).Get(a, b, c);
+      if (reversed) std::swap(b, c);
+      const std::array<int, 3> tri = {root(index[static_cast<std::size_t>(a)]),
+                                      root(index[static_cast<std::size_t>(b)]),
+                                      root(index[static_cast<std::size_t>(c)])};
+      if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) continue;
+      mesh.triangles.push_back(tri);
+    }
+  }
+  // A face narrower than the weld tolerance collapses onto a line, its triangles into folds.
+  remove_folds(mesh);
+  mesh = without_unused_vertices(std::move(mesh));
+  const MeshClosure closure = check_closure(mesh);
+  if (!closure.closed()) {
+    throw ComputationError(fmt::format(
+        "{}: the tessellation at {} mm does not close ({} open, {} non-manifold, {} misoriented "
+        "edges of {})",
+        source, deviation, closure.boundary_edges, closure.non_manifold_edges,
+        closure.misoriented_edges, closure.edges));
+  }
+  return mesh;
+}
+
 }  // namespace
 
 bool is_step_path(std::string_view path) {
@@ -281,104 +385,22 @@ TriangleMesh StepModel::tessellate(double deviation) const {
   const double tolerance =
       std::clamp(ShapeAnalysis_ShapeTolerance().Tolerance(shape, 1, TopAbs_EDGE), 1e-7,
                  std::max(1e-7, deviation / 2.0));
-  TriangleMesh mesh;
-  Welder welder(tolerance);
-  // Each face's triangulation nodes as mesh vertices (1-based, as the triangulation's).
-  TopTools_IndexedMapOfShape faces;
-  TopExp::MapShapes(shape, TopAbs_FACE, faces);
-  std::vector<std::vector<int>> node_vertex(static_cast<std::size_t>(faces.Extent()) + 1);
-  for (int f = 1; f <= faces.Extent(); ++f) {
-    const TopoDS_Face& face = TopoDS::Face(faces(f));
-    TopLoc_Location location;
-    const Handle(Poly_Triangulation) triangulation = BRep_Tool::Triangulation(face, location);
-    if (triangulation.IsNull()) {
-      throw ComputationError(fmt::format(
-          "{}: face {} could not be tessellated (BRepMesh left it empty)", impl_->source, f));
-    }
-    const gp_Trsf& move = location.Transformation();
-    std::vector<int>& index = node_vertex[static_cast<std::size_t>(f)];
-    index.assign(static_cast<std::size_t>(triangulation->NbNodes()) + 1, -1);
-    for (int n = 1; n <= triangulation->NbNodes(); ++n) {
-      const gp_Pnt p = triangulation->Node(n).Transformed(move);
-      index[static_cast<std::size_t>(n)] = welder.add(Vec3(p.X(), p.Y(), p.Z()), mesh);
-    }
+  // Each solid is welded and checked on its own, then the solids' meshes are put together: a
+  // bull nose round a corner tighter than its radius leaves a spike of stock at the corner's
+  // axis that touches the rest along edges only (a solid of its own; four faces on those edges),
+  // and one weld over all of them made those edges non-manifold.
+  std::vector<TopoDS_Shape> parts;
+  for (TopExp_Explorer e(shape, TopAbs_SOLID); e.More(); e.Next()) parts.push_back(e.Current());
+  if (parts.empty()) parts.push_back(shape);
+  TriangleMesh whole;
+  for (std::size_t part = 0; part < parts.size(); ++part) {
+    whole.append(tessellated_part(
+        parts[part], tolerance, deviation,
+        parts.size() == 1
+            ? impl_->source
+            : fmt::format("{} (solid {} of {})", impl_->source, part + 1, parts.size())));
   }
-  // Faces meet on their edges by topology too: BRepMesh discretises each edge once, but every
-  // face on it stores the points as its own nodes, and where booleans left the edge and its
-  // vertices tolerant the copies lie apart by up to their tolerance (seen: 5.3e-4 mm on a FreeCAD
-  // pocket's stock whose edges' largest tolerance was 4.0e-4, the welder's). The k-th point of an
-  // edge's polygon on each of its faces is one vertex, where the two copies lie within the
-  // deviation of each other (copies farther apart are not the same point: they stay apart, and
-  // the closure check below reports them).
-  std::vector<int> same(mesh.vertices.size());
-  std::iota(same.begin(), same.end(), 0);
-  const auto root = [&same](int v) {
-    while (same[static_cast<std::size_t>(v)] != v) {
-      const int up = same[static_cast<std::size_t>(v)];
-      v = same[static_cast<std::size_t>(v)] = same[static_cast<std::size_t>(up)];
-    }
-    return v;
-  };
-  TopTools_IndexedDataMapOfShapeListOfShape edge_faces;
-  TopExp::MapShapesAndAncestors(shape, TopAbs_EDGE, TopAbs_FACE, edge_faces);
-  for (int e = 1; e <= edge_faces.Extent(); ++e) {
-    const TopoDS_Edge& edge = TopoDS::Edge(edge_faces.FindKey(e));
-    std::vector<int> first;  // the edge's points as vertices, from its first face
-    for (const TopoDS_Shape& on : edge_faces(e)) {
-      const int f = faces.FindIndex(on);
-      TopLoc_Location location;
-      const Handle(Poly_Triangulation) triangulation =
-          BRep_Tool::Triangulation(TopoDS::Face(on), location);
-      const Handle(Poly_PolygonOnTriangulation) polygon =
-          BRep_Tool::PolygonOnTriangulation(edge, triangulation, location);
-      if (polygon.IsNull()) continue;
-      const std::vector<int>& index = node_vertex[static_cast<std::size_t>(f)];
-      std::vector<int> points;
-      for (int k = 1; k <= polygon->NbNodes(); ++k) {
-        points.push_back(index[static_cast<std::size_t>(polygon->Node(k))]);
-      }
-      if (first.empty()) {
-        first = std::move(points);
-      } else if (points.size() == first.size()) {
-        for (std::size_t k = 0; k < points.size(); ++k) {
-          const Vec3& pa = mesh.vertices[static_cast<std::size_t>(first[k])];
-          const Vec3& pb = mesh.vertices[static_cast<std::size_t>(points[k])];
-          if ((pa - pb).norm() > deviation) continue;
-          const int a = root(first[k]), b = root(points[k]);
-          if (a != b) same[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
-        }
-      }
-    }
-  }
-  for (std::size_t f = 1; f < node_vertex.size(); ++f) {
-    const TopoDS_Face& face = TopoDS::Face(faces(static_cast<int>(f)));
-    TopLoc_Location location;
-    const Handle(Poly_Triangulation) triangulation = BRep_Tool::Triangulation(face, location);
-    const std::vector<int>& index = node_vertex[f];
-    const bool reversed = face.Orientation() == TopAbs_REVERSED;
-    for (int t = 1; t <= triangulation->NbTriangles(); ++t) {
-      int a = 0, b = 0, c = 0;
-      triangulation->Triangle(t).Get(a, b, c);
-      if (reversed) std::swap(b, c);
-      const std::array<int, 3> tri = {root(index[static_cast<std::size_t>(a)]),
-                                      root(index[static_cast<std::size_t>(b)]),
-                                      root(index[static_cast<std::size_t>(c)])};
-      if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) continue;
-      mesh.triangles.push_back(tri);
-    }
-  }
-  // A face narrower than the weld tolerance collapses onto a line, its triangles into folds.
-  remove_folds(mesh);
-  mesh = without_unused_vertices(std::move(mesh));
-  const MeshClosure closure = check_closure(mesh);
-  if (!closure.closed()) {
-    throw ComputationError(fmt::format(
-        "{}: the tessellation at {} mm does not close ({} open, {} non-manifold, {} misoriented "
-        "edges of {})",
-        impl_->source, deviation, closure.boundary_edges, closure.non_manifold_edges,
-        closure.misoriented_edges, closure.edges));
-  }
-  return mesh;
+  return whole;
 }
 
 std::string step_bytes(const TopoDS_Shape& shape) {

@@ -27,6 +27,7 @@
 #include "cwe/geometry/vec.hpp"
 #include "cwe/io/atomic_file.hpp"
 #include "cwe/io/mesh_io.hpp"
+#include "cwe/io/step.hpp"
 
 namespace cwe::app {
 namespace {
@@ -1028,6 +1029,38 @@ TEST(CliSimulate, BrepCutsAHornTorusBullNoseRoundABlock) {
   // the block's sides: about 925 mm³.
   EXPECT_GT(removed.brep, 900.0);
   EXPECT_NEAR(removed.brep, removed.dexel, removed.spread);
+  std::filesystem::remove_all(dir);
+}
+
+// The same 6 mm bull nose at one level, its corners arcs of radius 2.5 (tighter than the tool's
+// 3): round each corner's axis the tool leaves a spike of stock 0.38 mm high (where the corner's
+// radius at a height is under 2.5 mm), which touches the stock's sides along edges only. The
+// solid is valid, the spikes solids of their own (0.0063 mm³ each); one weld over all the solids'
+// faces made those edges non-manifold, and the run stopped with exit 3 writing nothing. Each solid
+// is tessellated and checked on its own now. Against the dexel workpiece within its spread
+// (measured 0.04 mm³ apart, spread 0.24); the mesh within s/10 times its area of the solid.
+TEST(CliSimulate, BrepStockWithSpikesAtTightCornersIsWritten) {
+  const auto dir = scratch_dir("simulate-brep-spikes");
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream out(dir / "loop.ngc");
+    out << "G21 G90 G17\nG0 Z25\nG0 X-0.5 Y-3\nG0 Z20\nG1 Z11 F500\n"
+        << "G1 X60.5 Y-3\nG3 X63 Y-0.5 I0 J2.5\nG1 X63 Y40.5\nG3 X60.5 Y43 I-2.5 J0\n"
+        << "G1 X-0.5 Y43\nG3 X-3 Y40.5 I0 J-2.5\nG1 X-3 Y-0.5\nG3 X-0.5 Y-3 I2.5 J0\nG0 Z25\nM2\n";
+  }
+  const AgainstDexel removed =
+      removed_against_dexel({"simulate", "--path", (dir / "loop.ngc").string(), "--tool",
+                             "bull:6,1.5,30", "--stock", "box:-1,-1,-1,61,41,16"},
+                            dir);
+  EXPECT_GT(removed.brep, 900.0);
+  EXPECT_NEAR(removed.brep, removed.dexel, removed.spread);
+  // The block and the four spikes.
+  EXPECT_EQ(StepModel::read((dir / "brep" / "stock.step").string()).solids(), 5);
+  const nlohmann::json summary =
+      nlohmann::json::parse(std::ifstream(dir / "brep" / "summary.json"));
+  const StlMesh stl = read_stl((dir / "brep" / "stock.stl").string());
+  EXPECT_NEAR(stl.mesh.volume(), summary["stock_solid"]["volume_mm3"].get<double>(),
+              0.01 * stl.mesh.area());
   std::filesystem::remove_all(dir);
 }
 

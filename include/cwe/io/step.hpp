@@ -37,8 +37,9 @@ class StepModel {
   Aabb bounds() const;    // tight (on the surfaces, not the control points)
   // The closed, outward-oriented triangulation of the solids' faces, every triangle within
   // `deviation` mm of its face (BRepMesh's linear deflection, absolute), vertices shared
-  // across faces. Throws ComputationError when the triangulation does not close (a face
-  // BRepMesh cannot mesh).
+  // across the faces of a solid; each solid is closed on its own (solids that touch along an
+  // edge share no vertex there). Throws ComputationError when a solid's triangulation does not
+  // close (a face BRepMesh cannot mesh).
   TriangleMesh tessellate(double deviation) const;
 
   const Impl& impl() const { return *impl_; }
