@@ -1037,8 +1037,9 @@ TEST(CliSimulate, BrepCutsAHornTorusBullNoseRoundABlock) {
 // radius at a height is under 2.5 mm), which touches the stock's sides along edges only. The
 // solid is valid, the spikes solids of their own (0.0063 mm³ each); one weld over all the solids'
 // faces made those edges non-manifold, and the run stopped with exit 3 writing nothing. Each solid
-// is tessellated and checked on its own now. Against the dexel workpiece within its spread
-// (measured 0.04 mm³ apart, spread 0.24); the mesh within s/10 times its area of the solid.
+// is tessellated and checked on its own now, and the solids' meshes close. Against the dexel
+// workpiece within its spread (measured 0.04 mm³ apart, spread 0.24); the mesh's volume within
+// its deviation times its area of the solid's.
 TEST(CliSimulate, BrepStockWithSpikesAtTightCornersIsWritten) {
   const auto dir = scratch_dir("simulate-brep-spikes");
   std::filesystem::create_directories(dir);
@@ -1054,13 +1055,16 @@ TEST(CliSimulate, BrepStockWithSpikesAtTightCornersIsWritten) {
                             dir);
   EXPECT_GT(removed.brep, 900.0);
   EXPECT_NEAR(removed.brep, removed.dexel, removed.spread);
-  // The block and the four spikes.
-  EXPECT_EQ(StepModel::read((dir / "brep" / "stock.step").string()).solids(), 5);
+  ASSERT_TRUE(std::filesystem::exists(dir / "brep" / "stock.step"));
+  const StepModel model = StepModel::read((dir / "brep" / "stock.step").string());
+  EXPECT_EQ(model.solids(), 5);  // the block and the four spikes
   const nlohmann::json summary =
       nlohmann::json::parse(std::ifstream(dir / "brep" / "summary.json"));
+  const double deviation = summary["stock_mesh"]["deviation_mm"].get<double>();
+  EXPECT_TRUE(check_closure(model.tessellate(deviation)).closed());
   const StlMesh stl = read_stl((dir / "brep" / "stock.stl").string());
   EXPECT_NEAR(stl.mesh.volume(), summary["stock_solid"]["volume_mm3"].get<double>(),
-              0.01 * stl.mesh.area());
+              deviation * stl.mesh.area());
   std::filesystem::remove_all(dir);
 }
 
