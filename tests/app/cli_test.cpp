@@ -1005,6 +1005,26 @@ TEST(CliSimulate, BrepNeverLosesACutSilently) {
   std::filesystem::remove_all(dir);
 }
 
+// A 6 mm bull nose round a 60 x 40 block at Z11: a plunge at `start` ("X.. Y..") and the moves
+// `loop` back to it, in dir/loop.ngc, run on the dexel and B-rep workpieces. The B-rep must cut the
+// frame round the block (204 mm² by 5 mm less the fillet the tool's corner leaves along the block's
+// sides: about 925 mm³) as the dexel does, within its family spread.
+void bull_nose_loop_against_dexel(const std::filesystem::path& dir, const std::string& start,
+                                  const std::string& loop) {
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream out(dir / "loop.ngc");
+    out << "G21 G90 G17\nG0 Z25\nG0 " << start << "\nG0 Z20\nG1 Z11 F500\n"
+        << loop << "G0 Z25\nM2\n";
+  }
+  const AgainstDexel removed =
+      removed_against_dexel({"simulate", "--path", (dir / "loop.ngc").string(), "--tool",
+                             "bull:6,1.5,30", "--stock", "box:-1,-1,-1,61,41,16"},
+                            dir);
+  EXPECT_GT(removed.brep, 900.0);
+  EXPECT_NEAR(removed.brep, removed.dexel, removed.spread);
+}
+
 // A 6 mm bull nose (corner 1.5: a horn torus) round a 60 x 40 block, its corners arcs of its
 // radius (the tool's side on each arc's axis), the loop closing where it plunged. The straight
 // side after the third corner (line 12) gave a face of no width bounded by one edge of tolerance
@@ -1014,21 +1034,9 @@ TEST(CliSimulate, BrepNeverLosesACutSilently) {
 // workpiece at s = 0.025 within its family spread (measured 0.06 mm³ apart, spread 0.24).
 TEST(CliSimulate, BrepCutsAHornTorusBullNoseRoundABlock) {
   const auto dir = scratch_dir("simulate-brep-horn");
-  std::filesystem::create_directories(dir);
-  {
-    std::ofstream out(dir / "loop.ngc");
-    out << "G21 G90 G17\nG0 Z25\nG0 X-3 Y0\nG0 Z20\nG1 Z11 F500\n"
-        << "G1 X-3 Y40\nG2 X0 Y43 I3 J0\nG1 X60 Y43\nG2 X63 Y40 I0 J-3\n"
-        << "G1 X63 Y0\nG2 X60 Y-3 I-3 J0\nG1 X0 Y-3\nG2 X-3 Y0 I0 J3\nG0 Z25\nM2\n";
-  }
-  const AgainstDexel removed =
-      removed_against_dexel({"simulate", "--path", (dir / "loop.ngc").string(), "--tool",
-                             "bull:6,1.5,30", "--stock", "box:-1,-1,-1,61,41,16"},
-                            dir);
-  // The frame round the block (204 mm² by 5 mm) less the fillet the tool's corner leaves along
-  // the block's sides: about 925 mm³.
-  EXPECT_GT(removed.brep, 900.0);
-  EXPECT_NEAR(removed.brep, removed.dexel, removed.spread);
+  bull_nose_loop_against_dexel(dir, "X-3 Y0",
+                               "G1 X-3 Y40\nG2 X0 Y43 I3 J0\nG1 X60 Y43\nG2 X63 Y40 I0 J-3\n"
+                               "G1 X63 Y0\nG2 X60 Y-3 I-3 J0\nG1 X0 Y-3\nG2 X-3 Y0 I0 J3\n");
   std::filesystem::remove_all(dir);
 }
 
@@ -1042,19 +1050,10 @@ TEST(CliSimulate, BrepCutsAHornTorusBullNoseRoundABlock) {
 // its deviation times its area of the solid's.
 TEST(CliSimulate, BrepStockWithSpikesAtTightCornersIsWritten) {
   const auto dir = scratch_dir("simulate-brep-spikes");
-  std::filesystem::create_directories(dir);
-  {
-    std::ofstream out(dir / "loop.ngc");
-    out << "G21 G90 G17\nG0 Z25\nG0 X-0.5 Y-3\nG0 Z20\nG1 Z11 F500\n"
-        << "G1 X60.5 Y-3\nG3 X63 Y-0.5 I0 J2.5\nG1 X63 Y40.5\nG3 X60.5 Y43 I-2.5 J0\n"
-        << "G1 X-0.5 Y43\nG3 X-3 Y40.5 I0 J-2.5\nG1 X-3 Y-0.5\nG3 X-0.5 Y-3 I2.5 J0\nG0 Z25\nM2\n";
-  }
-  const AgainstDexel removed =
-      removed_against_dexel({"simulate", "--path", (dir / "loop.ngc").string(), "--tool",
-                             "bull:6,1.5,30", "--stock", "box:-1,-1,-1,61,41,16"},
-                            dir);
-  EXPECT_GT(removed.brep, 900.0);
-  EXPECT_NEAR(removed.brep, removed.dexel, removed.spread);
+  bull_nose_loop_against_dexel(
+      dir, "X-0.5 Y-3",
+      "G1 X60.5 Y-3\nG3 X63 Y-0.5 I0 J2.5\nG1 X63 Y40.5\nG3 X60.5 Y43 I-2.5 J0\n"
+      "G1 X-0.5 Y43\nG3 X-3 Y40.5 I0 J-2.5\nG1 X-3 Y-0.5\nG3 X-0.5 Y-3 I2.5 J0\n");
   ASSERT_TRUE(std::filesystem::exists(dir / "brep" / "stock.step"));
   const StepModel model = StepModel::read((dir / "brep" / "stock.step").string());
   EXPECT_EQ(model.solids(), 5);  // the block and the four spikes
