@@ -143,8 +143,8 @@ TriangleMesh without_unused_vertices(TriangleMesh mesh) {
   return mesh;
 }
 
-// The tessellation of one solid (or of a shape without solids) that BRepMesh has meshed, its
-// faces joined at their shared points; throws ComputationError unless it closes.
+// The tessellation of one solid that BRepMesh has meshed, its faces joined at their shared
+// points; throws ComputationError unless it closes.
 TriangleMesh tessellated_part(const TopoDS_Shape& shape, double tolerance, double deviation,
                               const std::string& source) {
   TriangleMesh mesh;
@@ -388,10 +388,10 @@ TriangleMesh StepModel::tessellate(double deviation) const {
   // Each solid is welded and checked on its own, then the solids' meshes are put together: a
   // bull nose round a corner tighter than its radius leaves a spike of stock at the corner's
   // axis that touches the rest along edges only (a solid of its own; four faces on those edges),
-  // and one weld over all of them made those edges non-manifold.
+  // and one weld over all of them made those edges non-manifold. (A model holds a solid at
+  // least: step_model refuses a shape without one.)
   std::vector<TopoDS_Shape> parts;
   for (TopExp_Explorer e(shape, TopAbs_SOLID); e.More(); e.Next()) parts.push_back(e.Current());
-  if (parts.empty()) parts.push_back(shape);
   TriangleMesh whole;
   for (std::size_t part = 0; part < parts.size(); ++part) {
     whole.append(tessellated_part(

@@ -567,10 +567,11 @@ TEST(BrepStock, CutsLeaveTheShapesTheyCutAsTheyWere) {
   const TopoDS_Shape box = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), gp_Pnt(60, 40, 20)).Shape();
   const TopoDS_Shape tool =
       BRepPrimAPI_MakeBox(gp_Pnt(60 - 3e-5, 30, 10), gp_Pnt(70, 50, 30)).Shape();
-  const double before = std::max(BRep_Tool::MaxTolerance(box, TopAbs_VERTEX),
-                                 BRep_Tool::MaxTolerance(box, TopAbs_EDGE));
-  const double tool_before = std::max(BRep_Tool::MaxTolerance(tool, TopAbs_VERTEX),
-                                      BRep_Tool::MaxTolerance(tool, TopAbs_EDGE));
+  const auto tolerance = [](const TopoDS_Shape& shape) {
+    return std::max(BRep_Tool::MaxTolerance(shape, TopAbs_VERTEX),
+                    BRep_Tool::MaxTolerance(shape, TopAbs_EDGE));
+  };
+  const double before = tolerance(box), tool_before = tolerance(tool);
   BrepStock stock = brep_stock(box);
   BrepStock::Solid sweep;
   sweep.shape = tool;
@@ -581,12 +582,8 @@ TEST(BrepStock, CutsLeaveTheShapesTheyCutAsTheyWere) {
   } catch (const ComputationError& e) {
     ADD_FAILURE() << e.what();
   }
-  EXPECT_EQ(std::max(BRep_Tool::MaxTolerance(box, TopAbs_VERTEX),
-                     BRep_Tool::MaxTolerance(box, TopAbs_EDGE)),
-            before);
-  EXPECT_EQ(std::max(BRep_Tool::MaxTolerance(tool, TopAbs_VERTEX),
-                     BRep_Tool::MaxTolerance(tool, TopAbs_EDGE)),
-            tool_before);
+  EXPECT_EQ(tolerance(box), before);
+  EXPECT_EQ(tolerance(tool), tool_before);
 }
 
 }  // namespace

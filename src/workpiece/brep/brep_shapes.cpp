@@ -206,6 +206,19 @@ TopoDS_Shape with_tori(const TopoDS_Shape& shape) {
   return modifier.ModifiedShape(shape);
 }
 
+void check_done(bool done, const char* what, const Cutter& cutter) {
+  if (!done) throw ComputationError(fmt::format("{}: {} failed", cutter.name(), what));
+}
+
+// `shape` revolved about `axis` by `angle`, its toroidal faces tori (with_tori): every revolve of
+// a tool's section or silhouette goes through here.
+TopoDS_Shape revolved(const TopoDS_Shape& shape, const gp_Ax1& axis, double angle, const char* what,
+                      const Cutter& cutter, bool copy = false) {
+  BRepPrimAPI_MakeRevol revol(shape, axis, angle, copy);
+  check_done(revol.IsDone(), what, cutter);
+  return with_tori(revol.Shape());
+}
+
 // The half of the tool's meridian section at ρ ≥ 0 in its own frame (ρ along X, z along Z),
 // from the tip round the profile, across the top and down the axis.
 TopoDS_Face meridian_section(const Cutter& cutter) {
@@ -239,9 +252,9 @@ TopoDS_Solid local_tool(const Cutter& cutter) {
                      "the B-rep workpiece sweeps convex cutters (every APT cutter); this "
                      "profile has a concave part");
   }
-  BRepPrimAPI_MakeRevol revol(meridian_section(cutter), gp_Ax1(gp::Origin(), gp::DZ()), 2.0 * M_PI);
-  const TopoDS_Shape revolved = with_tori(revol.Shape());
-  TopExp_Explorer solid(revolved, TopAbs_SOLID);
+  TopExp_Explorer solid(revolved(meridian_section(cutter), gp_Ax1(gp::Origin(), gp::DZ()),
+                                 2.0 * M_PI, "revolving the profile", cutter),
+                        TopAbs_SOLID);
   if (!solid.More()) {
     throw ComputationError(fmt::format("{}: revolving the profile gave no solid", cutter.name()));
   }
@@ -251,10 +264,6 @@ TopoDS_Solid local_tool(const Cutter& cutter) {
 struct Plane {
   Vec3 origin, normal;
 };
-
-void check_done(bool done, const char* what, const Cutter& cutter) {
-  if (!done) throw ComputationError(fmt::format("{}: {} failed", cutter.name(), what));
-}
 
 // The sheet that cuts a torus (the corner arc `s` revolved) along its silhouette for a local
 // direction d that climbs or descends: n·d = 0 where tan ψ = −(|d_h|/d_z)·cos(θ − β) (ψ the
@@ -637,9 +646,7 @@ std::vector<TopoDS_Shape> planar_arc_sweep_solids(const Cutter& cutter, const Mo
       gp_Trsf turn;
       turn.SetRotation(arc_axis, angle);
       const auto band = [&](const TopoDS_Edge& edge) {
-        BRepPrimAPI_MakeRevol revol(edge, arc_axis, angle, /*Copy=*/true);
-        check_done(revol.IsDone(), "revolving the silhouette", cutter);
-        return with_tori(revol.Shape());
+        return revolved(edge, arc_axis, angle, "revolving the silhouette", cutter, /*copy=*/true);
       };
       const TopoDS_Shape swept = sewn_sweep(faces, trails, turn, band, 1e-6 * reach, cutter);
       check_volume(swept, planar_arc_swept_volume(cutter, big_r, angle), cutter,
@@ -648,10 +655,9 @@ std::vector<TopoDS_Shape> planar_arc_sweep_solids(const Cutter& cutter, const Mo
     }
     // A full circle, or a corner (the tool covers the arc's axis): the section on the tool's
     // side of the arc's axis (arc_section), revolved, and the tool at both ends.
-    BRepPrimAPI_MakeRevol ring(arc_section(cutter, arc.start, axis, radial / big_r, big_r),
-                               arc_axis, angle);
-    check_done(ring.IsDone(), "revolving the tool's section", cutter);
-    const TopoDS_Shape ring_solid = with_tori(ring.Shape());
+    const TopoDS_Shape ring_solid =
+        revolved(arc_section(cutter, arc.start, axis, radial / big_r, big_r), arc_axis, angle,
+                 "revolving the tool's section", cutter);
     // A solid of revolution's volume is proportional to its angle (Pappus): the ring's is the full
     // circle's sweep's share.
     check_volume(ring_solid,
@@ -926,10 +932,9 @@ std::vector<TopoDS_Shape> tilt_sweep_solids(const Cutter& cutter, const Move& mo
     std::vector<TopoDS_Shape> solids{tool_solid(cutter, tip, a0),
                                      tool_solid(cutter, tip, move.end_axis.normalized())};
     for (const TopoDS_Shape& face : faces) {
-      BRepPrimAPI_MakeRevol revol(face, gp_Ax1(gp::Origin(), gp::DX()), angle);
-      check_done(revol.IsDone(), "revolving the section about the tilt's line", cutter);
-      const TopoDS_Shape revolved = with_tori(revol.Shape());
-      TopExp_Explorer solid(revolved, TopAbs_SOLID);
+      TopExp_Explorer solid(revolved(face, gp_Ax1(gp::Origin(), gp::DX()), angle,
+                                     "revolving the section about the tilt's line", cutter),
+                            TopAbs_SOLID);
       check_done(solid.More(), "revolving the section about the tilt's line", cutter);
       solids.push_back(BRepBuilderAPI_Transform(solid.Current(), to_world, true).Shape());
     }
