@@ -244,6 +244,12 @@ void print_report(std::ostream& out, const SimulateCommandOptions& options, cons
                  "the stock lost by up to {:.2g} %\n",
                  run.brep->removal_volumes_off(), 100.0 * run.brep->worst_removal_volume());
     }
+    if (run.brep->removal_volumes_replaced() > 0) {
+      fmt::print(out,
+                 "  warning     {} cuts' removal volumes did not hold what the stock lost; their "
+                 "engagement was read from the stock before the cut\n",
+                 run.brep->removal_volumes_replaced());
+    }
   } else {
     fmt::print(out,
                "  accuracy    faceted sweeps ({:g} mm facets at the tool's largest radius); arcs, "

@@ -132,6 +132,7 @@ std::string job_summary(const PreparedJob& job, const JobResult& run, const JobS
                               {"worst_loft_deviation_mm", run.brep->worst_loft_deviation()},
                               {"moves_in_linear_pieces", run.brep->moves_in_lines()},
                               {"removal_volumes_off", run.brep->removal_volumes_off()},
+                              {"removal_volumes_replaced", run.brep->removal_volumes_replaced()},
                               {"worst_removal_volume_relative", run.brep->worst_removal_volume()}};
   } else {
     summary["workpiece"] = "mesh";

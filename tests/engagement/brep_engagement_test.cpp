@@ -443,5 +443,67 @@ TEST(BrepEngagement, FiveAxisMovesAreLoftedWhereTheyMeetTheBlock) {
   EXPECT_NEAR(approach.exact[1], approach.dexel[1], 0.5 * s * 200.0);
 }
 
+// Where no attempt gives a removal volume that holds what the stock lost, the engagement reads
+// the stock before the cut (BrepStock::cut): at the points it tests, just outside the cutter
+// where it moves into the material and so inside the swept volume, W ∩ SV and W are the same.
+// Read so at every location of a flat end mill's slot, a pass back along the wall the slot left
+// (3 mm of radial depth) and a ramp, the maps are those the removal volumes give. Both read the
+// same faces of the stock; what parts them is where f is so small that the tool does not reach
+// the circle read, 2e-7 mm outside it, before the move ends: at a grazing line (f = 0), within
+// √(2·2e-7/ρ) of it (2.8e-4 rad on the 5 mm radius), the stock counts the material there and
+// the removal volume does not. That, plus 1e-4 rad for OpenCASCADE's tolerances (the fuzzy
+// value, 1e-6 of the stock's size, is 1.5e-5 rad at 5 mm), is what every interval is held to.
+TEST(BrepEngagement, ReadingTheStockBeforeTheCutGivesTheRemovalVolumesMaps) {
+  const Aabb block{{0, 0, 0}, {60, 40, kTop}};
+  Toolpath path;
+  path.sources = {"test"};
+  path.moves = {test::line({-10, 20, kTop - 3}, {50, 20, kTop - 3}),
+                test::line({50, 20, kTop - 3}, {50, 23, kTop - 3}),
+                test::line({50, 23, kTop - 3}, {-10, 23, kTop - 3}),
+                test::line({-10, 23, kTop - 3}, {30, 12, kTop - 5})};
+  const Cutter cutter = cutter_from_spec("flat:10,20");
+  SamplingOptions sampling;
+  sampling.step = 1.0;
+  const auto maps = [&](bool reads_stock) {
+    BrepStock stock = BrepStock::from_box(block);
+    stock.set_engagement_reads_stock(reads_stock);
+    BrepWorkpiece workpiece(stock, kSpacing);
+    std::vector<EngagementMap> out;
+    simulate_engagement(workpiece, cutter, path, {{kSpacing, 0.0}, sampling, {}},
+                        [&](const ClEngagement& e) { out.push_back(e.map); });
+    EXPECT_EQ(stock.removal_volumes_replaced(), 0);
+    return out;
+  };
+  const std::vector<EngagementMap> from_rv = maps(false), from_stock = maps(true);
+  ASSERT_EQ(from_rv.size(), from_stock.size());
+  int engaged = 0;
+  // Intervals on a circle of radius rho.
+  const auto same = [](const std::vector<Interval>& a, const std::vector<Interval>& b, double rho) {
+    const double tolerance = std::sqrt(2.0 * 2e-7 / rho) + 1e-4;
+    if (a.size() != b.size()) return false;
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      if (std::abs(a[k].lo - b[k].lo) > tolerance || std::abs(a[k].hi - b[k].hi) > tolerance) {
+        return false;
+      }
+    }
+    return true;
+  };
+  for (std::size_t cl = 0; cl < from_rv.size(); ++cl) {
+    const EngagementMap &a = from_rv[cl], &b = from_stock[cl];
+    engaged += a.engaged ? 1 : 0;
+    ASSERT_EQ(a.engaged, b.engaged) << "CL " << cl;
+    ASSERT_EQ(a.discs.size(), b.discs.size());
+    for (std::size_t k = 0; k < a.discs.size(); ++k) {
+      EXPECT_TRUE(same(a.discs[k].phi, b.discs[k].phi, 5.0)) << "CL " << cl << ", disc " << k;
+    }
+    for (std::size_t k = 0; k < a.rings.size(); ++k) {
+      EXPECT_TRUE(same(a.rings[k].phi, b.rings[k].phi, 0.5 * (a.rings[k].r0 + a.rings[k].r1)))
+          << "CL " << cl << ", ring " << k;
+    }
+  }
+  // The slot, the pass back and the ramp are cut: most of the 60 + 60 + 42 locations engage.
+  EXPECT_GT(engaged, 140);
+}
+
 }  // namespace
 }  // namespace cwe

@@ -175,6 +175,7 @@ double BrepStock::cut_all(const std::vector<Solid>& parts, std::vector<Solid>* r
   const TopoDS_Shape before = solid_->shape;
   const double volume = volume_;
   const int off = removal_volumes_off_;
+  const int replaced = removal_volumes_replaced_;
   const double worst = worst_removal_volume_;
   const std::size_t recorded = removed != nullptr ? removed->size() : 0;
   try {
@@ -185,6 +186,7 @@ double BrepStock::cut_all(const std::vector<Solid>& parts, std::vector<Solid>* r
     solid_->shape = before;
     volume_ = volume;
     removal_volumes_off_ = off;
+    removal_volumes_replaced_ = replaced;
     worst_removal_volume_ = worst;
     if (removed != nullptr) removed->resize(recorded);
     throw;
@@ -270,6 +272,46 @@ double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed, bool mer
   const double inputs_tolerance =
       std::max(max_tolerance(solid_->shape), max_tolerance(cutter.shape));
   const double tolerance_allowed = inputs_tolerance + std::max(1e-3 * size, 0.1);
+  // Keeps a cut that passed the checks: its same-domain faces merged where that keeps the solid
+  // (below), `took` appended to `removed`; returns the volume removed.
+  const auto keep = [&](TopoDS_Shape result, double after, double taken, std::vector<Solid>& took,
+                        bool merge) {
+    // Same-domain faces merged (a slot's floor pieces, one per cut, become one face), only on a
+    // cut that passed the checks, and only where that keeps the solid: valid, with its volume.
+    // Where OpenCASCADE cannot merge them, or the merge changes the solid, the cut as it is: the
+    // bundled example's retract from its circle, the tool tangent to both walls the helix left,
+    // split a wall along the tangent, and merging it back gave a valid solid 546 mm³ larger; and
+    // on a cut that had gone wrong (a helix's last piece, without the fuzzy value, taking
+    // nothing) the merge never finished, its memory growing by gigabytes. Not for a move's
+    // linear pieces (merge_faces false): on a 5-axis move's the merge had not finished after 15
+    // CPU minutes, and each piece has its own axis, so its faces rarely share a surface with the
+    // stock's. (Without any merging, a face of FreeCAD's pocket could not be tessellated.)
+    if (merge) {
+      try {
+        ShapeUpgrade_UnifySameDomain unify(result, true, true, true);
+        unify.Build();
+        const TopoDS_Shape merged = unify.Shape();
+        const double merged_volume = shape_volume(merged);
+        if (std::abs(merged_volume - after) <= slack &&
+            max_tolerance(merged) <= tolerance_allowed && BRepCheck_Analyzer(merged).IsValid()) {
+          result = merged;
+          after = merged_volume;
+        }
+      } catch (const Standard_Failure&) {
+      }
+    }
+    if (removed != nullptr) std::move(took.begin(), took.end(), std::back_inserter(*removed));
+    solid_->shape = result;
+    volume_ = after;
+    return std::max(0.0, taken);
+  };
+  // The first attempt that passed every check of the stock but whose removal volume did not hold
+  // what the stock lost: kept in case no attempt gives both (see below).
+  struct StockOnly {
+    TopoDS_Shape result;
+    double after = 0.0, taken = 0.0;
+  };
+  std::optional<StockOnly> stock_only;
   for (const double fuzzy : fuzzy_values) {
     try {
       BRepAlgoAPI_Cut cut;
@@ -278,7 +320,14 @@ double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed, bool mer
         failures.emplace_back(fuzzy, "BRepAlgoAPI_Cut reported an error");
         continue;
       }
-      TopoDS_Shape result = cut.Shape();
+      // With the engagement, a copy: the removal volume's common below is built on the same
+      // intersection and shares its split edges and faces, and building it altered them in the
+      // stock kept. On FreeCAD's two-tool program cut down to a slot and the bull nose's first
+      // two levels, the cuts that followed then differed from a run without the engagement (the
+      // last corner of the first level took 0.036 mm³ instead of 0.0066), and the second
+      // level's last corner was refused (exit 3): its removal volume held nothing.
+      TopoDS_Shape result =
+          removed != nullptr ? BRepBuilderAPI_Copy(cut.Shape()).Shape() : cut.Shape();
       if (!BRepCheck_Analyzer(result).IsValid()) {
         failures.emplace_back(fuzzy, "the result is not a valid solid (BRepCheck)");
         continue;
@@ -308,7 +357,9 @@ double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed, bool mer
         continue;
       }
       std::vector<Solid> took;
-      if (removed != nullptr) {
+      if (removed != nullptr && engagement_reads_stock_) {
+        took.push_back({BRepBuilderAPI_Copy(solid_->shape).Shape()});
+      } else if (removed != nullptr) {
         // The removal volume from the same intersection (the cut's pave filler): its volume
         // must be what the stock lost.
         BRepAlgoAPI_Common common(solid_->shape, cutter.shape, *cut.DSFiller());
@@ -334,7 +385,8 @@ double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed, bool mer
         // helix's pipe shells OpenCASCADE's common has been seen 4e-5 off a cut that every
         // fuzzy value agrees on); up to 1 % off it is taken and counted (removal_volumes_off:
         // the bundled example's circle along the walls its helical entry's linear pieces left
-        // gave 0.6 %); beyond, the cut is refused.
+        // gave 0.6 %); beyond, the next attempt is tried, and where none holds it the
+        // engagement reads the stock before the cut (below).
         const double off = std::abs(in_rv - taken);
         if (off > slack + 1e-2 * taken) {
           failures.emplace_back(
@@ -343,6 +395,7 @@ double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed, bool mer
                   ? "BRepAlgoAPI_Common (the removal volume) reported an error"
                   : fmt::format("the removal volume holds {:g} mm³ where the stock lost {:g} mm³",
                                 in_rv, taken));
+          if (!stock_only) stock_only = StockOnly{result, after, taken};
           continue;
         }
         if (off > slack + 1e-4 * taken) {
@@ -350,39 +403,28 @@ double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed, bool mer
           worst_removal_volume_ = std::max(worst_removal_volume_, off / taken);
         }
       }
-      // Same-domain faces merged (a slot's floor pieces, one per cut, become one face), only on
-      // a cut that passed the checks, and only where that keeps the solid: valid, with its
-      // volume. Where OpenCASCADE cannot merge them, or the merge changes the solid, the cut as
-      // it is: the bundled example's retract from its circle, the tool tangent to both walls the
-      // helix left, split a wall along the tangent, and merging it back gave a valid solid
-      // 546 mm³ larger; and on a cut that had gone wrong (a helix's last piece, without the
-      // fuzzy value, taking nothing) the merge never finished, its memory growing by gigabytes.
-      // Not for a move's linear pieces (merge_faces false): on a 5-axis move's the merge had not
-      // finished after 15 CPU minutes, and each piece has its own axis, so its faces rarely
-      // share a surface with the stock's. (Without any merging, a face of FreeCAD's pocket
-      // could not be tessellated.)
-      if (merge_faces) {
-        try {
-          ShapeUpgrade_UnifySameDomain unify(result, true, true, true);
-          unify.Build();
-          const TopoDS_Shape merged = unify.Shape();
-          const double merged_volume = shape_volume(merged);
-          if (std::abs(merged_volume - after) <= slack &&
-              max_tolerance(merged) <= tolerance_allowed && BRepCheck_Analyzer(merged).IsValid()) {
-            result = merged;
-            after = merged_volume;
-          }
-        } catch (const Standard_Failure&) {
-        }
-      }
-      if (removed != nullptr) std::move(took.begin(), took.end(), std::back_inserter(*removed));
-      solid_->shape = result;
-      volume_ = after;
-      return std::max(0.0, taken);
+      return keep(result, after, taken, took, merge_faces);
     } catch (const Standard_Failure& e) {
       failures.emplace_back(fuzzy, fmt::format("OpenCASCADE failed ({}: {})",
                                                e.DynamicType()->Name(), e.GetMessageString()));
     }
+  }
+  if (stock_only) {
+    // No attempt gave a removal volume that holds what the stock lost, but one cut the stock
+    // right by every check of the stock: it is kept, as a run without the engagement keeps it
+    // (merged alike, so both runs go on with the same stock), and the engagement reads a copy of
+    // the stock before the cut instead. At a location, a point just outside the cutter where it
+    // moves into the material (the only points the engagement tests) lies in the swept volume,
+    // so it lies in W ∩ SV exactly when it lies in W; only points that the tool reaches less than
+    // the engagement circles' offset (2e-7 mm) before the move ends can differ. The removal
+    // volume is only the smaller solid to read. Seen on FreeCAD's two-tool program, line 142
+    // (the third level's first corner, whose own sweep OpenCASCADE's union refused, cut as its
+    // linear pieces): a piece's removal volume held 0.238 mm³ where the stock lost 0.028, with
+    // every fuzzy value; the engagement read from the stock there agrees with the dexel
+    // workpiece's.
+    std::vector<Solid> took;
+    if (removed != nullptr) took.push_back({BRepBuilderAPI_Copy(solid_->shape).Shape()});
+    return keep(stock_only->result, stock_only->after, stock_only->taken, took, merge_faces);
   }
   std::string tried;
   for (std::size_t k = 0; k < failures.size(); ++k) {

@@ -36,8 +36,12 @@ class BrepStock {
   // Cuts the volume the cutter sweeps along a line with a constant axis (3-axis and 3+2 moves;
   // linear_sweep_solid) and returns the volume removed, mm³. Throws ComputationError when the
   // sweep cannot be built or the cut fails its checks; the stock is then unchanged. With
-  // `removed`, the solids of what the cut took (the removal volume W ∩ SV, from the same
-  // intersection; its volume checked against the stock's change) are appended to it.
+  // `removed`, the solids the engagement reads are appended to it: what the cut took (the
+  // removal volume W ∩ SV, from the same intersection; its volume checked against the stock's
+  // change), or, where no attempt gives a removal volume that holds what the stock lost, a copy
+  // of the stock before the cut (counted by removal_volumes_replaced()). At the points the
+  // engagement tests, just outside the cutter where it moves into the material and so inside the
+  // swept volume, the two are the same.
   double cut_linear(const Cutter& cutter, const Vec3& start, const Vec3& end, const Vec3& axis,
                     std::vector<Solid>* removed = nullptr);
   // The same for a planar arc with the tool along its normal (planar_arc_sweep_solids), for a
@@ -68,6 +72,13 @@ class BrepStock {
   // what the stock lost, and the largest such difference relative to the loss.
   int removal_volumes_off() const { return removal_volumes_off_; }
   double worst_removal_volume() const { return worst_removal_volume_; }
+  // Cuts whose removal volume no attempt could give within 1 % of what the stock lost, for
+  // which `removed` holds the stock before the cut instead.
+  int removal_volumes_replaced() const { return removal_volumes_replaced_; }
+  // With `on`, `removed` holds the stock before each cut and no removal volume is made (not
+  // counted above): the fallback's reading everywhere, for the tests that hold it to the removal
+  // volume's.
+  void set_engagement_reads_stock(bool on) { engagement_reads_stock_ = on; }
 
   // Cuts a solid (a swept volume) and returns the volume removed, mm³, with the checks above.
   double cut(const Solid& cutter, std::vector<Solid>* removed = nullptr);
@@ -94,6 +105,8 @@ class BrepStock {
   int moves_lofted_ = 0;
   double worst_loft_deviation_ = 0.0;
   int removal_volumes_off_ = 0;
+  int removal_volumes_replaced_ = 0;
+  bool engagement_reads_stock_ = false;
   double worst_removal_volume_ = 0.0;
 };
 
