@@ -1118,14 +1118,16 @@ TEST(CliSimulate, BrepCutsTheBundledExampleExactly) {
 // not on every run.) Against the dexel workpiece at the same settings (s = 0.25, a location a
 // millimetre, the sweep tolerance 0.01 mm to keep the B-rep's cuts those of the default run):
 // the same removal within the dexel's family spread and the same locations engaged; entry and
-// exit angles within the dexel's cell s/(√2·ρ) at the 95th percentile, and everywhere within
-// that plus the reach of its contact tolerance s/10 past a wall the tool grazes, √(2·s/10/ρ)
-// (ρ = 2.5 mm, the end mill's radius and the smaller: 4.1° and 12.2°).
+// exit angles everywhere within the dexel's cell s/(√2·ρ) plus the reach of its contact
+// tolerance s/10 past a wall the tool grazes, √(2·s/10/ρ), at the smallest radius of a side disc
+// (ρ = 1.5 mm, the bull nose's torus at its tip: 17.3°), and at the 95th percentile within the
+// cell on the end mill's side (ρ = 2.5 mm: 4.1°), where most of the angles lie (measured 3.0°,
+// at most 9.1°).
 TEST(CliSimulate, BrepRunsFreeCadsTwoToolProgramWithItsEngagement) {
   const auto dir = scratch_dir("simulate-brep-freecad-engagement");
   std::filesystem::create_directories(dir);
   const std::filesystem::path data = test::source_dir() / "tests/app/data";
-  const double s = 0.25, rho = 2.5;
+  const double s = 0.25;
   std::vector<std::vector<std::vector<std::string>>> rows;
   std::vector<nlohmann::json> summaries;
   for (const std::string workpiece : {"dexel", "brep"}) {
@@ -1160,20 +1162,21 @@ TEST(CliSimulate, BrepRunsFreeCadsTwoToolProgramWithItsEngagement) {
   const auto& brep = rows[1];
   ASSERT_EQ(brep.size(), dexel.size());
   ASSERT_GT(brep.size(), 1000U);
-  const double cell = s / (std::sqrt(2.0) * rho) * 180.0 / kPi;
-  const double reach = std::sqrt(2.0 * s / 10.0 / rho) * 180.0 / kPi;
+  const auto cell = [&](double rho) { return s / (std::sqrt(2.0) * rho) * 180.0 / kPi; };
+  const auto reach = [&](double rho) { return std::sqrt(2.0 * s / 10.0 / rho) * 180.0 / kPi; };
   std::vector<double> off;  // entry and exit angle differences, degrees
   for (std::size_t k = 1; k < brep.size(); ++k) {
     ASSERT_EQ(brep[k][12], dexel[k][12]) << "CL " << brep[k][0] << ", line " << brep[k][2];
     if (brep[k][12] != "1") continue;
     for (const std::size_t column : {13U, 14U}) {
-      const double d = std::abs(std::stod(brep[k][column]) - std::stod(dexel[k][column]));
-      EXPECT_LE(d, cell + reach) << "CL " << brep[k][0] << ", line " << brep[k][2];
+      const double a = std::abs(std::stod(brep[k][column]) - std::stod(dexel[k][column]));
+      const double d = std::min(a, 360.0 - a);  // 359.9° and 0.1° are 0.2° apart
+      EXPECT_LE(d, cell(1.5) + reach(1.5)) << "CL " << brep[k][0] << ", line " << brep[k][2];
       off.push_back(d);
     }
   }
   std::sort(off.begin(), off.end());
-  EXPECT_LE(off[off.size() * 95 / 100], cell);
+  EXPECT_LE(off[off.size() * 95 / 100], cell(2.5));
   std::filesystem::remove_all(dir);
 }
 

@@ -75,10 +75,10 @@ class BrepStock {
   // Cuts whose removal volume no attempt could give within 1 % of what the stock lost, for
   // which `removed` holds the stock before the cut instead.
   int removal_volumes_replaced() const { return removal_volumes_replaced_; }
-  // With `on`, `removed` holds the stock before each cut and no removal volume is made (not
-  // counted above): the fallback's reading everywhere, for the tests that hold it to the removal
-  // volume's.
-  void set_engagement_reads_stock(bool on) { engagement_reads_stock_ = on; }
+  // For the tests that hold the fallback to the removal volume: with `on`, every removal volume
+  // is refused, so each cut with `removed` is tried with every fuzzy value and then takes the
+  // fallback (removed gets the stock before the cut, counted above).
+  void refuse_removal_volumes(bool on) { refuse_removal_volumes_ = on; }
 
   // Cuts a solid (a swept volume) and returns the volume removed, mm³, with the checks above.
   double cut(const Solid& cutter, std::vector<Solid>* removed = nullptr);
@@ -106,7 +106,7 @@ class BrepStock {
   double worst_loft_deviation_ = 0.0;
   int removal_volumes_off_ = 0;
   int removal_volumes_replaced_ = 0;
-  bool engagement_reads_stock_ = false;
+  bool refuse_removal_volumes_ = false;
   double worst_removal_volume_ = 0.0;
 };
 
