@@ -414,8 +414,9 @@ double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed, bool mer
     // (merged alike, so both runs go on with the same stock), and the engagement reads a copy of
     // the stock before the cut instead. At a location, a point just outside the cutter where it
     // moves into the material (the only points the engagement tests) lies in the swept volume,
-    // so it lies in W ∩ SV exactly when it lies in W; only points that the tool reaches less than
-    // the engagement circles' offset (2e-7 mm) before the move ends can differ. The removal
+    // so it lies in W ∩ SV exactly when it lies in W. They differ only where the tool does not
+    // reach the circle read (2e-7 mm outside it) before the move ends: within √(2·2e-7/ρ) of a
+    // line the move grazes (f = 0), where the stock counts material the RV does not. The removal
     // volume is only the smaller solid to read. Seen on FreeCAD's two-tool program, line 142
     // (the third level's first corner, whose own sweep OpenCASCADE's union refused, cut as its
     // linear pieces): a piece's removal volume held 0.238 mm³ where the stock lost 0.028, with

@@ -41,7 +41,7 @@ class BrepStock {
   // change), or, where no attempt gives a removal volume that holds what the stock lost, a copy
   // of the stock before the cut (counted by removal_volumes_replaced()). At the points the
   // engagement tests, just outside the cutter where it moves into the material and so inside the
-  // swept volume, the two are the same.
+  // swept volume, the two are the same, but within √(2·2e-7/ρ) of a line the move grazes.
   double cut_linear(const Cutter& cutter, const Vec3& start, const Vec3& end, const Vec3& axis,
                     std::vector<Solid>* removed = nullptr);
   // The same for a planar arc with the tool along its normal (planar_arc_sweep_solids), for a
