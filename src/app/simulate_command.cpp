@@ -182,6 +182,12 @@ void print_report(std::ostream& out, const SimulateCommandOptions& options, cons
                step.volume() / cubed, 1 + 2 * unit.extra_decimals, unit.name,
                step_tessellation(simulation, job.workpiece == WorkpieceKind::kMesh));
   }
+  if (job.stock.mesh_solid) {
+    const StepModel& solid = *job.stock.mesh_solid;
+    fmt::print(out, "  STL stock   {} triangles made {} solid{}, {:.{}f} {}³ exact\n",
+               job.stock.mesh->triangles.size(), solid.solids(), solid.solids() == 1 ? "" : "s",
+               solid.volume() / cubed, 1 + 2 * unit.extra_decimals, unit.name);
+  }
   if (run.stock) {
     const TriDexel::Memory memory = run.stock->memory();
     fmt::print(out,

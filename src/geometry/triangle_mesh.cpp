@@ -4,6 +4,8 @@
 #include <map>
 #include <utility>
 
+#include <fmt/format.h>
+
 namespace cwe {
 
 double TriangleMesh::volume() const {
@@ -39,6 +41,28 @@ void TriangleMesh::append(const TriangleMesh& other) {
   vertices.insert(vertices.end(), other.vertices.begin(), other.vertices.end());
   for (const auto& t : other.triangles)
     triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+}
+
+std::string MeshClosure::problem() const {
+  std::string text;
+  const auto list = [&text](int count, const char* what, const std::vector<Edge>& examples) {
+    if (count == 0) return;
+    if (!text.empty()) text += "; ";
+    text += fmt::format("{} {}", count, what);
+    for (std::size_t k = 0; k < examples.size(); ++k) {
+      const auto& e = examples[k];
+      text += fmt::format("{}({:g}, {:g}, {:g})–({:g}, {:g}, {:g})", k == 0 ? " at " : ", ",
+                          e[0].x(), e[0].y(), e[0].z(), e[1].x(), e[1].y(), e[1].z());
+    }
+    if (count > static_cast<int>(examples.size())) text += ", …";
+  };
+  list(boundary_edges, "boundary edges (used by one triangle: the mesh has holes)",
+       boundary_examples);
+  list(non_manifold_edges, "non-manifold edges (used by three or more triangles)",
+       non_manifold_examples);
+  list(misoriented_edges, "edges used twice in the same direction (inconsistent winding)",
+       misoriented_examples);
+  return text;
 }
 
 MeshClosure check_closure(const TriangleMesh& mesh) {

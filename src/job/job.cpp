@@ -12,6 +12,7 @@
 #include "cwe/core/memory_limit.hpp"
 #include "cwe/core/text_file.hpp"
 #include "cwe/engagement/mesh_workpiece.hpp"
+#include "cwe/io/step.hpp"
 #include "program_runs.hpp"
 
 namespace cwe {
@@ -168,8 +169,9 @@ PreparedJob prepare_job(Job& options) {
     job.facet = options.facet.value_or(1.0);
   } else if (options.workpiece == "brep") {
     job.workpiece = WorkpieceKind::kBrep;
-    if (!job.stock.is_box && !job.stock.is_step()) {
-      throw options.error("stock", "the B-rep workpiece starts from a box or a STEP stock");
+    if (job.stock.mesh) {
+      job.stock.mesh_solid =
+          std::make_shared<const StepModel>(mesh_solid_model(*job.stock.mesh, job.stock.path));
     }
   } else {
     throw options.error("workpiece", fmt::format("\"{}\": expected \"dexel\", \"mesh\" or \"brep\"",

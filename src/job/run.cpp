@@ -184,7 +184,8 @@ JobStock make_job_stock(const PreparedJob& job) {
   JobStock stock;
   if (job.workpiece == WorkpieceKind::kBrep) {
     stock.brep.emplace(job.stock.is_box ? BrepStock::from_box(job.stock.box)
-                                        : brep_stock(*job.stock.step));
+                       : job.stock.step ? brep_stock(*job.stock.step)
+                                        : brep_stock(*job.stock.mesh_solid));
   } else if (job.workpiece == WorkpieceKind::kMesh) {
     stock.mesh.emplace(make_mesh_stock(job.stock, job.simulation));
   } else {

@@ -151,6 +151,11 @@ std::string job_summary(const PreparedJob& job, const JobResult& run, const JobS
         {"volume_mm3", step.volume()},
         {"tessellation_mm", step_tessellation(simulation, job.workpiece == WorkpieceKind::kMesh)}};
   }
+  if (job.stock.mesh_solid) {
+    summary["stock_mesh_solid"] = {{"triangles", job.stock.mesh->triangles.size()},
+                                   {"solids", job.stock.mesh_solid->solids()},
+                                   {"volume_mm3", job.stock.mesh_solid->volume()}};
+  }
   summary["report_units"] = extras.report_units;
   summary["threads"] = job.threads;
   summary["operations"] = operations_json(job, run);

@@ -692,9 +692,9 @@ TEST(CliSimulate, StepStockOnBothWorkpieces) {
 // it cuts on. With engagement (the solid-model CWE), the plunge engages the whole bottom and
 // half-way round the circle the front half is engaged 3 mm deep (a full slot, entry 0°, exit
 // 180°), while at its end the circle comes back to where it started, which its start took. What
-// it cannot do is refused: an STL stock (exit 2), a concave cutter (exit 3, the move's line
-// named). A bull-nose round a corner, and a helix narrower than the tool (as linear pieces), are
-// cut like the dexel workpiece cuts them.
+// it cannot do is refused: a concave cutter (exit 3, the move's line named). stock.stl, as an
+// STL stock, is made a solid and cut like the STEP stock. A bull-nose round a corner, and a helix
+// narrower than the tool (as linear pieces), are cut like the dexel workpiece cuts them.
 TEST(CliSimulate, BrepWorkpieceCutsExactlyAndRoundTripsThroughStep) {
   const auto dir = scratch_dir("simulate-brep");
   std::filesystem::create_directories(dir);
@@ -775,12 +775,25 @@ TEST(CliSimulate, BrepWorkpieceCutsExactlyAndRoundTripsThroughStep) {
   EXPECT_EQ(plunging, 5);  // z = 19.5 … 17.5
   EXPECT_GT(halfway, 10);
   EXPECT_GT(closing, 0);
-  write_file_atomically(dir / "cube.stl",
-                        stl_binary(read_stl((dir / "ring" / "stock.stl").string()).mesh, "cube"));
-  const Result from_stl =
-      simulate((dir / "cube.stl").string(), (dir / "ring.ngc").string(), (dir / "no2").string());
-  EXPECT_EQ(from_stl.status, 2);
-  EXPECT_NE(from_stl.err.find("a box or a STEP stock"), std::string::npos) << from_stl.err;
+  // stock.stl as the stock: its triangles made a solid, the slot cut from it. Its walls lie
+  // within s/10 = 0.01 mm inside the ring's, so the slot takes what it took from the STEP stock
+  // within 0.01 mm over the ring's wall in the slot (an arc of 2·acos(10/15) at R 15, 2 mm
+  // deep).
+  const Result from_stl = simulate((dir / "ring" / "stock.stl").string(),
+                                   (dir / "slot.ngc").string(), (dir / "from-stl").string());
+  ASSERT_EQ(from_stl.status, 0) << from_stl.err;
+  EXPECT_NE(from_stl.out.find(
+                fmt::format("STL stock   {} triangles made 1 solid", stl.mesh.triangles.size())),
+            std::string::npos)
+      << from_stl.out;
+  std::ifstream in_stl(dir / "from-stl" / "summary.json");
+  const nlohmann::json third = nlohmann::json::parse(in_stl);
+  EXPECT_EQ(third["stock_mesh_solid"]["solids"], 1);
+  EXPECT_NEAR(third["stock_mesh_solid"]["volume_mm3"].get<double>(), stl.mesh.volume(),
+              1e-9 * left);
+  EXPECT_NEAR(third["initial_volume_mm3"].get<double>(), stl.mesh.volume(), 1e-9 * left);
+  EXPECT_NEAR(third["removed_volume_mm3"].get<double>(), slot,
+              0.01 * 2.0 * std::acos(10.0 / 15.0) * 15.0 * 2.0);
   // A bull-nose round a corner (R_arc 4 below its radius 5): cut as the tools at both ends and
   // the revolved section, one after the other; the same volume as the dexel workpiece's within
   // its s/2 over the cut's surface (here under 0.5 %).

@@ -6,6 +6,7 @@
 // opposite directions.
 
 #include <array>
+#include <string>
 #include <vector>
 
 #include "cwe/geometry/aabb.hpp"
@@ -47,6 +48,9 @@ struct MeshClosure {
   bool closed() const {
     return edges > 0 && boundary_edges == 0 && non_manifold_edges == 0 && misoriented_edges == 0;
   }
+  // What keeps the mesh from closing, for an error message: each kind of bad edge counted,
+  // with the examples' end points ("3 boundary edges (…) at (0, 0, 0)–(1, 0, 0), …").
+  std::string problem() const;
 };
 
 MeshClosure check_closure(const TriangleMesh& mesh);

@@ -54,6 +54,16 @@ bool is_step_path(std::string_view path);
 // The B-rep workpiece and STEP: a stock from the model's solids, and the in-process solid as
 // STEP bytes (AP214, mm) and as triangles within `deviation` (StepModel::tessellate's rules).
 BrepStock brep_stock(const StepModel& model);
+// The solids a closed triangle mesh bounds (an STL stock on the B-rep workpiece), exact: a
+// planar face on each triangle, edges and vertices shared, neighbours in one plane merged into
+// one face (ShapeUpgrade_UnifySameDomain); a triangle whose corners lie on a line bounds no
+// face, and the face across its longest edge runs through its middle corner. Each
+// edge-connected surface bounds a solid; one facing inwards is a cavity of the smallest solid
+// that holds it, or, in none, a solid turned inside out (turned round). Throws InputError
+// naming `source`: no triangles, a mesh that is not closed (as MeshClosure::problem says), a
+// surface inside another that is not a cavity's, surfaces that cross or touch, or a solid
+// OpenCASCADE finds invalid; ComputationError if the solids' volume is not the mesh's.
+StepModel mesh_solid_model(const TriangleMesh& mesh, const std::string& source);
 std::string step_bytes(const BrepStock& stock);
 TriangleMesh tessellate(const BrepStock& stock, double deviation);
 

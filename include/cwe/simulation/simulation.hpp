@@ -37,6 +37,8 @@ struct StockSpec {
   // The STEP file's solids once read (read_stock_spec; the other backends take them
   // tessellated).
   std::shared_ptr<const StepModel> step;
+  // An STL stock's triangles made solid, for the B-rep workpiece (prepare_job).
+  std::shared_ptr<const StepModel> mesh_solid;
   bool is_step() const { return !is_box && is_step_path(path); }
 };
 

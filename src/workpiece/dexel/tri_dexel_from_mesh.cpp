@@ -63,29 +63,6 @@ struct Crossing {
   }
 };
 
-std::string closure_problem(const MeshClosure& c) {
-  std::string text;
-  const auto list = [&text](int count, const char* what,
-                            const std::vector<MeshClosure::Edge>& examples) {
-    if (count == 0) return;
-    if (!text.empty()) text += "; ";
-    text += fmt::format("{} {}", count, what);
-    for (std::size_t k = 0; k < examples.size(); ++k) {
-      const auto& e = examples[k];
-      text += fmt::format("{}({:g}, {:g}, {:g})–({:g}, {:g}, {:g})", k == 0 ? " at " : ", ",
-                          e[0].x(), e[0].y(), e[0].z(), e[1].x(), e[1].y(), e[1].z());
-    }
-    if (count > static_cast<int>(examples.size())) text += ", …";
-  };
-  list(c.boundary_edges, "boundary edges (used by one triangle: the mesh has holes)",
-       c.boundary_examples);
-  list(c.non_manifold_edges, "non-manifold edges (used by three or more triangles)",
-       c.non_manifold_examples);
-  list(c.misoriented_edges, "edges used twice in the same direction (inconsistent winding)",
-       c.misoriented_examples);
-  return text;
-}
-
 }  // namespace
 
 TriDexel TriDexel::from_mesh(const TriangleMesh& mesh, double spacing, const std::string& source) {
@@ -95,7 +72,7 @@ TriDexel TriDexel::from_mesh(const TriangleMesh& mesh, double spacing, const std
   if (!closure.closed()) {
     throw InputError(where, fmt::format("stock mesh is not closed: {}; expected a watertight, "
                                         "consistently oriented mesh",
-                                        closure_problem(closure)));
+                                        closure.problem()));
   }
   for (const auto& t : mesh.triangles) {
     for (const int v : t) {
