@@ -256,6 +256,13 @@ void print_report(std::ostream& out, const SimulateCommandOptions& options, cons
                  "engagement was read from the stock before the cut\n",
                  run.brep->removal_volumes_replaced());
     }
+    if (run.brep->cuts_from_mended_stock() > 0) {
+      fmt::print(out,
+                 "  warning     {} cuts went wrong with every fuzzy value (the stock grew, or a "
+                 "solid was left inside the swept volume); each was cut again from the stock "
+                 "mended by OpenCASCADE's ShapeFix\n",
+                 run.brep->cuts_from_mended_stock());
+    }
   } else {
     fmt::print(out,
                "  accuracy    faceted sweeps ({:g} mm facets at the tool's largest radius); arcs, "

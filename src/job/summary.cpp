@@ -133,6 +133,7 @@ std::string job_summary(const PreparedJob& job, const JobResult& run, const JobS
                               {"moves_in_linear_pieces", run.brep->moves_in_lines()},
                               {"removal_volumes_off", run.brep->removal_volumes_off()},
                               {"removal_volumes_replaced", run.brep->removal_volumes_replaced()},
+                              {"cuts_from_mended_stock", run.brep->cuts_from_mended_stock()},
                               {"worst_removal_volume_relative", run.brep->worst_removal_volume()}};
   } else {
     summary["workpiece"] = "mesh";

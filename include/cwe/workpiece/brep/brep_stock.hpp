@@ -5,8 +5,10 @@
 // value of 1e-6 of the stock's size (near-coincident faces taken as touching, so that cuts along
 // walls earlier passes left leave no slivers); after every cut the solid must be valid
 // (BRepCheck), have lost between 0 and the swept volume's volume, keep no point well inside the
-// tool and no edge whose tolerance jumped, else the cut is tried again without the fuzzy value,
-// then with 1e-5 of the size, and then the move is refused (ComputationError): a run never goes
+// tool, no solid of its own inside the swept volume and no edge whose tolerance jumped, else the
+// cut is tried again without the fuzzy value, then with 1e-5 of the size; where an attempt made
+// the stock grow or left a solid inside the swept volume, the three are tried again from the
+// stock mended by ShapeFix_Shape; then the move is refused (ComputationError): a run never goes
 // on with a broken solid. The booleans leave their arguments as they were (non-destructive).
 //
 // OpenCASCADE's types stay behind this header; cwe/workpiece/brep/brep_shapes.hpp gives the
@@ -75,6 +77,10 @@ class BrepStock {
   // Cuts whose removal volume no attempt could give within 1 % of what the stock lost, for
   // which `removed` holds the stock before the cut instead.
   int removal_volumes_replaced() const { return removal_volumes_replaced_; }
+  // Cuts that went wrong with every fuzzy value (the stock grew, or a solid of the result lay
+  // inside the swept volume) and were cut again from the stock mended by ShapeFix_Shape
+  // (BrepStock::cut).
+  int cuts_from_mended_stock() const { return cuts_from_mended_stock_; }
   // For the tests that hold the fallback to the removal volume: with `on`, every removal volume
   // is refused, so each cut with `removed` is tried with every fuzzy value and then takes the
   // fallback (removed gets the stock before the cut, counted above).
@@ -106,6 +112,7 @@ class BrepStock {
   double worst_loft_deviation_ = 0.0;
   int removal_volumes_off_ = 0;
   int removal_volumes_replaced_ = 0;
+  int cuts_from_mended_stock_ = 0;
   bool refuse_removal_volumes_ = false;
   double worst_removal_volume_ = 0.0;
 };
