@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include "cwe/core/error.hpp"
+
 namespace cwe {
 
 double TriangleMesh::volume() const {
@@ -63,6 +65,17 @@ std::string MeshClosure::problem() const {
   list(misoriented_edges, "edges used twice in the same direction (inconsistent winding)",
        misoriented_examples);
   return text;
+}
+
+void require_closed_stock(const TriangleMesh& mesh, const std::string& source) {
+  const SourceLocation where{source};
+  if (mesh.triangles.empty()) throw InputError(where, "stock mesh has no triangles");
+  const MeshClosure closure = check_closure(mesh);
+  if (!closure.closed()) {
+    throw InputError(where, fmt::format("stock mesh is not closed: {}; expected a watertight, "
+                                        "consistently oriented mesh",
+                                        closure.problem()));
+  }
 }
 
 MeshClosure check_closure(const TriangleMesh& mesh) {

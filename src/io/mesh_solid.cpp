@@ -82,14 +82,8 @@ gp_Pnt point(const Vec3& p) { return gp_Pnt(p.x(), p.y(), p.z()); }
 }  // namespace
 
 StepModel mesh_solid_model(const TriangleMesh& mesh, const std::string& source) {
+  require_closed_stock(mesh, source);
   const SourceLocation where{source};
-  if (mesh.triangles.empty()) throw InputError(where, "stock mesh has no triangles");
-  const MeshClosure closure = check_closure(mesh);
-  if (!closure.closed()) {
-    throw InputError(where, fmt::format("stock mesh is not closed: {}; expected a watertight, "
-                                        "consistently oriented mesh",
-                                        closure.problem()));
-  }
   int count = 0;
   const std::vector<int> surface = surfaces_of(mesh, count);
   try {

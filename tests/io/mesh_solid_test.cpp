@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "cwe/core/error.hpp"
@@ -47,6 +48,15 @@ void add_box(TriangleMesh& mesh, const Vec3& lo, const Vec3& hi, bool inward = f
   }
 }
 
+// Where OpenCASCADE's classifier puts each point against the model's solids.
+void expect_states(const StepModel& model,
+                   const std::vector<std::pair<gp_Pnt, TopAbs_State>>& expected) {
+  for (const auto& [p, state] : expected) {
+    BRepClass3d_SolidClassifier classify(model.impl().shape, p, 1e-7);
+    EXPECT_EQ(classify.State(), state) << p.X() << ", " << p.Y() << ", " << p.Z();
+  }
+}
+
 int faces(const StepModel& model) {
   int n = 0;
   for (TopExp_Explorer e(model.impl().shape, TopAbs_FACE); e.More(); e.Next()) ++n;
@@ -78,14 +88,10 @@ TEST(MeshSolid, CavityAndSeparateSolids) {
   const double expected = 30.0 * 40 * 20 - 10.0 * 20 * 10 + 25.0 * 40 * 20;
   EXPECT_NEAR(model.volume(), expected, 1e-9 * expected);
   // The cavity is empty, the blocks' material is not, and the gap between them is not.
-  for (const auto& [p, state] :
-       std::vector<std::pair<gp_Pnt, TopAbs_State>>{{gp_Pnt(15, 20, 10), TopAbs_OUT},
-                                                    {gp_Pnt(5, 20, 10), TopAbs_IN},
-                                                    {gp_Pnt(32, 20, 10), TopAbs_OUT},
-                                                    {gp_Pnt(50, 20, 10), TopAbs_IN}}) {
-    BRepClass3d_SolidClassifier classify(model.impl().shape, p, 1e-7);
-    EXPECT_EQ(classify.State(), state) << p.X();
-  }
+  expect_states(model, {{gp_Pnt(15, 20, 10), TopAbs_OUT},
+                        {gp_Pnt(5, 20, 10), TopAbs_IN},
+                        {gp_Pnt(32, 20, 10), TopAbs_OUT},
+                        {gp_Pnt(50, 20, 10), TopAbs_IN}});
 }
 
 TEST(MeshSolid, SurfaceFacingInwardsInNoSolidIsTurnedRound) {
@@ -100,14 +106,10 @@ TEST(MeshSolid, SurfaceFacingInwardsInNoSolidIsTurnedRound) {
   EXPECT_EQ(model.solids(), 3);
   const double expected = 24.0 + 1000.0 - 216.0 + 8.0;
   EXPECT_NEAR(model.volume(), expected, 1e-9 * expected);
-  for (const auto& [p, state] :
-       std::vector<std::pair<gp_Pnt, TopAbs_State>>{{gp_Pnt(1, 1, 1), TopAbs_IN},
-                                                    {gp_Pnt(11, 5, 5), TopAbs_IN},
-                                                    {gp_Pnt(13, 5, 5), TopAbs_OUT},
-                                                    {gp_Pnt(15, 5, 5), TopAbs_IN}}) {
-    BRepClass3d_SolidClassifier classify(model.impl().shape, p, 1e-7);
-    EXPECT_EQ(classify.State(), state) << p.X();
-  }
+  expect_states(model, {{gp_Pnt(1, 1, 1), TopAbs_IN},
+                        {gp_Pnt(11, 5, 5), TopAbs_IN},
+                        {gp_Pnt(13, 5, 5), TopAbs_OUT},
+                        {gp_Pnt(15, 5, 5), TopAbs_IN}});
 }
 
 TEST(MeshSolid, TrianglesWithTheirCornersOnALineBoundNoFace) {

@@ -54,6 +54,9 @@ struct MeshClosure {
 };
 
 MeshClosure check_closure(const TriangleMesh& mesh);
+// Throws InputError naming `source` where `mesh` cannot bound a stock: it has no triangles, or
+// it is not closed (MeshClosure::problem says where).
+void require_closed_stock(const TriangleMesh& mesh, const std::string& source);
 
 // Removes folds: pairs of triangles on the same three vertices that face opposite ways. A pair
 // encloses nothing and uses each of its edges once each way, so the enclosed volume and the

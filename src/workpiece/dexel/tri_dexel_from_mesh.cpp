@@ -66,14 +66,7 @@ struct Crossing {
 }  // namespace
 
 TriDexel TriDexel::from_mesh(const TriangleMesh& mesh, double spacing, const std::string& source) {
-  const SourceLocation where{source};
-  if (mesh.triangles.empty()) throw InputError(where, "stock mesh has no triangles");
-  const MeshClosure closure = check_closure(mesh);
-  if (!closure.closed()) {
-    throw InputError(where, fmt::format("stock mesh is not closed: {}; expected a watertight, "
-                                        "consistently oriented mesh",
-                                        closure.problem()));
-  }
+  require_closed_stock(mesh, source);
   for (const auto& t : mesh.triangles) {
     for (const int v : t) {
       CWE_ASSERT(v >= 0 && static_cast<std::size_t>(v) < mesh.vertices.size(),
