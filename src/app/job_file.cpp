@@ -318,7 +318,8 @@ void add_job_options(CLI::App* cmd, SimulateCommandOptions& options) {
   cmd->add_option("--workpiece", options.workpiece,
                   "The in-process workpiece: dexel (tri-dexel rays, default), mesh (a closed "
                   "triangle mesh cut by CGAL's booleans, the polyhedral method) or brep (an "
-                  "exact OpenCASCADE solid, the solid-model method; from a box or a STEP stock)");
+                  "exact OpenCASCADE solid, the solid-model method; from a box, a STEP stock or "
+                  "an STL stock made a solid)");
   cmd->add_option("--resolution", options.resolution,
                   "Ray spacing s, and the engagement maps' disc height, mm (default 0.1)")
       ->check(length);
