@@ -376,7 +376,8 @@ double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed, bool mer
   bool suspect = false;  // an attempt grew the stock or left a solid inside the swept volume
   // The first attempt that grew the stock (by less than the slack) but passed every other
   // check: kept where no attempt passes them all, as before this check (FreeCAD's pocket, line
-  // 153: the stock grew by 1.8e-5 mm³ with every fuzzy value, from the mended stock too).
+  // 153, a retract straight up along the pocket's walls, which takes nothing: the stock grew by
+  // 1.8e-5 mm³ with every fuzzy value, from the mended stock too).
   struct Grown {
     TopoDS_Shape result;
     double after = 0.0, taken = 0.0;
