@@ -1,7 +1,10 @@
 #include "cwe/geometry/triangle_mesh.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <map>
+#include <numeric>
+#include <unordered_map>
 #include <utility>
 
 #include <fmt/format.h>
@@ -65,6 +68,49 @@ std::string MeshClosure::problem() const {
   list(misoriented_edges, "edges used twice in the same direction (inconsistent winding)",
        misoriented_examples);
   return text;
+}
+
+std::vector<TriangleMesh> edge_connected_parts(const TriangleMesh& mesh) {
+  std::vector<int> parent(mesh.triangles.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto root = [&parent](int t) {
+    while (parent[static_cast<std::size_t>(t)] != t) {
+      t = parent[static_cast<std::size_t>(t)] =
+          parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(t)])];
+    }
+    return t;
+  };
+  std::unordered_map<std::uint64_t, int> first;  // edge → a triangle on it
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& v = mesh.triangles[t];
+    for (std::size_t k = 0; k < 3; ++k) {
+      const auto a = static_cast<std::uint64_t>(std::min(v[k], v[(k + 1) % 3]));
+      const auto b = static_cast<std::uint64_t>(std::max(v[k], v[(k + 1) % 3]));
+      const auto [it, inserted] = first.try_emplace(a << 32 | b, static_cast<int>(t));
+      if (!inserted) parent[static_cast<std::size_t>(root(static_cast<int>(t)))] = root(it->second);
+    }
+  }
+  std::vector<TriangleMesh> parts;
+  std::unordered_map<int, std::size_t> part_of;          // root → part
+  std::vector<std::unordered_map<int, int>> renumbered;  // per part: mesh vertex → its own
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto [it, inserted] = part_of.try_emplace(root(static_cast<int>(t)), parts.size());
+    if (inserted) {
+      parts.emplace_back();
+      renumbered.emplace_back();
+    }
+    TriangleMesh& part = parts[it->second];
+    std::array<int, 3> own{};
+    for (std::size_t k = 0; k < 3; ++k) {
+      const int v = mesh.triangles[t][k];
+      const auto [at, added] =
+          renumbered[it->second].try_emplace(v, static_cast<int>(part.vertices.size()));
+      if (added) part.vertices.push_back(mesh.vertices[static_cast<std::size_t>(v)]);
+      own[k] = at->second;
+    }
+    part.triangles.push_back(own);
+  }
+  return parts;
 }
 
 void require_closed_stock(const TriangleMesh& mesh, const std::string& source) {

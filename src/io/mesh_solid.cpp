@@ -2,11 +2,9 @@
 // workpiece; cwe/io/step.hpp).
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdint>
-#include <limits>
-#include <numeric>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -45,141 +43,110 @@ std::uint64_t edge_key(int a, int b) {
   return lo << 32 | hi;
 }
 
-// The edge-connected pieces of a closed mesh: each is a closed surface of its own.
-std::vector<int> surfaces_of(const TriangleMesh& mesh, int& count) {
-  std::vector<int> parent(mesh.triangles.size());
-  std::iota(parent.begin(), parent.end(), 0);
-  const auto root = [&parent](int t) {
-    while (parent[static_cast<std::size_t>(t)] != t) {
-      t = parent[static_cast<std::size_t>(t)] =
-          parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(t)])];
-    }
-    return t;
-  };
-  std::unordered_map<std::uint64_t, int> first;  // edge → a triangle on it
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const auto& v = mesh.triangles[t];
-    for (int k = 0; k < 3; ++k) {
-      const auto [it, inserted] = first.try_emplace(
-          edge_key(v[static_cast<std::size_t>(k)], v[static_cast<std::size_t>((k + 1) % 3)]),
-          static_cast<int>(t));
-      if (!inserted) parent[static_cast<std::size_t>(root(static_cast<int>(t)))] = root(it->second);
-    }
-  }
-  std::vector<int> surface(mesh.triangles.size());
-  std::unordered_map<int, int> numbered;
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const auto [it, inserted] =
-        numbered.try_emplace(root(static_cast<int>(t)), static_cast<int>(numbered.size()));
-    surface[t] = it->second;
-  }
-  count = static_cast<int>(numbered.size());
-  return surface;
-}
-
 gp_Pnt point(const Vec3& p) { return gp_Pnt(p.x(), p.y(), p.z()); }
+
+// A closed surface's faces, a planar face on each triangle, sewn by construction: each vertex
+// and edge is made once and shared by the faces on it.
+TopoDS_Shell shell_of(const TriangleMesh& part, const SourceLocation& where) {
+  const auto corner = [&part](int v) -> const Vec3& {
+    return part.vertices[static_cast<std::size_t>(v)];
+  };
+  std::vector<TopoDS_Vertex> vertices(part.vertices.size());
+  const auto vertex = [&](int v) -> const TopoDS_Vertex& {
+    TopoDS_Vertex& made = vertices[static_cast<std::size_t>(v)];
+    if (made.IsNull()) made = BRepBuilderAPI_MakeVertex(point(corner(v)));
+    return made;
+  };
+  // Each edge once, from its lower vertex index to its higher; a triangle that runs along it
+  // the other way takes it reversed.
+  std::unordered_map<std::uint64_t, TopoDS_Edge> edges;
+  const auto edge = [&](int a, int b) {
+    auto [it, inserted] = edges.try_emplace(edge_key(a, b));
+    if (inserted) {
+      it->second = BRepBuilderAPI_MakeEdge(vertex(std::min(a, b)), vertex(std::max(a, b)));
+    }
+    return a < b ? it->second : TopoDS::Edge(it->second.Reversed());
+  };
+  // A triangle whose corners lie on a line (to rounding) has no plane and bounds no face; the
+  // face across its longest edge runs along its two short edges instead, through its middle
+  // corner (which lies on that edge). Meshes of machined stock have them where a wall's edge is
+  // split at a level the other side of it does not share (cwe's own stock.stl).
+  std::vector<Vec3> normals(part.triangles.size());
+  std::unordered_map<std::uint64_t, int> middle;  // long edge of a flat triangle → its middle
+  for (std::size_t t = 0; t < part.triangles.size(); ++t) {
+    const auto& v = part.triangles[t];
+    normals[t] = (corner(v[1]) - corner(v[0])).cross(corner(v[2]) - corner(v[0]));
+    std::size_t longest = 0;  // the edge from v[longest] to v[longest + 1]
+    double length = -1.0;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const double l = (corner(v[(k + 1) % 3]) - corner(v[k])).squaredNorm();
+      if (l > length) {
+        length = l;
+        longest = k;
+      }
+    }
+    if (normals[t].norm() > 1e-12 * length) continue;
+    normals[t] = Vec3::Zero();
+    middle.try_emplace(edge_key(v[longest], v[(longest + 1) % 3]), v[(longest + 2) % 3]);
+  }
+  // The edges from a to b, through the middles of the flat triangles along it.
+  std::vector<TopoDS_Edge> chain;
+  const auto along = [&](auto&& self, int a, int b) -> void {
+    const auto split = middle.find(edge_key(a, b));
+    if (split == middle.end()) {
+      chain.push_back(edge(a, b));
+      return;
+    }
+    self(self, a, split->second);
+    self(self, split->second, b);
+  };
+  BRep_Builder builder;
+  TopoDS_Shell shell;
+  builder.MakeShell(shell);
+  for (std::size_t t = 0; t < part.triangles.size(); ++t) {
+    if (normals[t] == Vec3::Zero()) continue;
+    const auto& v = part.triangles[t];
+    chain.clear();
+    for (std::size_t k = 0; k < 3; ++k) along(along, v[k], v[(k + 1) % 3]);
+    BRepBuilderAPI_MakeWire wire;
+    for (const TopoDS_Edge& e : chain) wire.Add(e);
+    // The plane's normal along the triangle's: the face faces the way the triangle does, and
+    // its wire runs counter-clockwise about it.
+    const Vec3& n = normals[t];
+    const gp_Pln plane(point(corner(v[0])), gp_Dir(n.x(), n.y(), n.z()));
+    std::optional<BRepBuilderAPI_MakeFace> face;
+    if (wire.IsDone()) face.emplace(plane, wire.Wire(), /*Inside=*/true);
+    if (!face || !face->IsDone()) {
+      throw InputError(where, fmt::format("a triangle of the stock mesh at ({:g}, {:g}, {:g}) "
+                                          "gives no face",
+                                          corner(v[0]).x(), corner(v[0]).y(), corner(v[0]).z()));
+    }
+    builder.Add(shell, face->Face());
+  }
+  shell.Closed(true);
+  return shell;
+}
 
 }  // namespace
 
 StepModel mesh_solid_model(const TriangleMesh& mesh, const std::string& source) {
   require_closed_stock(mesh, source);
   const SourceLocation where{source};
-  int count = 0;
-  const std::vector<int> surface = surfaces_of(mesh, count);
+  // Each edge-connected piece of the mesh is a closed surface of its own.
+  const std::vector<TriangleMesh> parts = edge_connected_parts(mesh);
   try {
-    std::vector<TopoDS_Vertex> vertices(mesh.vertices.size());
-    const auto vertex = [&](int v) -> const TopoDS_Vertex& {
-      TopoDS_Vertex& made = vertices[static_cast<std::size_t>(v)];
-      if (made.IsNull()) {
-        made = BRepBuilderAPI_MakeVertex(point(mesh.vertices[static_cast<std::size_t>(v)]));
-      }
-      return made;
-    };
-    // Each edge once, from its lower vertex index to its higher; a triangle that runs along it
-    // the other way takes it reversed.
-    std::unordered_map<std::uint64_t, TopoDS_Edge> edges;
-    const auto edge = [&](int a, int b) {
-      auto [it, inserted] = edges.try_emplace(edge_key(a, b));
-      if (inserted) {
-        it->second = BRepBuilderAPI_MakeEdge(vertex(std::min(a, b)), vertex(std::max(a, b)));
-      }
-      return a < b ? it->second : TopoDS::Edge(it->second.Reversed());
-    };
     BRep_Builder builder;
-    std::vector<TopoDS_Shell> shells(static_cast<std::size_t>(count));
-    for (TopoDS_Shell& shell : shells) builder.MakeShell(shell);
-    // A triangle whose corners lie on a line (to rounding) has no plane and bounds no face; the
-    // face across its longest edge runs along its two short edges instead, through its middle
-    // corner (which lies on that edge). Meshes of machined stock have them where a wall's edge
-    // is split at a level the other side of it does not share (cwe's own stock.stl).
-    const auto corner = [&mesh](int v) -> const Vec3& {
-      return mesh.vertices[static_cast<std::size_t>(v)];
-    };
-    std::vector<Vec3> normals(mesh.triangles.size());
-    std::unordered_map<std::uint64_t, int> middle;  // long edge of a flat triangle → its middle
-    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-      const auto& v = mesh.triangles[t];
-      normals[t] = (corner(v[1]) - corner(v[0])).cross(corner(v[2]) - corner(v[0]));
-      std::size_t longest = 0;  // the edge from v[longest] to v[longest + 1]
-      double length = -1.0;
-      for (std::size_t k = 0; k < 3; ++k) {
-        const double l = (corner(v[(k + 1) % 3]) - corner(v[k])).squaredNorm();
-        if (l > length) {
-          length = l;
-          longest = k;
-        }
-      }
-      if (normals[t].norm() > 1e-12 * length) continue;
-      normals[t] = Vec3::Zero();
-      middle.try_emplace(edge_key(v[longest], v[(longest + 1) % 3]), v[(longest + 2) % 3]);
-    }
-    // The edges from a to b, through the middles of the flat triangles along it.
-    std::vector<TopoDS_Edge> chain;
-    const auto along = [&](auto&& self, int a, int b) -> void {
-      const auto split = middle.find(edge_key(a, b));
-      if (split == middle.end()) {
-        chain.push_back(edge(a, b));
-        return;
-      }
-      self(self, a, split->second);
-      self(self, split->second, b);
-    };
-    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-      if (normals[t] == Vec3::Zero()) continue;
-      const auto& v = mesh.triangles[t];
-      chain.clear();
-      for (std::size_t k = 0; k < 3; ++k) along(along, v[k], v[(k + 1) % 3]);
-      BRepBuilderAPI_MakeWire wire;
-      for (const TopoDS_Edge& e : chain) wire.Add(e);
-      // The plane's normal along the triangle's: the face faces the way the triangle does, and
-      // its wire runs counter-clockwise about it.
-      const Vec3& n = normals[t];
-      const gp_Pln plane(point(corner(v[0])), gp_Dir(n.x(), n.y(), n.z()));
-      if (!wire.IsDone()) {
-        throw InputError(where, fmt::format("triangle {} of the stock mesh gives no face", t + 1));
-      }
-      BRepBuilderAPI_MakeFace face(plane, wire.Wire(), /*Inside=*/true);
-      if (!face.IsDone()) {
-        throw InputError(where, fmt::format("triangle {} of the stock mesh gives no face", t + 1));
-      }
-      builder.Add(shells[static_cast<std::size_t>(surface[t])], face.Face());
-    }
-    // Each surface's enclosed volume, signed: positive where its triangles face outwards.
-    std::vector<double> enclosed(shells.size(), 0.0);
-    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-      const auto& v = mesh.triangles[t];
-      enclosed[static_cast<std::size_t>(surface[t])] +=
-          mesh.vertices[static_cast<std::size_t>(v[0])].dot(
-              mesh.vertices[static_cast<std::size_t>(v[1])].cross(
-                  mesh.vertices[static_cast<std::size_t>(v[2])])) /
-          6.0;
+    std::vector<TopoDS_Shell> shells;
+    std::vector<double> enclosed;  // signed: positive where the triangles face outwards
+    for (const TriangleMesh& part : parts) {
+      shells.push_back(shell_of(part, where));
+      enclosed.push_back(part.volume());
     }
     const auto inside_of = [&](std::size_t k) {  // a point of surface k
-      const auto& t = mesh.triangles[static_cast<std::size_t>(
-          std::find(surface.begin(), surface.end(), static_cast<int>(k)) - surface.begin())];
-      return point((mesh.vertices[static_cast<std::size_t>(t[0])] +
-                    mesh.vertices[static_cast<std::size_t>(t[1])] +
-                    mesh.vertices[static_cast<std::size_t>(t[2])]) /
+      const auto& t = parts[k].triangles.front();
+      return point((parts[k].vertices[static_cast<std::size_t>(t[0])] +
+                    parts[k].vertices[static_cast<std::size_t>(t[1])] +
+                    parts[k].vertices[static_cast<std::size_t>(t[2])]) /
                    3.0);
     };
     // A point of a surface lies inside a solid that holds it, not on its boundary (the two
@@ -195,7 +162,6 @@ StepModel mesh_solid_model(const TriangleMesh& mesh, const std::string& source) 
     std::vector<std::size_t> outer;  // each solid's outer surface
     std::vector<std::size_t> cavities;
     for (std::size_t k = 0; k < shells.size(); ++k) {
-      shells[k].Closed(true);
       if (enclosed[k] < 0.0) {
         cavities.push_back(k);
         continue;

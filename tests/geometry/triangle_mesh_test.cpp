@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <vector>
 
 #include "random.hpp"
 
@@ -103,6 +105,42 @@ TEST(TriangleMesh, ClosureCountsBrokenEdges) {
   EXPECT_EQ(flipped.misoriented_edges, 3);
   EXPECT_EQ(flipped.misoriented_examples.size(), 3u);
   EXPECT_TRUE(flipped.boundary_examples.empty());
+}
+
+// Two tetrahedra sharing only a vertex are two parts (a vertex joins no faces), each closed
+// with its own vertices and its own volume; a third, apart, is a third part.
+TEST(TriangleMesh, EdgeConnectedPartsMeetAtAVertexAtMost) {
+  TriangleMesh m;
+  const std::vector<std::array<int, 3>> faces = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  for (const Vec3& at : {Vec3(0, 0, 0), Vec3(-1, -1, -1), Vec3(5, 5, 5)}) {
+    const int base = static_cast<int>(m.vertices.size());
+    // The first two share the vertex (0, 0, 0): the second's corner at (1, 1, 1) from it.
+    for (const Vec3& p : {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)}) {
+      m.vertices.push_back(at == Vec3(-1, -1, -1) ? Vec3(-p.x(), -p.y(), -p.z()) : at + p);
+    }
+    for (const auto& f : faces) {
+      m.triangles.push_back(at == Vec3(-1, -1, -1)
+                                ? std::array<int, 3>{base + f[0], base + f[2], base + f[1]}
+                                : std::array<int, 3>{base + f[0], base + f[1], base + f[2]});
+    }
+  }
+  // Weld the shared corner, as the STL reader would.
+  for (auto& t : m.triangles) {
+    for (int& v : t) {
+      if (v == 4) v = 0;
+    }
+  }
+  const std::vector<TriangleMesh> parts = edge_connected_parts(m);
+  ASSERT_EQ(parts.size(), 3u);
+  for (const TriangleMesh& part : parts) {
+    EXPECT_EQ(part.triangles.size(), 4u);
+    EXPECT_EQ(part.vertices.size(), 4u);
+    EXPECT_TRUE(check_closure(part).closed());
+    EXPECT_NEAR(part.volume(), 1.0 / 6.0, 1e-15);
+  }
+  EXPECT_EQ(parts[0].vertices[0], Vec3(0, 0, 0));
+  EXPECT_EQ(parts[1].vertices[0], Vec3(0, 0, 0));
+  EXPECT_EQ(parts[2].vertices[0], Vec3(5, 5, 5));
 }
 
 TEST(TriangleMesh, FoldsAreRemovedAndRepeatsKept) {

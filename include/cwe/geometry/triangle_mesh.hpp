@@ -54,6 +54,10 @@ struct MeshClosure {
 };
 
 MeshClosure check_closure(const TriangleMesh& mesh);
+// The mesh's edge-connected pieces (triangles joined through shared edges, not through a vertex
+// alone), each with its own vertices, in the order of their first triangles: on a closed mesh,
+// its closed surfaces.
+std::vector<TriangleMesh> edge_connected_parts(const TriangleMesh& mesh);
 // Throws InputError naming `source` where `mesh` cannot bound a stock: it has no triangles, or
 // it is not closed (MeshClosure::problem says where).
 void require_closed_stock(const TriangleMesh& mesh, const std::string& source);

@@ -323,10 +323,18 @@ double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed, bool mer
   const double inputs_tolerance =
       std::max(max_tolerance(solid_->shape), max_tolerance(cutter.shape));
   const double tolerance_allowed = inputs_tolerance + std::max(1e-3 * size, 0.1);
-  // Keeps a cut that passed the checks: its same-domain faces merged where that keeps the solid
-  // (below), `took` appended to `removed`; returns the volume removed.
-  const auto keep = [&](TopoDS_Shape result, double after, double taken, std::vector<Solid>& took,
-                        bool merge) {
+  // An attempt that passed the stock's checks: the cut stock, its volume, what it took and the
+  // solids the engagement reads.
+  struct Attempt {
+    TopoDS_Shape result;
+    double after = 0.0, taken = 0.0;
+    std::vector<Solid> took;
+  };
+  // Keeps an attempt: its same-domain faces merged where that keeps the solid (below), `took`
+  // appended to `removed`; returns the volume removed.
+  const auto keep = [&](Attempt kept) {
+    TopoDS_Shape& result = kept.result;
+    double& after = kept.after;
     // Same-domain faces merged (a slot's floor pieces, one per cut, become one face), only on a
     // cut that passed the checks, and only where that keeps the solid: valid, with its volume.
     // Where OpenCASCADE cannot merge them, or the merge changes the solid, the cut as it is: the
@@ -337,7 +345,7 @@ double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed, bool mer
     // linear pieces (merge_faces false): on a 5-axis move's the merge had not finished after 15
     // CPU minutes, and each piece has its own axis, so its faces rarely share a surface with the
     // stock's. (Without any merging, a face of FreeCAD's pocket could not be tessellated.)
-    if (merge) {
+    if (merge_faces) {
       try {
         ShapeUpgrade_UnifySameDomain unify(result, true, true, true);
         unify.Build();
@@ -351,18 +359,16 @@ double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed, bool mer
       } catch (const Standard_Failure&) {
       }
     }
-    if (removed != nullptr) std::move(took.begin(), took.end(), std::back_inserter(*removed));
+    if (removed != nullptr) {
+      std::move(kept.took.begin(), kept.took.end(), std::back_inserter(*removed));
+    }
     solid_->shape = result;
     volume_ = after;
-    return std::max(0.0, taken);
+    return std::max(0.0, kept.taken);
   };
   // The first attempt that passed every check of the stock but whose removal volume did not hold
   // what the stock lost: kept in case no attempt gives both (see below).
-  struct StockOnly {
-    TopoDS_Shape result;
-    double after = 0.0, taken = 0.0;
-  };
-  std::optional<StockOnly> stock_only;
+  std::optional<Attempt> stock_only;
   // A cut never adds material, yet OpenCASCADE's cut of a 6 mm bull nose's ring round each
   // corner of a loop at radius 2.5 (below the tool's radius 3) made the stock grow by 5e-5 to
   // 4e-4 mm³ (within the volume check's slack) and left the corner's spike whole, with every
@@ -378,12 +384,7 @@ double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed, bool mer
   // check: kept where no attempt passes them all, as before this check (FreeCAD's pocket, line
   // 153, a retract straight up along the pocket's walls, which takes nothing: the stock grew by
   // 1.8e-5 mm³ with every fuzzy value, from the mended stock too).
-  struct Grown {
-    TopoDS_Shape result;
-    double after = 0.0, taken = 0.0;
-    std::vector<Solid> took;
-  };
-  std::optional<Grown> grown;
+  std::optional<Attempt> grown;
   std::optional<TopoDS_Shape> mended;
   const std::pair<bool, double> attempts[] = {{false, fuzzy_values[0]}, {false, fuzzy_values[1]},
                                               {false, fuzzy_values[2]}, {true, fuzzy_values[0]},
@@ -481,7 +482,7 @@ double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed, bool mer
                    : fmt::format(
                          "the removal volume holds {:g} mm³ where the stock lost {:g} mm³{}", in_rv,
                          taken, refuse_removal_volumes_ ? " (refused by a test)" : ""));
-          if (!stock_only) stock_only = StockOnly{result, after, taken};
+          if (!stock_only) stock_only = Attempt{result, after, taken, {}};
           continue;
         }
         if (off > slack + 1e-4 * taken) {
@@ -492,18 +493,18 @@ double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed, bool mer
       if (taken < -growth) {
         suspect = true;
         fail(fmt::format("the stock grew by {:g} mm³", -taken));
-        if (!grown) grown = Grown{result, after, taken, std::move(took)};
+        if (!grown) grown = Attempt{result, after, taken, std::move(took)};
         continue;
       }
       if (from_mended) ++cuts_from_mended_stock_;
-      return keep(result, after, taken, took, merge_faces);
+      return keep({result, after, taken, std::move(took)});
     } catch (const Standard_Failure& e) {
       fail(fmt::format("OpenCASCADE failed ({}: {})", e.DynamicType()->Name(),
                        e.GetMessageString()));
     }
   }
   // Every attempt grew the stock or failed: the first that only grew it, as before the check.
-  if (grown) return keep(grown->result, grown->after, grown->taken, grown->took, merge_faces);
+  if (grown) return keep(std::move(*grown));
   if (stock_only) {
     // No attempt gave a removal volume that holds what the stock lost, but one cut the stock
     // right by every check of the stock: it is kept, as a run without the engagement keeps it
@@ -518,9 +519,9 @@ double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed, bool mer
     // linear pieces): a piece's removal volume held 0.238 mm³ where the stock lost 0.028, with
     // every fuzzy value; the engagement read from the stock there agrees with the dexel
     // workpiece's.
-    std::vector<Solid> took{{BRepBuilderAPI_Copy(solid_->shape).Shape()}};
+    stock_only->took = {{BRepBuilderAPI_Copy(solid_->shape).Shape()}};
     ++removal_volumes_replaced_;
-    return keep(stock_only->result, stock_only->after, stock_only->taken, took, merge_faces);
+    return keep(std::move(*stock_only));
   }
   std::string tried;
   for (std::size_t k = 0; k < failures.size(); ++k) {
