@@ -8,8 +8,12 @@
 #include <BRepClass3d_SolidClassifier.hxx>
 #include <BRepGProp.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <GProp_GProps.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS.hxx>
 
 #include <algorithm>
 #include <cmath>
@@ -661,6 +665,35 @@ TEST(BrepStock, CutsLeaveTheShapesTheyCutAsTheyWere) {
   }
   EXPECT_EQ(tolerance(box), before);
   EXPECT_EQ(tolerance(tool), tool_before);
+}
+
+// The stock a cut tries again from is mended on a copy. ShapeFix_Shape fixes edges in place: run
+// on the stock itself, it changed the stock that every attempt left behind. On the CATIA
+// contour's return rapid (tests/toolpath/data/contour_catia.aptsource line 53) the stock was
+// valid before the move's mended attempts and invalid after them, when its linear pieces were
+// tried.
+TEST(BrepShapes, MendedCopyLeavesTheShapeAsItWas) {
+  const TopoDS_Shape cylinder = BRepPrimAPI_MakeCylinder(5.0, 10.0).Shape();
+  BRep_Builder builder;
+  const auto same_parameter = [](const TopoDS_Shape& shape) {
+    int n = 0;
+    for (TopExp_Explorer e(shape, TopAbs_EDGE); e.More(); e.Next()) {
+      n += BRep_Tool::SameParameter(TopoDS::Edge(e.Current())) ? 1 : 0;
+    }
+    return n;
+  };
+  // Edges whose curves are not known to agree: not a valid solid until mended.
+  for (TopExp_Explorer e(cylinder, TopAbs_EDGE); e.More(); e.Next()) {
+    builder.SameParameter(TopoDS::Edge(e.Current()), false);
+  }
+  ASSERT_FALSE(BRepCheck_Analyzer(cylinder).IsValid());
+  ASSERT_EQ(same_parameter(cylinder), 0);
+  const TopoDS_Shape mended = mended_copy(cylinder);
+  EXPECT_TRUE(BRepCheck_Analyzer(mended).IsValid());
+  EXPECT_GT(same_parameter(mended), 0);
+  EXPECT_NEAR(shape_volume(mended), kPi * 25.0 * 10.0, 1e-9 * kPi * 250.0);
+  EXPECT_EQ(same_parameter(cylinder), 0);
+  EXPECT_FALSE(BRepCheck_Analyzer(cylinder).IsValid());
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include <BRepAlgoAPI_Fuse.hxx>
 #include <BRepAlgoAPI_Splitter.hxx>
 #include <BRepBndLib.hxx>
+#include <BRepBuilderAPI_Copy.hxx>
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakeSolid.hxx>
@@ -48,6 +49,7 @@
 #include <Geom_SurfaceOfRevolution.hxx>
 #include <Geom_ToroidalSurface.hxx>
 #include <Geom_TrimmedCurve.hxx>
+#include <ShapeFix_Shape.hxx>
 #include <ShapeUpgrade_UnifySameDomain.hxx>
 #include <Standard_Failure.hxx>
 #include <TColStd_HArray1OfReal.hxx>
@@ -420,6 +422,12 @@ void run_boolean(BRepAlgoAPI_BooleanOperation& op, const TopoDS_Shape& argument,
   op.SetNonDestructive(true);
   if (fuzzy > 0.0) op.SetFuzzyValue(fuzzy);
   op.Build();
+}
+
+TopoDS_Shape mended_copy(const TopoDS_Shape& shape) {
+  Handle(ShapeFix_Shape) fix = new ShapeFix_Shape(BRepBuilderAPI_Copy(shape).Shape());
+  fix->Perform();
+  return fix->Shape();
 }
 
 TopoDS_Solid tool_solid(const Cutter& cutter, const Vec3& tip, const Vec3& axis) {

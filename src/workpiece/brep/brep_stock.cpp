@@ -21,7 +21,6 @@
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
-#include <ShapeFix_Shape.hxx>
 #include <ShapeUpgrade_UnifySameDomain.hxx>
 #include <Standard_Failure.hxx>
 #include <TopExp_Explorer.hxx>
@@ -395,11 +394,7 @@ double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed, bool mer
       failures.push_back({value, mended_stock, std::move(why)});
     };
     try {
-      if (from_mended && !mended) {
-        Handle(ShapeFix_Shape) fix = new ShapeFix_Shape(solid_->shape);
-        fix->Perform();
-        mended = fix->Shape();
-      }
+      if (from_mended && !mended) mended = mended_copy(solid_->shape);
       const TopoDS_Shape& stock = from_mended ? *mended : solid_->shape;
       BRepAlgoAPI_Cut cut;
       run_boolean(cut, stock, cutter.shape, fuzzy);

@@ -126,6 +126,11 @@ double shape_volume(const TopoDS_Shape& shape);
 void run_boolean(BRepAlgoAPI_BooleanOperation& op, const TopoDS_Shape& argument,
                  const TopoDS_Shape& tool, double fuzzy);
 
+// `shape` mended by OpenCASCADE's ShapeFix_Shape, built on a copy: ShapeFix changes the edges
+// and faces it fixes in place (their tolerances, flags and curves), and those of the stock are
+// shared with the stock kept where every attempt on the mended one is refused.
+TopoDS_Shape mended_copy(const TopoDS_Shape& shape);
+
 struct BrepStock::Solid {
   TopoDS_Shape shape;
 };
