@@ -1,15 +1,65 @@
 #include "cwe/io/atomic_file.hpp"
 
+#include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <mutex>
 #include <string>
 #include <system_error>
+#include <vector>
 
 #include "cwe/core/error.hpp"
 
 namespace cwe {
+namespace {
+
+// The folders whose files are synced together (sync_together_under); writers on any thread read
+// it at commit.
+std::mutex together_mutex;
+std::vector<std::filesystem::path> together;
+
+bool synced_together(const std::filesystem::path& path) {
+  const std::lock_guard lock(together_mutex);
+  return std::any_of(together.begin(), together.end(), [&](const std::filesystem::path& folder) {
+    const auto [end, _] = std::mismatch(folder.begin(), folder.end(), path.begin(), path.end());
+    return end == folder.end();
+  });
+}
+
+}  // namespace
+
+void sync_together_under(const std::filesystem::path& folder) {
+  const std::lock_guard lock(together_mutex);
+  together.push_back(folder.lexically_normal());
+}
+
+void syncs_apart(const std::filesystem::path& folder) {
+  const std::lock_guard lock(together_mutex);
+  const auto at = std::find(together.begin(), together.end(), folder.lexically_normal());
+  if (at != together.end()) together.erase(at);
+}
+
+void sync_folder(const std::filesystem::path& folder) {
+  const auto sync = [](const std::filesystem::path& path, bool is_folder) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | (is_folder ? O_DIRECTORY : 0));
+    const bool synced = fd >= 0 && ::fsync(fd) == 0;
+    const std::string why = std::strerror(errno);
+    if (fd >= 0) ::close(fd);
+    if (!synced) throw InputError(SourceLocation{path.string()}, "cannot write the file: " + why);
+  };
+  std::error_code ec;
+  for (std::filesystem::recursive_directory_iterator it(folder, ec), end; !ec && it != end;
+       it.increment(ec)) {
+    const bool is_folder = it->is_directory(ec);
+    if (is_folder || it->is_regular_file(ec)) sync(it->path(), is_folder);
+  }
+  if (ec)
+    throw InputError(SourceLocation{folder.string()}, "cannot read the folder: " + ec.message());
+  sync(folder, true);
+}
 
 AtomicFileWriter::AtomicFileWriter(std::filesystem::path path) : path_(std::move(path)) {
   std::error_code ec;
@@ -46,7 +96,13 @@ void AtomicFileWriter::append(std::string_view text) {
 
 void AtomicFileWriter::commit() {
   if (file_ == nullptr) fail("the file was already committed");
-  const bool flushed = std::fflush(file_) == 0 && ::fsync(::fileno(file_)) == 0;
+  bool flushed = std::fflush(file_) == 0;
+  if (flushed && !synced_together(path_.lexically_normal())) {
+    flushed = ::fsync(::fileno(file_)) == 0;
+  } else if (flushed) {
+    // Write-back started now, waited for by sync_folder (a hint: its errors show there).
+    ::sync_file_range(::fileno(file_), 0, 0, SYNC_FILE_RANGE_WRITE);
+  }
   const bool closed = std::fclose(file_) == 0;
   file_ = nullptr;
   std::error_code ec;

@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 
 #include "cwe/core/error.hpp"
+#include "cwe/io/atomic_file.hpp"
 
 namespace cwe {
 namespace {
@@ -118,9 +119,11 @@ OutputSet::OutputSet(const std::filesystem::path& folder, std::vector<std::strin
     fail(fmt::format("cannot write in {}: check the folder and its permissions", parent.string()));
   }
   std::filesystem::remove(probe, ec);
+  sync_together_under(staging_);
 }
 
 OutputSet::~OutputSet() {
+  syncs_apart(staging_);
   if (published_) return;
   std::error_code ec;
   std::filesystem::remove_all(staging_, ec);
@@ -131,6 +134,8 @@ void OutputSet::publish() {
   const auto fail = [&](const std::string& why) {
     throw InputError(SourceLocation{folder_.string()}, "cannot publish the outputs: " + why);
   };
+  // Every staged file durable before the swap: their commits only started the write-back.
+  sync_folder(staging_);
   if (!std::filesystem::exists(folder_, ec)) {
     if (::rename(staging_.c_str(), folder_.c_str()) != 0) fail(std::strerror(errno));
     published_ = true;

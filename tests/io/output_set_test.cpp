@@ -13,6 +13,7 @@
 #include <string>
 
 #include "cwe/core/error.hpp"
+#include "cwe/io/atomic_file.hpp"
 
 namespace cwe {
 namespace {
@@ -60,6 +61,31 @@ TEST(OutputSet, ReplacesTheWholeFolderOnPublish) {
   EXPECT_EQ(names(out), (std::set<std::string>{"b.json"}));
   EXPECT_EQ(read(out / "b.json"), "new b");
   EXPECT_EQ(names(dir), (std::set<std::string>{"out"}));  // no staging, no old set
+}
+
+// Files committed in the staging folder are synced together when it is published, not one by
+// one: what they hold is what was written, in subfolders too, and a file that cannot be synced
+// is an error naming it.
+TEST(OutputSet, StagedFilesAreSyncedTogetherOnPublish) {
+  const fs::path dir = scratch("synced");
+  {
+    OutputSet set(dir / "out", kNames);
+    write_file_atomically(set.staging() / "a.csv", "a");
+    AtomicFileWriter map(set.staging() / "maps" / "m1.svg");
+    map.append("<svg");
+    map.append("/>");
+    map.commit();
+    set.publish();
+  }
+  EXPECT_EQ(read(dir / "out" / "a.csv"), "a");
+  EXPECT_EQ(read(dir / "out" / "maps" / "m1.svg"), "<svg/>");
+  EXPECT_NO_THROW(sync_folder(dir / "out"));
+  try {
+    sync_folder(dir / "gone");
+    ADD_FAILURE() << "a missing folder was synced";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("gone"), std::string::npos) << e.what();
+  }
 }
 
 TEST(OutputSet, ANewFolderIsRenamedIntoPlace) {

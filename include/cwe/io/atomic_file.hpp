@@ -13,10 +13,24 @@ namespace cwe {
 // target is then untouched.
 void write_file_atomically(const std::filesystem::path& path, std::string_view content);
 
+// Files committed under `folder` (and its subfolders) from now on are made durable by
+// sync_folder(folder), not one by one; until syncs_apart(folder).
+void sync_together_under(const std::filesystem::path& folder);
+void syncs_apart(const std::filesystem::path& folder);
+// Makes every file and folder under `folder`, and `folder` itself, durable (fsync). Throws
+// InputError naming the first that cannot be synced.
+void sync_folder(const std::filesystem::path& folder);
+
 // The same for content produced piece by piece (outputs too large to hold in memory): append()
 // writes to the temporary file, commit() flushes it and renames it over the target. A writer
 // destroyed without commit() (an error on the way) removes its temporary file and leaves the
 // target untouched.
+//
+// commit() makes the file durable (fsync) before the rename, except under a folder whose files
+// are synced together (sync_together_under, an OutputSet's staging folder): there it only starts
+// the file's write-back, and sync_folder() waits for all of them before the folder is published.
+// One by one, the syncs blocked the main job's threads for up to 80 ms a map figure, and its end
+// for a fifth of a second on a 43 MB stock.stl.
 class AtomicFileWriter {
  public:
   explicit AtomicFileWriter(std::filesystem::path path);

@@ -2,11 +2,12 @@
 // A command's output folder, replaced whole or not at all.
 //
 // The outputs are written into a staging folder beside the output folder
-// (`.<name>.cwe-staging-<pid>`); publish() then swaps the two in one atomic step
-// (renameat2 RENAME_EXCHANGE; a plain rename when there was no folder yet) and removes the old
-// set. A run stopped at any point — an error, Ctrl-C, kill -9, a power cut after the swap —
-// leaves either the previous set untouched or the new set complete, plus at most a staging
-// folder, which the next run into the same folder removes. On a file system that cannot
+// (`.<name>.cwe-staging-<pid>`); publish() makes them durable (sync_folder: the files written
+// there are synced together, not one by one, see atomic_file.hpp), then swaps the two in one
+// atomic step (renameat2 RENAME_EXCHANGE; a plain rename when there was no folder yet) and
+// removes the old set. A run stopped at any point — an error, Ctrl-C, kill -9, a power cut after
+// the swap — leaves either the previous set untouched or the new set complete, plus at most a
+// staging folder, which the next run into the same folder removes. On a file system that cannot
 // exchange two names, the old folder is renamed aside for the instant between two renames
 // (`.<name>.cwe-old-<pid>`; the next run puts it back if the new one is not there).
 //
