@@ -1,10 +1,12 @@
 #include "cwe/core/memory_limit.hpp"
 
+#include <sys/mman.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 #include <fmt/format.h>
@@ -92,6 +94,15 @@ std::size_t parse_memory_limit(std::string_view text, const SourceLocation& wher
   }
   if (!(bytes >= kSmallestLimit) || bytes > 1e18) return fail();
   return static_cast<std::size_t>(bytes);
+}
+
+void advise_huge_pages(const void* data, std::size_t bytes) {
+  constexpr std::uintptr_t kHuge = std::uintptr_t{1} << 21;
+  const auto begin = reinterpret_cast<std::uintptr_t>(data);
+  const std::uintptr_t first = (begin + kHuge - 1) & ~(kHuge - 1);
+  const std::uintptr_t last = (begin + bytes) & ~(kHuge - 1);
+  if (data == nullptr || last <= first) return;
+  ::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
 }
 
 }  // namespace cwe

@@ -4,9 +4,13 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <fstream>
 #include <limits>
 #include <optional>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "cwe/core/error.hpp"
 
@@ -68,6 +72,45 @@ TEST(MemoryLimit, BytesAsPeopleReadThem) {
   EXPECT_EQ(format_bytes(3.2e6), "3.2 MB");
   EXPECT_EQ(format_bytes(43.15e9), "43.1 GB");
   EXPECT_EQ(format_bytes(2.5e12), "2.5 TB");
+}
+
+// The big arrays advised for huge pages get them where the system gives huge pages on request
+// (transparent_hugepage "madvise", Debian's default; with "always" every big array gets them, and
+// with "never" none). A range shorter than a huge page, or none, is left alone.
+TEST(MemoryLimit, BigArraysAdvisedGetHugePages) {
+  std::ifstream mode("/sys/kernel/mm/transparent_hugepage/enabled");
+  std::string modes;
+  std::getline(mode, modes);
+  if (modes.find("[madvise]") == std::string::npos) {
+    GTEST_SKIP() << "transparent huge pages: " << (modes.empty() ? "not found" : modes);
+  }
+  constexpr std::size_t kBytes = std::size_t{16} << 20;
+  std::vector<char> big;
+  big.reserve(kBytes);
+  advise_huge_pages(big.data(), kBytes);
+  big.assign(kBytes, 1);
+  advise_huge_pages(nullptr, kBytes);
+  advise_huge_pages(big.data(), 100);
+  // The mapping that holds the array's first whole huge page (the advice splits the array's
+  // mapping there), and the kB of it in huge pages.
+  std::ifstream maps("/proc/self/smaps");
+  constexpr std::uintptr_t kHuge = std::uintptr_t{1} << 21;
+  const auto at = (reinterpret_cast<std::uintptr_t>(big.data()) + kHuge - 1) & ~(kHuge - 1);
+  bool inside = false;
+  long huge_kb = -1;
+  for (std::string line; std::getline(maps, line);) {
+    std::uintptr_t lo = 0, hi = 0;
+    char dash = 0;
+    std::istringstream range(line);
+    if (range >> std::hex >> lo >> dash >> hi && dash == '-') {
+      inside = lo <= at && at < hi;
+    } else if (inside && line.starts_with("AnonHugePages:")) {
+      huge_kb = std::stol(line.substr(14));
+    }
+  }
+  ASSERT_GE(huge_kb, 0) << "the array's mapping was not found";
+  // 16 MiB hold at least seven whole 2 MiB pages.
+  EXPECT_GE(huge_kb, 7 * 2048);
 }
 
 }  // namespace

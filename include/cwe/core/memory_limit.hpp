@@ -27,6 +27,13 @@ void set_memory_limit(std::optional<std::size_t> bytes);
 // Bytes as people read them: "512 B", "3.2 MB", "43.1 GB" (powers of 1000).
 std::string format_bytes(double bytes);
 
+// Asks the system to back [data, data + bytes) with transparent huge pages (2 MiB) where it has
+// them, for the big arrays written whole at once (the stock's rays, the contoured stock's mesh):
+// their first writes otherwise fault their memory in 4 KiB at a time, 20,000 faults on the
+// pocketing bench (docs/performance.md). Call it before the memory is first written; a hint that
+// never fails (the part of the range in whole 2 MiB pages is advised).
+void advise_huge_pages(const void* data, std::size_t bytes);
+
 // Throws InputError at `where` when `bytes` (an estimate of what `what` needs, e.g. "the dexel
 // rays of a 120 × 80 × 40 mm stock at 0.002 mm") is above the limit. The message gives both
 // figures and what to change.

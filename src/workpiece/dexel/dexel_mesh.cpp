@@ -15,6 +15,7 @@
 
 #include "cwe/core/assert.hpp"
 #include "cwe/core/error.hpp"
+#include "cwe/core/memory_limit.hpp"
 
 namespace cwe {
 namespace {
@@ -333,6 +334,9 @@ class LatticeMesher {
     }
     mesh_.triangles.reserve(ends / 2 * 5);
     mesh_.vertices.reserve(ends / 4 * 5);
+    advise_huge_pages(mesh_.triangles.data(),
+                      mesh_.triangles.capacity() * sizeof(mesh_.triangles[0]));
+    advise_huge_pages(mesh_.vertices.data(), mesh_.vertices.capacity() * sizeof(Vec3));
   }
 
   // The bits of layer k: the two-of-three vote of the rays through each point, padding empty.

@@ -121,8 +121,11 @@ TriDexel TriDexel::empty_grid(const Aabb& box, double spacing, bool filled) {
     // Filled: every ray of the block carries the stock between the box's faces along it, made
     // as it is allocated (one pass over the rays, not a default one and then a copy).
     const DexelRay ray = filled ? DexelRay(0.0f, static_cast<float>(box.size()[a])) : DexelRay();
-    d.rays_[static_cast<std::size_t>(a)].assign(
-        static_cast<std::size_t>(g[0]) * static_cast<std::size_t>(g[1]), ray);
+    auto& rays = d.rays_[static_cast<std::size_t>(a)];
+    const std::size_t count = static_cast<std::size_t>(g[0]) * static_cast<std::size_t>(g[1]);
+    rays.reserve(count);
+    advise_huge_pages(rays.data(), count * sizeof(DexelRay));
+    rays.assign(count, ray);
     d.free_[static_cast<std::size_t>(a)].assign(
         d.free_row(a, g[1], 0),
         {std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity()});
