@@ -56,8 +56,9 @@ void sync_folder(const std::filesystem::path& folder) {
     const bool is_folder = it->is_directory(ec);
     if (is_folder || it->is_regular_file(ec)) sync(it->path(), is_folder);
   }
-  if (ec)
+  if (ec) {
     throw InputError(SourceLocation{folder.string()}, "cannot read the folder: " + ec.message());
+  }
   sync(folder, true);
 }
 
