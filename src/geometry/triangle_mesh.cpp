@@ -84,9 +84,8 @@ std::vector<TriangleMesh> edge_connected_parts(const TriangleMesh& mesh) {
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const auto& v = mesh.triangles[t];
     for (std::size_t k = 0; k < 3; ++k) {
-      const auto a = static_cast<std::uint64_t>(std::min(v[k], v[(k + 1) % 3]));
-      const auto b = static_cast<std::uint64_t>(std::max(v[k], v[(k + 1) % 3]));
-      const auto [it, inserted] = first.try_emplace(a << 32 | b, static_cast<int>(t));
+      const auto [it, inserted] =
+          first.try_emplace(edge_key(v[k], v[(k + 1) % 3]), static_cast<int>(t));
       if (!inserted) parent[static_cast<std::size_t>(root(static_cast<int>(t)))] = root(it->second);
     }
   }

@@ -37,12 +37,6 @@
 namespace cwe {
 namespace {
 
-std::uint64_t edge_key(int a, int b) {
-  const auto lo = static_cast<std::uint64_t>(std::min(a, b));
-  const auto hi = static_cast<std::uint64_t>(std::max(a, b));
-  return lo << 32 | hi;
-}
-
 gp_Pnt point(const Vec3& p) { return gp_Pnt(p.x(), p.y(), p.z()); }
 
 // A closed surface's faces, a planar face on each triangle, sewn by construction: each vertex

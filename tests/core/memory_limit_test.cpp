@@ -109,8 +109,9 @@ TEST(MemoryLimit, BigArraysAdvisedGetHugePages) {
     }
   }
   ASSERT_GE(huge_kb, 0) << "the array's mapping was not found";
-  // 16 MiB hold at least seven whole 2 MiB pages.
-  EXPECT_GE(huge_kb, 7 * 2048);
+  // 16 MiB hold seven whole 2 MiB pages; the system may give fewer where its memory is
+  // fragmented, but without the advice it gives none.
+  EXPECT_GE(huge_kb, 2048);
 }
 
 }  // namespace

@@ -6,7 +6,8 @@
 // process (or swapping for hours) half-way through a run.
 //
 // The limit is one per process, like the thread count: the command line sets it once, before the
-// job starts; the library reads it where it allocates.
+// job starts; the library reads it where it allocates. The same big allocations are advised onto
+// huge pages here (advise_huge_pages).
 
 #include <cstddef>
 #include <optional>

@@ -5,7 +5,9 @@
 // A mesh is closed (watertight) when every edge is shared by exactly two triangles that use it in
 // opposite directions.
 
+#include <algorithm>
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -54,6 +56,12 @@ struct MeshClosure {
 };
 
 MeshClosure check_closure(const TriangleMesh& mesh);
+// A key for the undirected edge between vertices a and b (either order), for hashing edges.
+inline std::uint64_t edge_key(int a, int b) {
+  const auto lo = static_cast<std::uint64_t>(std::min(a, b));
+  const auto hi = static_cast<std::uint64_t>(std::max(a, b));
+  return lo << 32 | hi;
+}
 // The mesh's edge-connected pieces (triangles joined through shared edges, not through a vertex
 // alone), each with its own vertices, in the order of their first triangles: on a closed mesh,
 // its closed surfaces.
