@@ -123,7 +123,7 @@ TopoDS_Shell shell_of(const TriangleMesh& part, const SourceLocation& where) {
 
 }  // namespace
 
-StepModel mesh_solid_model(const TriangleMesh& mesh, const std::string& source) {
+StepModel mesh_solids(const TriangleMesh& mesh, const std::string& source) {
   require_closed_stock(mesh, source);
   const SourceLocation where{source};
   // Each edge-connected piece of the mesh is a closed surface of its own.

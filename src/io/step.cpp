@@ -249,25 +249,9 @@ TriangleMesh tessellated_part(const TopoDS_Shape& shape, double tolerance, doubl
 
 }  // namespace
 
-bool is_step_path(std::string_view path) {
-  const std::string ext = std::filesystem::path(path).extension().string();
-  std::string lower(ext.size(), '\0');
-  std::transform(ext.begin(), ext.end(), lower.begin(), [](unsigned char c) {
-    return static_cast<char>(std::tolower(c));
-  });
-  return lower == ".step" || lower == ".stp";
-}
-
-StepModel::StepModel(std::shared_ptr<const Impl> impl) : impl_(std::move(impl)) {}
-
-const std::string& StepModel::source() const { return impl_->source; }
-int StepModel::solids() const { return impl_->solids; }
-const std::string& StepModel::file_unit() const { return impl_->unit; }
-double StepModel::volume() const { return impl_->volume; }
-
-Aabb StepModel::bounds() const {
+Aabb tight_bounds(const StepModel& model) {
   Bnd_Box box;
-  BRepBndLib::AddOptimal(impl_->shape, box, /*useTriangulation=*/false,
+  BRepBndLib::AddOptimal(model.impl().shape, box, /*useTriangulation=*/false,
                          /*useShapeTolerance=*/false);
   double x0 = 0, y0 = 0, z0 = 0, x1 = 0, y1 = 0, z1 = 0;
   box.Get(x0, y0, z0, x1, y1, z1);
@@ -277,8 +261,7 @@ Aabb StepModel::bounds() const {
 StepModel step_model(const TopoDS_Shape& shape, const std::string& source,
                      const std::string& unit) {
   auto impl = std::make_shared<StepModel::Impl>();
-  impl->source = source;
-  impl->unit = unit;
+  double total = 0.0;
   BRep_Builder builder;
   TopoDS_Compound solids;
   builder.MakeCompound(solids);
@@ -319,14 +302,13 @@ StepModel step_model(const TopoDS_Shape& shape, const std::string& source,
                        fmt::format("solid {} of {} encloses no volume", k + 1, found.size()));
     }
     builder.Add(solids, solid);
-    impl->volume += volume;
+    total += volume;
   }
-  impl->solids = static_cast<int>(found.size());
   impl->shape = solids;
-  return StepModel(std::move(impl));
+  return StepModel(std::move(impl), source, unit, static_cast<int>(found.size()), total);
 }
 
-StepModel StepModel::read(const std::string& path) {
+StepModel read_step_file(const std::string& path) {
   quiet_opencascade();
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) {
@@ -363,7 +345,7 @@ StepModel StepModel::read(const std::string& path) {
   }
 }
 
-TriangleMesh StepModel::tessellate(double deviation) const {
+TriangleMesh tessellate_model(const StepModel& model, double deviation) {
   if (!(deviation > 0.0) || !std::isfinite(deviation)) {
     throw InputError(fmt::format("STEP tessellation: deviation {} mm, expected a positive length",
                                  deviation));
@@ -372,14 +354,13 @@ TriangleMesh StepModel::tessellate(double deviation) const {
   // keeps the model as read (shared between threads, tessellated again at another deviation).
   TopoDS_Shape shape;
   try {
-    shape = BRepBuilderAPI_Copy(impl_->shape, /*copyGeom=*/true, /*copyMesh=*/false).Shape();
+    shape = BRepBuilderAPI_Copy(model.impl().shape, /*copyGeom=*/true, /*copyMesh=*/false).Shape();
     BRepMesh_IncrementalMesh mesher(shape, deviation, /*isRelative=*/false,
                                     /*theAngDeflection=*/0.5, /*isInParallel=*/false);
     if (!mesher.IsDone()) throw ComputationError("BRepMesh did not finish");
   } catch (const Standard_Failure& e) {
-    throw ComputationError(fmt::format("{}: tessellating the solid failed ({}: {})",
-                                       impl_->source, e.DynamicType()->Name(),
-                                       e.GetMessageString()));
+    throw ComputationError(fmt::format("{}: tessellating the solid failed ({}: {})", model.source(),
+                                       e.DynamicType()->Name(), e.GetMessageString()));
   }
   // Faces meet on their edges within the shape's tolerance (a file's often 1e-4 mm or more).
   const double tolerance =
@@ -397,8 +378,8 @@ TriangleMesh StepModel::tessellate(double deviation) const {
     whole.append(tessellated_part(
         parts[part], tolerance, deviation,
         parts.size() == 1
-            ? impl_->source
-            : fmt::format("{} (solid {} of {})", impl_->source, part + 1, parts.size())));
+            ? model.source()
+            : fmt::format("{} (solid {} of {})", model.source(), part + 1, parts.size())));
   }
   return whole;
 }
@@ -434,13 +415,9 @@ std::string step_bytes(const TopoDS_Shape& shape) {
   return bytes.str();
 }
 
-BrepStock brep_stock(const StepModel& model) { return brep_stock(model.impl().shape); }
-
-std::string step_bytes(const BrepStock& stock) { return step_bytes(stock.solid().shape); }
-
-TriangleMesh tessellate(const BrepStock& stock, double deviation) {
+TriangleMesh tessellate_stock(const BrepStock& stock, double deviation) {
   if (stock.volume() <= 0.0) return TriangleMesh{};  // nothing left
-  return step_model(stock.solid().shape, "the B-rep stock").tessellate(deviation);
+  return tessellate_model(step_model(stock.solid().shape, "the B-rep stock"), deviation);
 }
 
 }  // namespace cwe

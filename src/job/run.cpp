@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <utility>
 
-#include "cwe/engagement/brep_workpiece.hpp"
 #include "cwe/engagement/dexel_workpiece.hpp"
 #include "cwe/engagement/mesh_workpiece.hpp"
+#include "cwe/io/occt.hpp"
 #include "cwe/io/step.hpp"
 
 namespace cwe {
@@ -174,8 +174,9 @@ JobResult run_job(const PreparedJob& job, BrepStock stock, const RunOptions& opt
                   std::span<ClSink* const> sinks, const Progress& progress) {
   JobResult result(std::move(stock));
   result.initial_volume = volume_of(*result.brep);
-  BrepWorkpiece workpiece(*result.brep, job.simulation.resolution);
-  run_on(job, workpiece, options, sinks, progress, result);
+  const std::unique_ptr<Workpiece> workpiece =
+      brep_workpiece(*result.brep, job.simulation.resolution);
+  run_on(job, *workpiece, options, sinks, progress, result);
   result.final_volume = volume_of(*result.brep);
   return result;
 }
@@ -183,7 +184,7 @@ JobResult run_job(const PreparedJob& job, BrepStock stock, const RunOptions& opt
 JobStock make_job_stock(const PreparedJob& job) {
   JobStock stock;
   if (job.workpiece == WorkpieceKind::kBrep) {
-    stock.brep.emplace(job.stock.is_box ? BrepStock::from_box(job.stock.box)
+    stock.brep.emplace(job.stock.is_box ? brep_stock(job.stock.box)
                        : job.stock.step ? brep_stock(*job.stock.step)
                                         : brep_stock(*job.stock.mesh_solid));
   } else if (job.workpiece == WorkpieceKind::kMesh) {

@@ -2,7 +2,8 @@
 // STEP files (ISO 10303-21, AP203/AP214/AP242 geometry) read and written with OpenCASCADE: a
 // stock from CAD (a casting, a preform, a part with holes) and the in-process workpiece as a
 // solid. OpenCASCADE's types stay behind this header (cwe/io/step_shape.hpp hands the shape to
-// the B-rep workpiece); docs/stock.md states the reader's rules.
+// the B-rep workpiece); docs/stock.md states the reader's rules. The functions declared here work
+// in the OpenCASCADE module, loaded when one is first called (cwe/io/occt.hpp).
 
 #include <memory>
 #include <string>
@@ -24,17 +25,24 @@ class StepModel {
   // with no solid (only faces, an open shell, wires or points), a solid that is not valid
   // (BRepCheck), or a negative or zero volume.
   static StepModel read(const std::string& path);
-  // A model of a shape built in memory (tests, the B-rep workpiece); `source` names it.
-  struct Impl;
-  explicit StepModel(std::shared_ptr<const Impl> impl);
+  // A model of a shape built in memory (step_model in cwe/io/step_shape.hpp); `source` names
+  // it, `unit` is the length unit its file declared.
+  struct Impl;  // the shape
+  StepModel(std::shared_ptr<const Impl> impl, std::string source, std::string unit, int solids,
+            double volume)
+      : impl_(std::move(impl)),
+        source_(std::move(source)),
+        unit_(std::move(unit)),
+        solids_(solids),
+        volume_(volume) {}
 
-  const std::string& source() const;
-  int solids() const;
+  const std::string& source() const { return source_; }
+  int solids() const { return solids_; }
   // The length unit the file declared, as OpenCASCADE names it ("millimetre", "inch", "metre",
   // "foot", …); "millimetre" for a shape built in memory.
-  const std::string& file_unit() const;
-  double volume() const;  // mm³, exact (of the B-rep)
-  Aabb bounds() const;    // tight (on the surfaces, not the control points)
+  const std::string& file_unit() const { return unit_; }
+  double volume() const { return volume_; }  // mm³, exact (of the B-rep)
+  Aabb bounds() const;                       // tight (on the surfaces, not the control points)
   // The closed, outward-oriented triangulation of the solids' faces, every triangle within
   // `deviation` mm of its face (BRepMesh's linear deflection, absolute), vertices shared
   // across the faces of a solid; each solid is closed on its own (solids that touch along an
@@ -46,6 +54,10 @@ class StepModel {
 
  private:
   std::shared_ptr<const Impl> impl_;
+  std::string source_;
+  std::string unit_;
+  int solids_ = 0;
+  double volume_ = 0.0;  // mm³
 };
 
 // True when `path` names a STEP file by its extension (.step, .stp, any case).
@@ -54,6 +66,8 @@ bool is_step_path(std::string_view path);
 // The B-rep workpiece and STEP: a stock from the model's solids, and the in-process solid as
 // STEP bytes (AP214, mm) and as triangles within `deviation` (StepModel::tessellate's rules).
 BrepStock brep_stock(const StepModel& model);
+// A box (BrepStock::from_box).
+BrepStock brep_stock(const Aabb& box);
 // The solids a closed triangle mesh bounds (an STL stock on the B-rep workpiece), exact: a
 // planar face on each triangle, edges and vertices shared, neighbours in one plane merged into
 // one face (ShapeUpgrade_UnifySameDomain); a triangle whose corners lie on a line bounds no

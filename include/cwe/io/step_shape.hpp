@@ -12,10 +12,6 @@ namespace cwe {
 
 struct StepModel::Impl {
   TopoDS_Shape shape;  // a compound of valid solids of positive volume, mm
-  std::string source;
-  std::string unit = "millimetre";  // the length unit the file declared
-  int solids = 0;
-  double volume = 0.0;  // mm³
 };
 
 // A model of the solids of `shape` (mm), checked as StepModel::read checks a file's: closed
@@ -23,6 +19,14 @@ struct StepModel::Impl {
 // shape in errors (InputError).
 StepModel step_model(const TopoDS_Shape& shape, const std::string& source,
                      const std::string& unit = "millimetre");
+
+// What the functions of cwe/io/step.hpp do, inside the OpenCASCADE module (cwe/io/occt.hpp);
+// code in the module calls these, not those.
+StepModel read_step_file(const std::string& path);
+Aabb tight_bounds(const StepModel& model);
+TriangleMesh tessellate_model(const StepModel& model, double deviation);
+StepModel mesh_solids(const TriangleMesh& mesh, const std::string& source);
+TriangleMesh tessellate_stock(const BrepStock& stock, double deviation);
 
 // `shape` as the bytes of a STEP AP214 file in mm (write them with write_file_atomically or an
 // OutputSet). Throws ComputationError when OpenCASCADE cannot translate or write it.

@@ -43,6 +43,12 @@ Bnd_Box box_of(const TopoDS_Shape& shape) {
   return box;
 }
 
+int count_faces(const TopoDS_Shape& shape) {
+  int n = 0;
+  for (TopExp_Explorer e(shape, TopAbs_FACE); e.More(); e.Next()) ++n;
+  return n;
+}
+
 Aabb aabb_of(const Bnd_Box& box) {
   if (box.IsVoid()) return Aabb();
   double x0 = 0, y0 = 0, z0 = 0, x1 = 0, y1 = 0, z1 = 0;
@@ -174,10 +180,9 @@ std::vector<BrepStock::Solid> solids(const std::vector<TopoDS_Shape>& shapes) {
 }  // namespace
 
 BrepStock::BrepStock(std::unique_ptr<Solid> solid)
-    : solid_(std::move(solid)), volume_(shape_volume(solid_->shape)) {}
-BrepStock::BrepStock(BrepStock&&) noexcept = default;
-BrepStock& BrepStock::operator=(BrepStock&&) noexcept = default;
-BrepStock::~BrepStock() = default;
+    : solid_(solid.release(), [](Solid* s) { delete s; }),
+      volume_(shape_volume(solid_->shape)),
+      faces_(count_faces(solid_->shape)) {}
 
 BrepStock BrepStock::from_box(const Aabb& box) {
   if (box.is_empty() || !box.min.allFinite() || !box.max.allFinite() ||
@@ -205,18 +210,13 @@ Aabb BrepStock::tight_bounds() const {
   return aabb_of(tight);
 }
 
-int BrepStock::faces() const {
-  int n = 0;
-  for (TopExp_Explorer e(solid_->shape, TopAbs_FACE); e.More(); e.Next()) ++n;
-  return n;
-}
-
 double BrepStock::cut_all(const std::vector<Solid>& parts, std::vector<Solid>* removed,
                           bool merge_faces) {
   // All or nothing: a part that fails leaves the stock, `removed` and the counts as before the
   // first.
   const TopoDS_Shape before = solid_->shape;
   const double volume = volume_;
+  const int faces = faces_;
   const int off = removal_volumes_off_;
   const int replaced = removal_volumes_replaced_;
   const int mended = cuts_from_mended_stock_;
@@ -229,6 +229,7 @@ double BrepStock::cut_all(const std::vector<Solid>& parts, std::vector<Solid>* r
   } catch (...) {
     solid_->shape = before;
     volume_ = volume;
+    faces_ = faces;
     removal_volumes_off_ = off;
     removal_volumes_replaced_ = replaced;
     cuts_from_mended_stock_ = mended;
@@ -363,6 +364,7 @@ double BrepStock::cut(const Solid& cutter, std::vector<Solid>* removed, bool mer
     }
     solid_->shape = result;
     volume_ = after;
+    faces_ = count_faces(result);
     return std::max(0.0, kept.taken);
   };
   // The first attempt that passed every check of the stock but whose removal volume did not hold

@@ -12,7 +12,10 @@
 // on with a broken solid. The booleans leave their arguments as they were (non-destructive).
 //
 // OpenCASCADE's types stay behind this header; cwe/workpiece/brep/brep_shapes.hpp gives the
-// solid itself to the code that needs it (STEP output, tessellation, tests).
+// solid itself to the code that needs it (STEP output, tessellation, tests). The members defined
+// out of line are in the OpenCASCADE module (libcwe-occt, cwe/io/occt.hpp): code outside it
+// makes a stock with brep_stock (cwe/io/step.hpp) and cuts it through its Workpiece
+// (brep_workpiece); what is inline here works everywhere.
 
 #include <memory>
 #include <vector>
@@ -29,9 +32,9 @@ class BrepStock {
   // A box. Throws InputError for a box of no volume.
   static BrepStock from_box(const Aabb& box);
 
-  BrepStock(BrepStock&&) noexcept;
-  BrepStock& operator=(BrepStock&&) noexcept;
-  ~BrepStock();
+  BrepStock(BrepStock&&) noexcept = default;
+  BrepStock& operator=(BrepStock&&) noexcept = default;
+  ~BrepStock() = default;
 
   struct Solid;  // the OpenCASCADE shape (brep_shapes.hpp)
 
@@ -94,7 +97,7 @@ class BrepStock {
   // The box of the faces' geometry (BRepBndLib::AddOptimal): bounds() is that of their control
   // points, which grows round a loft's B-spline faces once the stock holds them.
   Aabb tight_bounds() const;
-  int faces() const;
+  int faces() const { return faces_; }
 
   const Solid& solid() const { return *solid_; }
   explicit BrepStock(std::unique_ptr<Solid> solid);
@@ -105,8 +108,11 @@ class BrepStock {
                  bool merge_faces = true);
   // cut(), merging the result's same-domain faces where that keeps the solid if merge_faces.
   double cut(const Solid& cutter, std::vector<Solid>* removed, bool merge_faces);
-  std::unique_ptr<Solid> solid_;
+  // Freed by the module that made it (the deleter), so that a stock made in the OpenCASCADE
+  // module can be moved and destroyed outside it.
+  std::unique_ptr<Solid, void (*)(Solid*)> solid_;
   double volume_ = 0.0;
+  int faces_ = 0;
   int moves_in_lines_ = 0;
   int moves_lofted_ = 0;
   double worst_loft_deviation_ = 0.0;
