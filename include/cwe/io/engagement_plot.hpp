@@ -31,7 +31,7 @@ struct MapPlotInfo {
   // (`cwe compare`: another workpiece's), with the legend's names of the two; none: the map
   // alone.
   const EngagementMap* overlay = nullptr;
-  std::string label, overlay_label;
+  std::string label{}, overlay_label{};
 };
 
 // The engagement map of one cutter location as a figure of plot_layout::kMapWidth ×
