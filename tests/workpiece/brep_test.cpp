@@ -4,6 +4,7 @@
 // the B-rep stock against closed forms.
 #include <gtest/gtest.h>
 
+#include <BRepAlgoAPI_Cut.hxx>
 #include <BRepCheck_Analyzer.hxx>
 #include <BRepClass3d_SolidClassifier.hxx>
 #include <BRepGProp.hxx>
@@ -14,6 +15,8 @@
 #include <GProp_GProps.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
+#include <gp_Ax2.hxx>
+#include <gp_Trsf.hxx>
 
 #include <algorithm>
 #include <cmath>
@@ -694,6 +697,30 @@ TEST(BrepShapes, MendedCopyLeavesTheShapeAsItWas) {
   EXPECT_NEAR(shape_volume(mended), kPi * 25.0 * 10.0, 1e-9 * kPi * 250.0);
   EXPECT_EQ(same_parameter(cylinder), 0);
   EXPECT_FALSE(BRepCheck_Analyzer(cylinder).IsValid());
+}
+
+// shape_volume integrates a planar face of several wires wire by wire: a block with a round and
+// a square hole through it (its top and bottom faces have three wires each), as built, moved,
+// and turned inside out, against the closed form to OpenCASCADE's integration error.
+TEST(BrepShapes, VolumeIntegratesFacesWithHolesWireByWire) {
+  TopoDS_Shape block = BRepPrimAPI_MakeBox(60.0, 40.0, 20.0).Shape();
+  block = BRepAlgoAPI_Cut(block,
+                          BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(15, 20, -1), gp::DZ()), 5.0, 22.0))
+              .Shape();
+  block = BRepAlgoAPI_Cut(block, BRepPrimAPI_MakeBox(gp_Pnt(40, 15, -1), 10.0, 10.0, 22.0)).Shape();
+  int faces_of_three = 0;
+  for (TopExp_Explorer f(block, TopAbs_FACE); f.More(); f.Next()) {
+    int wires = 0;
+    for (TopExp_Explorer w(f.Current(), TopAbs_WIRE); w.More(); w.Next()) ++wires;
+    faces_of_three += wires == 3 ? 1 : 0;
+  }
+  ASSERT_EQ(faces_of_three, 2);
+  const double volume = 60.0 * 40.0 * 20.0 - kPi * 25.0 * 20.0 - 100.0 * 20.0;
+  EXPECT_NEAR(shape_volume(block), volume, 1e-9 * volume);
+  gp_Trsf shift;
+  shift.SetTranslation(gp_Vec(100.0, -50.0, 30.0));
+  EXPECT_NEAR(shape_volume(block.Moved(TopLoc_Location(shift))), volume, 1e-9 * volume);
+  EXPECT_NEAR(shape_volume(block.Reversed()), -volume, 1e-9 * volume);
 }
 
 }  // namespace

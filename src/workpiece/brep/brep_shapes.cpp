@@ -35,6 +35,7 @@
 #include <BRepTools.hxx>
 #include <BRepTools_Modification.hxx>
 #include <BRepTools_Modifier.hxx>
+#include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
 #include <GC_MakeArcOfCircle.hxx>
@@ -60,6 +61,7 @@
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopTools_ListOfShape.hxx>
 #include <TopoDS.hxx>
+#include <TopoDS_Compound.hxx>
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shell.hxx>
@@ -403,8 +405,42 @@ void check_volume(const TopoDS_Shape& swept, double expected, const Cutter& cutt
 }  // namespace
 
 double shape_volume(const TopoDS_Shape& shape) {
+  // The faces to integrate: each face, but for a planar face of several wires the face of each
+  // wire alone, oriented as the face for its outer wire and against it for a hole.
+  BRep_Builder builder;
+  TopoDS_Compound faces;
+  builder.MakeCompound(faces);
+  bool split = false;
+  for (TopExp_Explorer e(shape, TopAbs_FACE); e.More(); e.Next()) {
+    const TopoDS_Face& face = TopoDS::Face(e.Current());
+    int wires = 0;
+    for (TopExp_Explorer w(face, TopAbs_WIRE); w.More(); w.Next()) ++wires;
+    const BRepAdaptor_Surface surface(face, /*restriction=*/false);
+    if (wires < 2 || surface.GetType() != GeomAbs_Plane) {
+      builder.Add(faces, face);
+      continue;
+    }
+    const TopoDS_Wire outer = BRepTools::OuterWire(face);
+    std::vector<TopoDS_Face> parts;
+    for (TopExp_Explorer w(face.Oriented(TopAbs_FORWARD), TopAbs_WIRE); w.More(); w.Next()) {
+      const TopoDS_Wire& wire = TopoDS::Wire(w.Current());
+      BRepBuilderAPI_MakeFace make(surface.Plane(), wire, /*Inside=*/true);
+      if (!make.IsDone()) break;
+      // The face of a wire alone is the region it encloses, on the plane's side.
+      TopoDS_Face part = make.Face();
+      if (!wire.IsSame(outer)) part.Reverse();
+      if (face.Orientation() == TopAbs_REVERSED) part.Reverse();
+      parts.push_back(part);
+    }
+    if (outer.IsNull() || static_cast<int>(parts.size()) < wires) {
+      builder.Add(faces, face);  // a wire no face can be made of: the face's own integral
+      continue;
+    }
+    for (const TopoDS_Face& part : parts) builder.Add(faces, part);
+    split = true;
+  }
   GProp_GProps props;
-  BRepGProp::VolumeProperties(shape, props);
+  BRepGProp::VolumeProperties(split ? TopoDS_Shape(faces) : shape, props);
   return props.Mass();
 }
 

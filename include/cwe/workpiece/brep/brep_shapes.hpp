@@ -118,7 +118,12 @@ LoftedSweep lofted_sweep_solid(const Cutter& cutter, const Move& move, double to
 LoftedSweep lofted_sweep_parts(const Cutter& cutter, const Move& move, double tolerance,
                                const Aabb& within);
 
-// Volume of a shape, mm³ (BRepGProp).
+// Volume of a shape, mm³ (BRepGProp), with each planar face of several wires (a stock's top with
+// the openings of pockets and slots) integrated wire by wire: its outer wire's face less each
+// hole's face. BRepGProp's integral over the whole face came out 0.256 mm² short on the CATIA
+// contour's top face after its tilted slot (docs/brep.md), where the slot's opening meets the
+// pocket's within 0.0033 mm, and so the stock's volume 0.785 mm³ short until a later cut rebuilt
+// that face and the stock seemed to grow. Green's theorem on each wire has no such trouble.
 double shape_volume(const TopoDS_Shape& shape);
 
 // Runs a boolean of `argument` (the stock) and one tool, in this thread, with the fuzzy value if
