@@ -1212,7 +1212,8 @@ TEST(CliSimulate, BrepLoftsATiltingPassInPartsAndWritesItsStock) {
   // pass, the tilted slot and the return rapid, which rises out of the slot while the tool turns
   // back upright and takes almost nothing. With the slot's opening integrated as part of the
   // stock's top face the stock's volume came out 0.74 mm³ short, and the rapid, whose cut
-  // rebuilt that face, made the stock seem to grow: the run stopped with exit 3 at line 12.
+  // rebuilt that face, made the stock seem to grow: the run stopped with exit 3 at line 12
+  // (shape_volume, docs/brep.md).
   std::ofstream(program) << "PARTNO TILT\nUNITS/MM\nCUTTER/10,1,4,1,0,0,50\nMULTAX\n"
                             "FROM/0,0,100,0,0,1\nRAPID\nGOTO/30,-20,20,0,0,1\nFEDRAT/800,MMPM\n"
                             "GOTO/40,0,10,0.5,0,0.866025\nGOTO/40,10,10,0.5,0,0.866025\n"

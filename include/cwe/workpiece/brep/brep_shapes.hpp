@@ -121,9 +121,9 @@ LoftedSweep lofted_sweep_parts(const Cutter& cutter, const Move& move, double to
 // Volume of a shape, mm³ (BRepGProp), with each planar face of several wires (a stock's top with
 // the openings of pockets and slots) integrated wire by wire: its outer wire's face less each
 // hole's face. BRepGProp's integral over the whole face came out 0.256 mm² short on the CATIA
-// contour's top face after its tilted slot (docs/brep.md), where the slot's opening meets the
-// pocket's within 0.0033 mm, and so the stock's volume 0.785 mm³ short until a later cut rebuilt
-// that face and the stock seemed to grow. Green's theorem on each wire has no such trouble.
+// contour's top face after its tilted slot (docs/brep.md), whose opening's wire has a gap of
+// 0.0033 mm closed by a vertex's tolerance, and so the stock's volume 0.785 mm³ short until a
+// later cut rebuilt that face and the stock seemed to grow. Each wire alone integrates right.
 double shape_volume(const TopoDS_Shape& shape);
 
 // Runs a boolean of `argument` (the stock) and one tool, in this thread, with the fuzzy value if
