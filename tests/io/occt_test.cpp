@@ -14,18 +14,12 @@
 #include "cwe/core/error.hpp"
 #include "cwe/simulation/simulation.hpp"
 #include "cwe/tool/tool_spec.hpp"
+#include "scratch_dir.hpp"
 
 namespace cwe {
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("cwe-occt-" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
 
 // OpenCASCADE's volume integration and bounding boxes of planar faces are exact up to rounding.
 constexpr double kExact = 1e-9;
@@ -36,7 +30,7 @@ TEST(OcctModule, StepWrittenAndReadBackWithoutLinkingOpenCascade) {
   EXPECT_NEAR(stock.volume(), 8000.0, 8000.0 * kExact);
   EXPECT_EQ(stock.faces(), 6);
 
-  const fs::path file = scratch("step") / "box.step";
+  const fs::path file = test::fresh_scratch_dir("occt-step") / "box.step";
   std::ofstream(file, std::ios::binary) << step_bytes(stock);
   const StepModel model = StepModel::read(file.string());
   EXPECT_EQ(model.source(), file.string());
@@ -77,7 +71,7 @@ TEST(OcctModule, WorkpieceCutsAThroughSlot) {
 }
 
 TEST(OcctModule, ErrorsThrownInsideAreCaughtOutside) {
-  const fs::path missing = scratch("missing") / "none.step";
+  const fs::path missing = test::fresh_scratch_dir("occt-missing") / "none.step";
   try {
     (void)StepModel::read(missing.string());
     FAIL() << "read a file that is not there";
@@ -91,7 +85,7 @@ TEST(OcctModule, ErrorsThrownInsideAreCaughtOutside) {
 }
 
 TEST(OcctModule, LoaderNamesEveryPlaceAndWhyItFailed) {
-  const fs::path dir = scratch("loader");
+  const fs::path dir = test::fresh_scratch_dir("occt-loader");
   const fs::path missing = dir / "libcwe-occt.so";
   const fs::path not_elf = dir / "text.so";
   std::ofstream(not_elf) << "not a shared object\n";

@@ -14,18 +14,12 @@
 
 #include "cwe/core/error.hpp"
 #include "cwe/io/atomic_file.hpp"
+#include "scratch_dir.hpp"
 
 namespace cwe {
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("cwe-output-set-" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
 
 void write(const fs::path& path, const std::string& text) {
   fs::create_directories(path.parent_path());
@@ -46,7 +40,7 @@ std::set<std::string> names(const fs::path& folder) {
 const std::vector<std::string> kNames = {"a.csv", "b.json", "maps"};
 
 TEST(OutputSet, ReplacesTheWholeFolderOnPublish) {
-  const fs::path dir = scratch("replace");
+  const fs::path dir = test::fresh_scratch_dir("output-set-replace");
   const fs::path out = dir / "out";
   write(out / "a.csv", "old a");
   write(out / "maps" / "m1.png", "old map");
@@ -67,7 +61,7 @@ TEST(OutputSet, ReplacesTheWholeFolderOnPublish) {
 // one: what they hold is what was written, in subfolders too, and a file that cannot be synced
 // is an error naming it.
 TEST(OutputSet, StagedFilesAreSyncedTogetherOnPublish) {
-  const fs::path dir = scratch("synced");
+  const fs::path dir = test::fresh_scratch_dir("output-set-synced");
   {
     OutputSet set(dir / "out", kNames);
     write_file_atomically(set.staging() / "a.csv", "a");
@@ -89,7 +83,7 @@ TEST(OutputSet, StagedFilesAreSyncedTogetherOnPublish) {
 }
 
 TEST(OutputSet, ANewFolderIsRenamedIntoPlace) {
-  const fs::path dir = scratch("new");
+  const fs::path dir = test::fresh_scratch_dir("output-set-new");
   {
     OutputSet set(dir / "deeper" / "out", kNames);
     write(set.staging() / "a.csv", "a");
@@ -99,7 +93,7 @@ TEST(OutputSet, ANewFolderIsRenamedIntoPlace) {
 }
 
 TEST(OutputSet, AnUnpublishedSetLeavesTheOldOneAndNoStaging) {
-  const fs::path dir = scratch("unpublished");
+  const fs::path dir = test::fresh_scratch_dir("output-set-unpublished");
   write(dir / "out" / "a.csv", "old a");
   {
     OutputSet set(dir / "out", kNames);
@@ -110,7 +104,7 @@ TEST(OutputSet, AnUnpublishedSetLeavesTheOldOneAndNoStaging) {
 }
 
 TEST(OutputSet, LeftoversOfStoppedRunsAreRemoved) {
-  const fs::path dir = scratch("leftovers");
+  const fs::path dir = test::fresh_scratch_dir("output-set-leftovers");
   // A pid that cannot be running (above the kernel's pid_max of 4,194,304).
   write(dir / ".out.cwe-staging-999999999" / "a.csv", "killed run");
   write(dir / ".out.cwe-staging-" / "a.csv", "no pid: not ours to remove");
@@ -124,7 +118,7 @@ TEST(OutputSet, LeftoversOfStoppedRunsAreRemoved) {
 }
 
 TEST(OutputSet, AFolderHoldingOtherFilesIsRefused) {
-  const fs::path dir = scratch("foreign");
+  const fs::path dir = test::fresh_scratch_dir("output-set-foreign");
   write(dir / "out" / "a.csv", "old a");
   write(dir / "out" / "notes.txt", "the user's");
   try {

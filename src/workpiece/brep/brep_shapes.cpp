@@ -415,8 +415,12 @@ double shape_volume(const TopoDS_Shape& shape) {
     const TopoDS_Face& face = TopoDS::Face(e.Current());
     int wires = 0;
     for (TopExp_Explorer w(face, TopAbs_WIRE); w.More(); w.Next()) ++wires;
+    if (wires < 2) {  // most faces: no surface looked at
+      builder.Add(faces, face);
+      continue;
+    }
     const BRepAdaptor_Surface surface(face, /*restriction=*/false);
-    if (wires < 2 || surface.GetType() != GeomAbs_Plane) {
+    if (surface.GetType() != GeomAbs_Plane) {
       builder.Add(faces, face);
       continue;
     }
