@@ -10,11 +10,13 @@ DexelEngagement::DexelEngagement(const Cutter& cutter, double spacing,
     : grid_(cutter, spacing, options), spacing_(spacing) {
   contact_ = options.contact > 0.0 ? options.contact : spacing / 10.0;
   skip_far_cells_ = options.skip_far_cells;
+  reuse_alike_discs_ = options.reuse_alike_discs;
 }
 
 std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const RemovalRecord& step,
                                             const ToolState& state, const Band& band,
-                                            const Vec3& v_tcs, const Vec3& w_tcs) const {
+                                            const Vec3& v_tcs, const Vec3& w_tcs,
+                                            Scanned& last) const {
   const Frame& tcs = state.tcs;
   const Vec3 x = tcs.x(), y = tcs.y(), z = tcs.z();
   const Vec3 centre = tcs.origin + band.z * z;
@@ -38,6 +40,10 @@ std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const Removal
   // and an earlier one share (a wall at the tool's radius, a floor at the tip): two float
   // spacings of the stock's coordinates.
   const double rounding = 4.0 * stock.float_rounding();
+  const Reuse here = reuse_of(stock, state, band, front);
+  if (here.band != nullptr && last.reuse.band != nullptr && here.same(last.reuse, step)) {
+    return last.found;
+  }
   const auto engaged = [&](double s, double c) __attribute__((always_inline)) {
     if (!front(s, c)) return false;
     const Vec3 radial = s * x + c * y;
@@ -71,7 +77,49 @@ std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const Removal
     const double height = d.dot(z);
     return bottom ? d.squaredNorm() - height * height <= rim * rim : height >= 0.0 && height <= top;
   };
-  return grid_.intervals(front, engaged);
+  std::vector<Interval> found = grid_.intervals(front, engaged);
+  if (here.band != nullptr) last = {here, found};
+  return found;
+}
+
+// A disc of an upright tool's cylindrical part reads one height of X and Y rays for all its
+// cells. Another disc of the same radius and front, whose rays lost in the step ray for ray what
+// this disc's rays lost, gets the same intervals: every cell computes the same point and normal
+// in plan (the tool's frame has no tilt, the normal no Z), reads the ray at the same place in
+// plan at the other height, meets it at the same t and finds the same stretches there. Only the
+// cell's height test (its ray within the flutes) and the far-cell test (its point within the
+// box) depend on the height. The first must come out the same for every cell of both discs; the
+// second does when their rays lost something, as those rays' heights lie in the step's box and
+// the points within s/2 of them, inside the test's margin; when they lost nothing, every cell of
+// both discs finds nothing. A step's removal along a wall or a floor is alike from height to
+// height, so most discs of a flat end mill's side take the intervals of the one below.
+DexelEngagement::Reuse DexelEngagement::reuse_of(const TriDexel& stock, const ToolState& state,
+                                                 const Band& band,
+                                                 const EngagementGrid::Front& front) const {
+  Reuse here;
+  const Frame& tcs = state.tcs;
+  const bool upright = tcs.z() == Vec3::UnitZ() && tcs.x().z() == 0.0 && tcs.y().z() == 0.0;
+  if (!reuse_alike_discs_ || band.ring || band.normal.y() != 0.0 || !upright) return here;
+  // The cells' point height: the centre's, as the cells' radial direction has no Z.
+  const double z = (tcs.origin + band.z * tcs.z()).z();
+  double ray_z = 0.0;
+  if (!stock.level_at(z, here.level, ray_z)) return here;
+  // The height test of every cell, with a margin far above the rounding of the cells' own
+  // arithmetic; a disc whose rays lie that close to the tip or the flutes' end is scanned.
+  const double top = grid_.cutter().profile().height(), slack = 1e-9 * (1.0 + top);
+  const double height = ray_z - tcs.origin.z();
+  if (!(height > slack && height < top - slack)) return here;
+  here.band = &band;
+  here.front = front;
+  return here;
+}
+
+bool DexelEngagement::Reuse::same(const Reuse& was, const RemovalRecord& step) const {
+  return band->rho == was.band->rho && band->normal == was.band->normal &&
+         band->departure == was.band->departure && front.f.a == was.front.f.a &&
+         front.f.b == was.front.f.b && front.f.c == was.front.f.c &&
+         front.f_min == was.front.f_min && step.alike(0, 1, was.level, level) &&
+         step.alike(1, 0, was.level, level);
 }
 
 EngagementMap DexelEngagement::at(const TriDexel& stock, const RemovalRecord& step,
@@ -82,8 +130,9 @@ EngagementMap DexelEngagement::at(const TriDexel& stock, const RemovalRecord& st
   std::vector<std::vector<Interval>> found(grid_.bands());
   // A step that removes nothing engages nothing: the bands are left empty without a scan.
   if (!step.empty()) {
+    Scanned last;
     for (std::size_t k = 0; k < found.size(); ++k) {
-      found[k] = scan(stock, step, state, grid_.band(k), v, w);
+      found[k] = scan(stock, step, state, grid_.band(k), v, w, last);
     }
   }
   return grid_.map(std::move(found));

@@ -404,20 +404,19 @@ TEST(EngagementFidelity, BallRastersCutOnlyTheirCrescents) {
   }
 }
 
-// The per-cell skip of DexelEngagement (a cell farther from the step's removal box than any
-// stretch its test can touch) is exact: with it and without it, every map of every location is
-// the same, interval for interval, on the families above (a step-down and its contour finishing
-// along the wall, a ring groove in two levels, a ball raster in two depths, a tilted step-down
-// with a 5-axis repeat).
-TEST(EngagementFidelity, SkippingFarCellsChangesNoMap) {
-  const auto maps = [](const Toolpath& path, const char* tool, bool skip) {
+// Every map of every location the same, interval for interval, with DexelEngagement's default
+// options and with `off` applied to them, on the families above: a step-down and its contour
+// finishing along the wall, a ring groove in two levels, a ball raster in two depths, a tilted
+// step-down with a 5-axis repeat.
+void expect_same_maps_without(void (*off)(EngagementOptions&)) {
+  const auto maps = [off](const Toolpath& path, const char* tool, bool fast) {
     TriDexel stock = TriDexel::from_box(kBlock, kSpacing);
     SimulationOptions options;
     options.resolution = kSpacing;
     SamplingOptions sampling;
     sampling.step = 0.5;
     EngagementOptions engagement;
-    engagement.skip_far_cells = skip;
+    if (!fast) off(engagement);
     std::vector<EngagementMap> found;
     simulate_engagement(stock, cutter_from_spec(tool), path, {options, sampling, engagement},
                         [&](const ClEngagement& e) { found.push_back(e.map); });
@@ -481,6 +480,20 @@ TEST(EngagementFidelity, SkippingFarCellsChangesNoMap) {
     }
     EXPECT_GT(engaged, fast.size() / 2);  // the comparison is about engaged maps
   }
+}
+
+// The per-cell skip (a cell farther from the step's removal box than any stretch its test can
+// touch) is exact.
+TEST(EngagementFidelity, SkippingFarCellsChangesNoMap) {
+  expect_same_maps_without([](EngagementOptions& o) { o.skip_far_cells = false; });
+}
+
+// A side disc of an upright tool that takes the intervals of the disc below (the rays it reads
+// lost what that disc's rays lost) gets the intervals its own scan finds. In the step-down's
+// second level, the discs above the first level's floor (their rays lost nothing) stand over
+// discs that cut.
+TEST(EngagementFidelity, ReusingAlikeDiscsChangesNoMap) {
+  expect_same_maps_without([](EngagementOptions& o) { o.reuse_alike_discs = false; });
 }
 
 }  // namespace

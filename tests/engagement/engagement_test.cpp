@@ -4,9 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
+#include "cwe/envelope/linear_sweep.hpp"
+#include "cwe/kinematics/tool_state.hpp"
 #include "cwe/simulation/simulation.hpp"
 #include "cwe/tool/tool_spec.hpp"
 #include "engagement_testing.hpp"
@@ -176,6 +179,57 @@ TEST(Engagement, NothingEngagedInAir) {
   EXPECT_EQ(p.map.area, 0.0);
   EXPECT_EQ(p.map.phi_entry, 0.0);
   EXPECT_EQ(p.map.phi_exit, 0.0);
+}
+
+// A side disc of an upright tool takes the intervals of the disc below when the rays it reads
+// lost the same in the step and its front is the same (DexelEngagement, reuse_alike_discs). In
+// the slot every disc's rays lose alike: on a translation every disc has the same intervals,
+// while a turn about X tilts the front from height to height (ω × h·z adds -hω along Y to the
+// velocity) and each disc has its own. Either way, the map is the one every disc's own scan finds.
+TEST(Engagement, DiscsTakeTheIntervalsBelowOnlyWhereTheyWouldFindThem) {
+  const Cutter cutter = cutter_from_spec("flat:10,20");
+  TriDexel stock = TriDexel::from_box({{0, 0, 0}, {60, 40, kTop}}, kSpacing);
+  const Vec3 tip(25, 20, kTop - 3), next(25.5, 20, kTop - 3);
+  const LinearSweep slot(cutter, {-10, 20, kTop - 3}, tip, Vec3::UnitZ());
+  stock.remove(slot.bounds(), [&slot](const Ray& ray) { return slot.chord(ray); });
+  const LinearSweep step(cutter, tip, next, Vec3::UnitZ());
+  RemovalRecord record;
+  stock.remove({{step.bounds(), [&step](const Ray& ray) { return step.chord(ray); }, {}, {}}},
+               &record);
+  EngagementOptions scan_each;
+  scan_each.reuse_alike_discs = false;
+  const DexelEngagement fast(cutter, kSpacing), full(cutter, kSpacing, scan_each);
+  for (const double turn : {0.0, 0.3}) {
+    SCOPED_TRACE(testing::Message() << "turn " << turn);
+    const ToolState state = tool_state(tip, Vec3::UnitZ(), Vec3::UnitX(), Vec3(turn, 0, 0));
+    const EngagementMap reused = fast.at(stock, record, state);
+    const EngagementMap own = full.at(stock, record, state);
+    ASSERT_EQ(reused.discs.size(), own.discs.size());
+    std::vector<std::vector<Interval>> kinds;  // the engaged discs' different interval sets
+    for (std::size_t d = 0; d < own.discs.size(); ++d) {
+      const std::vector<Interval>& mine = reused.discs[d].phi;
+      const std::vector<Interval>& theirs = own.discs[d].phi;
+      ASSERT_EQ(mine.size(), theirs.size()) << "disc " << d;
+      for (std::size_t i = 0; i < mine.size(); ++i) {
+        EXPECT_EQ(mine[i].lo, theirs[i].lo) << "disc " << d;
+        EXPECT_EQ(mine[i].hi, theirs[i].hi) << "disc " << d;
+      }
+      const auto same = [&theirs](const std::vector<Interval>& k) {
+        return std::equal(
+            k.begin(), k.end(), theirs.begin(), theirs.end(),
+            [](const Interval& a, const Interval& b) { return a.lo == b.lo && a.hi == b.hi; });
+      };
+      if (!theirs.empty() && std::none_of(kinds.begin(), kinds.end(), same)) {
+        kinds.push_back(theirs);
+      }
+    }
+    EXPECT_NEAR(own.axial_depth, 3.0, kSpacing);
+    if (turn == 0.0) {
+      EXPECT_EQ(kinds.size(), 1u);
+    } else {
+      EXPECT_GT(kinds.size(), 10u);
+    }
+  }
 }
 
 }  // namespace

@@ -268,6 +268,89 @@ TEST(TriDexel, RemovalRecordIsWhatTheRaysLost) {
   EXPECT_GT(several, 0);
 }
 
+// The chord of a ray through the region {p : lo ≤ n·p ≤ hi for each (n, lo, hi)}.
+struct Slab {
+  Vec3 n;
+  double lo, hi;
+};
+Interval slab_chord(const Ray& ray, const std::vector<Slab>& slabs) {
+  Interval chord{-1e9, 1e9};
+  for (const Slab& slab : slabs) {
+    const double at = slab.n.dot(ray.origin), rate = slab.n.dot(ray.direction);
+    if (rate == 0.0) {
+      if (at < slab.lo || at > slab.hi) return Interval::empty();
+      continue;
+    }
+    const double t0 = (slab.lo - at) / rate, t1 = (slab.hi - at) / rate;
+    chord = {std::max(chord.lo, std::min(t0, t1)), std::min(chord.hi, std::max(t0, t1))};
+  }
+  return chord.lo < chord.hi ? chord : Interval::empty();
+}
+
+// RemovalRecord::alike against every ray's stretches compared one by one. A flat end mill's
+// level step takes alike from height to height down its side, and an earlier slot at another
+// depth makes some heights differ. Two slanted cuts recorded with it take, at each height, what
+// the height below took on the next ray over (a slab leaning at 45° across rays 0.25 mm apart),
+// and stretches that start alike and end apart (a block whose end slants in Y and Z). Every pair
+// of indices across every family is compared, both ways (rows: j, and columns: i), over tiles of
+// 32 rays.
+TEST(TriDexel, RecordRowsAreAlikeWhereEveryRayLostTheSame) {
+  const Cutter flat = cutter_from_spec("flat:6,12");
+  TriDexel stock = TriDexel::from_box(Aabb{{0, 0, 0}, {30, 20, 8}}, 0.25);
+  const LinearSweep earlier(flat, {-5, 12, 6}, {35, 12, 6}, Vec3::UnitZ());
+  stock.remove(earlier.bounds(), [&earlier](const Ray& ray) { return earlier.chord(ray); });
+  const LinearSweep step(flat, {8, 10, 3}, {12, 10, 3}, Vec3::UnitZ());
+  const double inf = 1e9;
+  const std::vector<Slab> leaning{
+      {Vec3::UnitX(), 20.1, 22.1}, {Vec3(0, 1, -1), 1.1, 2.1}, {Vec3::UnitZ(), 1.0, 3.0}};
+  const std::vector<Slab> slanted{{Vec3::UnitX(), 24.1, inf},
+                                  {Vec3(1, -0.5, -0.5), -inf, 17.35},
+                                  {Vec3::UnitY(), 15.1, 16.1},
+                                  {Vec3::UnitZ(), 4.0, 5.5}};
+  const auto region = [](const std::vector<Slab>& slabs) {
+    Aabb box;
+    box.min = Vec3(0, 0, 0);
+    box.max = Vec3(30, 20, 8);
+    return TriDexel::Cut{box, [&slabs](const Ray& ray) { return slab_chord(ray, slabs); }, {}, {}};
+  };
+  RemovalRecord record;
+  stock.remove({{step.bounds(), [&step](const Ray& ray) { return step.chord(ray); }, {}, {}},
+                region(leaning),
+                region(slanted)},
+               &record);
+  ASSERT_FALSE(record.empty());
+  int alike = 0, unlike = 0;
+  for (int a = 0; a < 3; ++a) {
+    const std::array<int, 2> grid = stock.grid(a);
+    for (int across = 0; across < 2; ++across) {
+      const int n = grid[static_cast<std::size_t>(across)];
+      const int m = grid[static_cast<std::size_t>(1 - across)];
+      // Whether index p's rays lost what index q's did, ray by ray.
+      const auto same = [&](int p, int q) {
+        for (int o = 0; o < m; ++o) {
+          const auto x = across == 0 ? record.on_ray(a, p, o) : record.on_ray(a, o, p);
+          const auto y = across == 0 ? record.on_ray(a, q, o) : record.on_ray(a, o, q);
+          if (x.size() != y.size()) return false;
+          for (std::size_t k = 0; k < x.size(); ++k) {
+            if (x[k].lo != y[k].lo || x[k].hi != y[k].hi) return false;
+          }
+        }
+        return true;
+      };
+      for (int p = 0; p < n; ++p) {
+        for (int q = 0; q < n; ++q) {
+          const bool expected = same(p, q);
+          ASSERT_EQ(record.alike(a, across, p, q), expected)
+              << "family " << a << (across == 0 ? " i " : " j ") << p << " and " << q;
+          if (p != q) (expected ? alike : unlike) += 1;
+        }
+      }
+    }
+  }
+  EXPECT_GT(alike, 1000);
+  EXPECT_GT(unlike, 1000);
+}
+
 // Removal skips a tile row of rays whose material it found clear of an earlier cut's box when
 // the next box lies in that clear stretch. A pocket cleared in 0.5 mm steps, each removed on its
 // own with its record (as the engagement's removal does), at two levels joined by plunges, ends

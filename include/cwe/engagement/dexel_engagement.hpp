@@ -35,7 +35,10 @@
 //
 // Cost: per cutter location, the discs and rings whose circle comes within reach of the step's
 // removal box are scanned; f is evaluated for every cell of those, the removal record (a binary
-// search per ray) only where f > 0 and the cell's point is within that reach.
+// search per ray) only where f > 0 and the cell's point is within that reach. A side disc of an
+// upright tool's cylindrical part whose rays lost in the step what the last scanned disc's rays
+// lost, with the same front, takes that disc's intervals unscanned (exact: every cell's test
+// would find what it found; DexelEngagement::reuse_of).
 
 #include "cwe/engagement/engagement_grid.hpp"
 #include "cwe/engagement/engagement_map.hpp"
@@ -64,15 +67,33 @@ class DexelEngagement {
 
  private:
   using Band = EngagementGrid::Band;
-  // Engaged φ intervals of one band.
+  // What decides a side disc's intervals besides its rays' stretches, for a disc of an upright
+  // tool's cylindrical part whose rays lie within the flutes (band null for any other band).
+  struct Reuse {
+    const Band* band = nullptr;
+    EngagementGrid::Front front;
+    int level = 0;  // the height index of the X and Y rays its cells read
+    // Whether this disc's intervals are those of disc `was` (both with a band) in `step`.
+    bool same(const Reuse& was, const RemovalRecord& step) const;
+  };
+  Reuse reuse_of(const TriDexel& stock, const ToolState& state, const Band& band,
+                 const EngagementGrid::Front& front) const;
+  // The last disc of a location scanned that another may reuse, with its intervals.
+  struct Scanned {
+    Reuse reuse;
+    std::vector<Interval> found;
+  };
+  // Engaged φ intervals of one band; `last` is the previous disc of the location that could be
+  // reused, kept up to date.
   std::vector<Interval> scan(const TriDexel& stock, const RemovalRecord& step,
                              const ToolState& state, const Band& band, const Vec3& v_tcs,
-                             const Vec3& w_tcs) const;
+                             const Vec3& w_tcs, Scanned& last) const;
 
   EngagementGrid grid_;
   double spacing_;
   double contact_;
   bool skip_far_cells_;
+  bool reuse_alike_discs_;
 };
 
 }  // namespace cwe

@@ -48,10 +48,35 @@ class RemovalRecord {
     const Tile& tile =
         family.tiles[static_cast<std::size_t>(tj) * static_cast<std::size_t>(family.tiles_i) +
                      static_cast<std::size_t>(ti)];
-    // The ray's row of the tile, then the ray within the row: most rays lost nothing, which the
-    // row's mask says at once; in a row where every ray lost one stretch at most, the ray's
-    // stretch is counted from the mask.
-    const auto row = static_cast<std::size_t>(j - (family.first_j + tj) * kTileRows);
+    return in_row(tile, static_cast<std::size_t>(j - (family.first_j + tj) * kTileRows), i);
+  }
+  // Whether the rays of family `axis` whose index `across` (0: i, 1: j) is `a` lost what those
+  // whose index is `b` lost: ray for ray along the other index, the same stretches (their ends
+  // compared exactly). a, b ≥ 0 (rays of the grid or beyond its far side, which lost nothing).
+  bool alike(int axis, int across, int a, int b) const;
+  // Every stretch of a family, sorted by ray (j, then i) and then by position.
+  std::vector<Stretch> family(int axis) const;
+
+ private:
+  friend class TriDexel;
+  // One tile's stretches, sorted by ray, and where each of its rows of rays (j) starts.
+  struct Tile {
+    std::vector<Stretch> stretches;
+    std::array<std::uint32_t, kTileRows + 1> rows{};
+    // Per row, a bit for each ray (i mod kTileRows) that lost something.
+    std::array<std::uint32_t, kTileRows> present{};
+    std::uint32_t single_rows = 0;  // a bit for each row whose rays lost one stretch at most
+  };
+  struct Family {
+    int first_i = 0, first_j = 0;  // the first tile's indices (tile units)
+    int tiles_i = 0, tiles_j = 0;  // tiles along i and j
+    std::vector<Tile> tiles;
+  };
+  // The stretches of ray i in row `row` of `tile`: most rays lost nothing, which the row's mask
+  // says at once; in a row where every ray lost one stretch at most, the ray's stretch is
+  // counted from the mask.
+  [[gnu::always_inline]] static std::span<const Stretch> in_row(const Tile& tile, std::size_t row,
+                                                                int i) {
     const std::uint32_t mask = tile.present[row];
     const std::uint32_t bit = std::uint32_t{1} << (i % kTileRows);
     if ((mask & bit) == 0) return {};
@@ -72,24 +97,8 @@ class RemovalRecord {
     while (last != end && last->i == i) ++last;
     return {first, last};
   }
-  // Every stretch of a family, sorted by ray (j, then i) and then by position.
-  std::vector<Stretch> family(int axis) const;
-
- private:
-  friend class TriDexel;
-  // One tile's stretches, sorted by ray, and where each of its rows of rays (j) starts.
-  struct Tile {
-    std::vector<Stretch> stretches;
-    std::array<std::uint32_t, kTileRows + 1> rows{};
-    // Per row, a bit for each ray (i mod kTileRows) that lost something.
-    std::array<std::uint32_t, kTileRows> present{};
-    std::uint32_t single_rows = 0;  // a bit for each row whose rays lost one stretch at most
-  };
-  struct Family {
-    int first_i = 0, first_j = 0;  // the first tile's indices (tile units)
-    int tiles_i = 0, tiles_j = 0;  // tiles along i and j
-    std::vector<Tile> tiles;
-  };
+  // Tile (ti, tj) of a family (tile units), or null outside its tiles.
+  static const Tile* tile_at(const Family& family, int ti, int tj);
   // The bits set in `mask`, without the call std::popcount makes on the x86-64 baseline.
   [[gnu::always_inline]] static int rays_below(std::uint32_t mask) {
     mask -= (mask >> 1) & 0x55555555u;

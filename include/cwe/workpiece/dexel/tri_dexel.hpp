@@ -166,6 +166,17 @@ class TriDexel {
     return true;
   }
 
+  // The rays of the two horizontal families (X and Y) that surface_ray reads for a point at
+  // height z: their index along Z (j of an X ray, i of a Y ray) and their height, exactly as
+  // surface_ray makes them; false where z is outside the grid.
+  bool level_at(double z, int& level, double& ray_z) const {
+    const double f = cell_floor(z - domain_.min[2], 2);
+    if (!(f >= 0.0 && f < grid_[0][1])) return false;
+    level = static_cast<int>(f);
+    ray_z = domain_.min[2] + (f + 0.5) * spacing_[2];
+    return true;
+  }
+
   // ⌊x / s⌋ along `axis`, exactly as the division gives it (a point on a cell border, as a CAM
   // program's round coordinates put it, must fall in the same cell everywhere in the code), but
   // from x · (1/s): the product is within 3 ulps of the quotient, so the two floors can differ
