@@ -13,13 +13,12 @@ namespace {
 // MoveSweep::reach_bounds), its chords (ray by ray and row by row) and, where it has one, its
 // cheap reach.
 TriDexel::Cut cut_of(const LinearSweep& piece, const Aabb& bounds) {
-  TriDexel::Cut cut{
-      bounds,
-      [&piece](const Ray& ray) { return piece.chord(ray); },
-      {},
-      [&piece](const Ray& ray, int across, std::span<const double> at, std::span<Interval> chords) {
-        piece.chords(ray, across, at, chords);
-      }};
+  TriDexel::Cut cut{bounds,
+                    [&piece](const Ray& ray) { return piece.chord(ray); },
+                    {},
+                    [&piece](const Ray& ray, int across, std::span<const double> at,
+                             std::span<Interval> chords) { piece.chords(ray, across, at, chords); },
+                    [&piece](const Ray& ray, int across) { return piece.row_key(ray, across); }};
   if (piece.has_reach()) cut.reach = [&piece](const Ray& ray) { return piece.reach(ray); };
   return cut;
 }

@@ -467,10 +467,28 @@ void LinearSweep::chords(Ray ray, int across, std::span<const double> at,
     double r = 0.0;
     const bool level_row = across != 2;
     const bool reached = level_row && radius(o.z(), r);
+    if (level_row) {
+      for (std::size_t k = 0; k < at.size(); ++k) {
+        o[across] = at[k];
+        chords[k] = reached ? level_axis_chord(o, along, d[along], r) : Interval::empty();
+      }
+      return;
+    }
+    // A row up the tool (rays at one plan position): the chord depends on the height only
+    // through the radius there, so rays of the same radius (a cylindrical part) share it.
+    double last_r = -1.0;
+    Interval last = Interval::empty();
     for (std::size_t k = 0; k < at.size(); ++k) {
       o[across] = at[k];
-      chords[k] = (level_row ? reached : radius(o.z(), r)) ? level_axis_chord(o, along, d[along], r)
-                                                           : Interval::empty();
+      if (!radius(o.z(), r)) {
+        chords[k] = Interval::empty();
+        continue;
+      }
+      if (r != last_r) {
+        last = level_axis_chord(o, along, d[along], r);
+        last_r = r;
+      }
+      chords[k] = last;
     }
     return;
   }
@@ -490,6 +508,19 @@ void LinearSweep::chords(Ray ray, int across, std::span<const double> at,
         d};
     chords[k] = chord(each);
   }
+}
+
+double LinearSweep::row_key(const Ray& ray, int across) const {
+  const Vec3& d = ray.direction;
+  const int along = d.y() == 0.0 ? 0 : 1;
+  if (mode_ != Mode::kLevel || across == 2 || d.z() != 0.0 || d.squaredNorm() != 1.0 ||
+      d[1 - along] != 0.0) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  // As chords() finds the row's radius.
+  const Profile& profile = cutter_->profile();
+  const double h = ray.origin.z() - start_.z();
+  return h >= 0.0 && h <= profile.height() ? profile.radius_at(h) : -1.0;
 }
 
 double LinearSweep::plan_gap(const Vec3& p) const {

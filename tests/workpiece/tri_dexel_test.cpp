@@ -351,6 +351,35 @@ TEST(TriDexel, RecordRowsAreAlikeWhereEveryRayLostTheSame) {
   EXPECT_GT(unlike, 1000);
 }
 
+// A cut's rows of one key (Cut::row_key: a level sweep's rows of X rays at heights of one tool
+// radius) share their chords only where they hold the same rays: a slab leaning at 45° across
+// the X rays emptied a run of rays that moves over by one ray from row to row, so the rows up
+// the flat end mill's side each hold as many rays but not the same. Every ray ends as cutting it
+// by the sweep's own chord leaves it.
+TEST(TriDexel, RowsOfOneKeyShareChordsOnlyOverTheSameRays) {
+  const Cutter flat = cutter_from_spec("flat:6,12");
+  TriDexel rows = TriDexel::from_box(Aabb{{0, 0, 0}, {30, 20, 8}}, 0.25);
+  const std::vector<Slab> leaning{{Vec3(0, 1, -1), 4.1, 5.1}, {Vec3::UnitZ(), 2.0, 7.0}};
+  rows.remove(rows.domain(), [&leaning](const Ray& ray) { return slab_chord(ray, leaning); });
+  TriDexel each = rows;
+  const LinearSweep step(flat, {8, 8, 2.5}, {20, 8, 2.5}, Vec3::UnitZ());
+  TriDexel::Cut cut{step.bounds(), [&step](const Ray& ray) { return step.chord(ray); }, {}, {}};
+  cut.rows = [&step](const Ray& ray, int across, std::span<const double> at,
+                     std::span<Interval> chords) { step.chords(ray, across, at, chords); };
+  cut.row_key = [&step](const Ray& ray, int across) { return step.row_key(ray, across); };
+  const double volume = rows.remove({cut}).front().volume;
+  each.remove(step.bounds(), [&step](const Ray& ray) { return step.chord(ray); });
+  EXPECT_GT(volume, 100.0);
+  for (int a = 0; a < 3; ++a) {
+    for (int j = 0; j < rows.grid(a)[1]; ++j) {
+      for (int i = 0; i < rows.grid(a)[0]; ++i) {
+        ASSERT_EQ(rows.at(a, i, j).intervals(), each.at(a, i, j).intervals())
+            << "family " << a << " ray " << i << ", " << j;
+      }
+    }
+  }
+}
+
 // Removal skips a tile row of rays whose material it found clear of an earlier cut's box when
 // the next box lies in that clear stretch. A pocket cleared in 0.5 mm steps, each removed on its
 // own with its record (as the engagement's removal does), at two levels joined by plunges, ends

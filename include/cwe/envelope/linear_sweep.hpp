@@ -54,6 +54,11 @@ class LinearSweep {
   // chords[k] = chord(ray with origin[across] = at[k]), the same numbers, with what the rays share
   // (the case, and for a row of horizontal rays at one height the tool's radius) found once.
   void chords(Ray ray, int across, std::span<const double> at, std::span<Interval> chords) const;
+  // What chords() of such a row depends on besides `at`, where that is one number: for a row of
+  // level rays along world X or Y at one height, the tool's radius there (-1 where the tool does
+  // not reach that height). Rows of one key have the same chords at the same `at`. NaN for any
+  // other row.
+  double row_key(const Ray& ray, int across) const;
   // The same chord by the general construction only (no closed-form shortcut).
   Interval generic_chord(const Ray& ray) const;
 

@@ -303,6 +303,11 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
             sum.heap += static_cast<std::ptrdiff_t>(material.heap_bytes()) - before;
           };
           const Cut& cut = cuts[k];
+          // The last row's chords, with its key and rays: a row of the same key and rays has them.
+          std::array<Interval, kTile> chords;
+          std::array<int, kTile> chords_i;
+          std::size_t chords_n = 0;
+          double chords_key = std::numeric_limits<double>::quiet_NaN();
           for (int j = j0; j <= j1; ++j) {
             DexelRay* row = &family[index(a, 0, j)];
             // The row's rays as ray(a, i, j) makes them, without the index checks.
@@ -357,8 +362,16 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
               continue;
             }
             if (n == 0) continue;
-            std::array<Interval, kTile> chords;
-            cut.rows(row_ray, b, {at.data(), n}, {chords.data(), n});
+            const double key =
+                cut.row_key ? cut.row_key(row_ray, b) : std::numeric_limits<double>::quiet_NaN();
+            if (!(key == chords_key && n == chords_n &&
+                  std::equal(at_i.begin(), at_i.begin() + static_cast<std::ptrdiff_t>(n),
+                             chords_i.begin()))) {
+              cut.rows(row_ray, b, {at.data(), n}, {chords.data(), n});
+              chords_key = key;
+              chords_n = n;
+              chords_i = at_i;
+            }
             for (std::size_t m = 0; m < n; ++m) take(row[at_i[m]], at_i[m], j, chords[m]);
           }
           if (sum.changed > 0) tallies[t].emplace_back(k, sum);

@@ -108,6 +108,10 @@ class TriDexel {
     std::function<void(const Ray& ray, int across, std::span<const double> at,
                        std::span<Interval> chords)>
         rows;
+    // Optional, with `rows`: what a row's chords depend on besides `at`, where that is one
+    // number (NaN otherwise): rows of one family with the same key and the same `at` get the
+    // chords of the first, without a call.
+    std::function<double(const Ray& ray, int across)> row_key = {};
   };
   std::vector<Removal> remove(const std::vector<Cut>& cuts, RemovalRecord* record = nullptr);
   // The same with a record per cut: records[k] (null for none) receives what cut k took, and
