@@ -116,10 +116,8 @@ DexelEngagement::Reuse DexelEngagement::reuse_of(const TriDexel& stock, const To
 
 bool DexelEngagement::Reuse::same(const Reuse& was, const RemovalRecord& step) const {
   return band->rho == was.band->rho && band->normal == was.band->normal &&
-         band->departure == was.band->departure && front.f.a == was.front.f.a &&
-         front.f.b == was.front.f.b && front.f.c == was.front.f.c &&
-         front.f_min == was.front.f_min && step.alike(0, 1, was.level, level) &&
-         step.alike(1, 0, was.level, level);
+         band->departure == was.band->departure && front == was.front &&
+         step.alike(0, 1, was.level, level) && step.alike(1, 0, was.level, level);
 }
 
 EngagementMap DexelEngagement::at(const TriDexel& stock, const RemovalRecord& step,

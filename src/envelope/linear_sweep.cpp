@@ -453,20 +453,13 @@ void LinearSweep::chords(Ray ray, int across, std::span<const double> at,
   CWE_ASSERT(at.size() == chords.size(), "one chord per ray");
   const Vec3& d = ray.direction;
   Vec3& o = ray.origin;
-  const int along = d.y() == 0.0 ? 0 : 1;
-  if (mode_ == Mode::kLevel && d.z() == 0.0 && d.squaredNorm() == 1.0 && d[1 - along] == 0.0) {
+  int along = 0;
+  if (level_axis_rays(d, along)) {
     // Level rays along world X or Y: level_chord's steps without its tests, and where the rays
     // share their height (a row across them in plan), one radius for the row.
-    const Profile& profile = cutter_->profile();
-    const auto radius = [&](double z, double& r) {
-      const double h = z - start_.z();
-      if (!(h >= 0.0 && h <= profile.height())) return false;
-      r = profile.radius_at(h);
-      return true;
-    };
     double r = 0.0;
     const bool level_row = across != 2;
-    const bool reached = level_row && radius(o.z(), r);
+    const bool reached = level_row && level_radius(o.z(), r);
     if (level_row) {
       for (std::size_t k = 0; k < at.size(); ++k) {
         o[across] = at[k];
@@ -480,7 +473,7 @@ void LinearSweep::chords(Ray ray, int across, std::span<const double> at,
     Interval last = Interval::empty();
     for (std::size_t k = 0; k < at.size(); ++k) {
       o[across] = at[k];
-      if (!radius(o.z(), r)) {
+      if (!level_radius(o.z(), r)) {
         chords[k] = Interval::empty();
         continue;
       }
@@ -510,17 +503,26 @@ void LinearSweep::chords(Ray ray, int across, std::span<const double> at,
   }
 }
 
+bool LinearSweep::level_axis_rays(const Vec3& d, int& along) const {
+  along = d.y() == 0.0 ? 0 : 1;
+  return mode_ == Mode::kLevel && d.z() == 0.0 && d.squaredNorm() == 1.0 && d[1 - along] == 0.0;
+}
+
+bool LinearSweep::level_radius(double z, double& r) const {
+  const Profile& profile = cutter_->profile();
+  const double h = z - start_.z();
+  if (!(h >= 0.0 && h <= profile.height())) return false;
+  r = profile.radius_at(h);
+  return true;
+}
+
 double LinearSweep::row_key(const Ray& ray, int across) const {
-  const Vec3& d = ray.direction;
-  const int along = d.y() == 0.0 ? 0 : 1;
-  if (mode_ != Mode::kLevel || across == 2 || d.z() != 0.0 || d.squaredNorm() != 1.0 ||
-      d[1 - along] != 0.0) {
+  int along = 0;
+  double r = 0.0;
+  if (across == 2 || !level_axis_rays(ray.direction, along)) {
     return std::numeric_limits<double>::quiet_NaN();
   }
-  // As chords() finds the row's radius.
-  const Profile& profile = cutter_->profile();
-  const double h = ray.origin.z() - start_.z();
-  return h >= 0.0 && h <= profile.height() ? profile.radius_at(h) : -1.0;
+  return level_radius(ray.origin.z(), r) ? r : -1.0;
 }
 
 double LinearSweep::plan_gap(const Vec3& p) const {

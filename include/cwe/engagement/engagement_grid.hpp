@@ -66,6 +66,7 @@ class EngagementGrid {
     double f_min = 0.0;
     bool moves = false;
     bool operator()(double s, double c) const { return f.a * s + f.b * c + f.c > f_min; }
+    friend bool operator==(const Front&, const Front&) = default;
   };
   // The front of `band` for tip velocity `v_tcs` and angular velocity `w_tcs` (tool frame).
   static Front front(const Band& band, const Vec3& v_tcs, const Vec3& w_tcs);

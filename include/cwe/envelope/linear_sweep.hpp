@@ -81,6 +81,12 @@ class LinearSweep {
   enum class Mode { kGeneric, kLevel, kAxial };
   static constexpr int kArcSamples = 24;
 
+  // Rays of direction d along world X or Y on a level move, which chords() finds in closed form
+  // (`along`: 0 for X, 1 for Y); and the tool's radius at height z above its tip there, where
+  // the tool reaches that height.
+  bool level_axis_rays(const Vec3& d, int& along) const;
+  bool level_radius(double z, double& r) const;
+
   // A swept grazing generator of a line piece: the segment a–b of the tool at the start (TCS).
   struct Generator {
     Vec3 a, b;

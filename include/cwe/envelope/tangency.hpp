@@ -27,6 +27,7 @@ struct TangencyCoefficients {
   double b = 0.0;
   double c = 0.0;
   double operator()(double phi) const { return a * std::sin(phi) + b * std::cos(phi) + c; }
+  friend bool operator==(const TangencyCoefficients&, const TangencyCoefficients&) = default;
 };
 
 // Coefficients at profile point `rho_z` with outward unit profile normal `normal`, for TCS

@@ -43,22 +43,18 @@ void RemovalRecord::release() {
 
 static_assert(RemovalRecord::kTileRows == TriDexel::kTile, "a record's tiles are the removal's");
 
-const RemovalRecord::Tile* RemovalRecord::tile_at(const Family& family, int ti, int tj) {
-  const int li = ti - family.first_i, lj = tj - family.first_j;
-  if (li < 0 || lj < 0 || li >= family.tiles_i || lj >= family.tiles_j) return nullptr;
-  return &family.tiles[static_cast<std::size_t>(lj) * static_cast<std::size_t>(family.tiles_i) +
-                       static_cast<std::size_t>(li)];
-}
-
 bool RemovalRecord::alike(int axis, int across, int a, int b) const {
   CWE_ASSERT(a >= 0 && b >= 0, "alike compares rays of the grid");
   if (a == b) return true;
   const Family& family = families_[static_cast<std::size_t>(axis)];
-  const auto same = [](std::span<const Stretch> x, std::span<const Stretch> y) {
-    return std::equal(x.begin(), x.end(), y.begin(), y.end(),
-                      [](const Stretch& p, const Stretch& q) {
-                        return p.i == q.i && p.lo == q.lo && p.hi == q.hi;
-                      });
+  const auto same_ends = [](const Stretch& p, const Stretch& q) {
+    return p.lo == q.lo && p.hi == q.hi;
+  };
+  // Two rows' stretches, ray by ray (the rays' i, then the ends).
+  const auto same = [&same_ends](std::span<const Stretch> x, std::span<const Stretch> y) {
+    return std::equal(
+        x.begin(), x.end(), y.begin(), y.end(),
+        [&](const Stretch& p, const Stretch& q) { return p.i == q.i && same_ends(p, q); });
   };
   const auto row_of = [](const Tile* tile, int row) -> std::span<const Stretch> {
     if (tile == nullptr) return {};
@@ -87,11 +83,7 @@ bool RemovalRecord::alike(int axis, int across, int a, int b) const {
       if (in_a != in_b) return false;
       if (!in_a) continue;
       const std::span<const Stretch> x = in_row(*p, row, a), y = in_row(*q, row, b);
-      if (!std::equal(
-              x.begin(), x.end(), y.begin(), y.end(),
-              [](const Stretch& s, const Stretch& t) { return s.lo == t.lo && s.hi == t.hi; })) {
-        return false;
-      }
+      if (!std::equal(x.begin(), x.end(), y.begin(), y.end(), same_ends)) return false;
     }
   }
   return true;

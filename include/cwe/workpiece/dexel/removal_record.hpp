@@ -40,15 +40,11 @@ class RemovalRecord {
   // The stretches removed from ray (i, j) of family `axis` (0 x, 1 y, 2 z), ascending. Inline:
   // engagement asks it for every cell of the cutter surface that moves into material.
   [[gnu::always_inline]] std::span<const Stretch> on_ray(int axis, int i, int j) const {
-    const Family& family = families_[static_cast<std::size_t>(axis)];
-    const int ti = i / kTileRows - family.first_i, tj = j / kTileRows - family.first_j;
-    if (i < 0 || j < 0 || ti < 0 || tj < 0 || ti >= family.tiles_i || tj >= family.tiles_j) {
-      return {};
-    }
-    const Tile& tile =
-        family.tiles[static_cast<std::size_t>(tj) * static_cast<std::size_t>(family.tiles_i) +
-                     static_cast<std::size_t>(ti)];
-    return in_row(tile, static_cast<std::size_t>(j - (family.first_j + tj) * kTileRows), i);
+    if (i < 0 || j < 0) return {};
+    const Tile* tile =
+        tile_at(families_[static_cast<std::size_t>(axis)], i / kTileRows, j / kTileRows);
+    if (tile == nullptr) return {};
+    return in_row(*tile, static_cast<std::size_t>(j % kTileRows), i);
   }
   // Whether the rays of family `axis` whose index `across` (0: i, 1: j) is `a` lost what those
   // whose index is `b` lost: ray for ray along the other index, the same stretches (their ends
@@ -98,7 +94,12 @@ class RemovalRecord {
     return {first, last};
   }
   // Tile (ti, tj) of a family (tile units), or null outside its tiles.
-  static const Tile* tile_at(const Family& family, int ti, int tj);
+  [[gnu::always_inline]] static const Tile* tile_at(const Family& family, int ti, int tj) {
+    const int li = ti - family.first_i, lj = tj - family.first_j;
+    if (li < 0 || lj < 0 || li >= family.tiles_i || lj >= family.tiles_j) return nullptr;
+    return &family.tiles[static_cast<std::size_t>(lj) * static_cast<std::size_t>(family.tiles_i) +
+                         static_cast<std::size_t>(li)];
+  }
   // The bits set in `mask`, without the call std::popcount makes on the x86-64 baseline.
   [[gnu::always_inline]] static int rays_below(std::uint32_t mask) {
     mask -= (mask >> 1) & 0x55555555u;
