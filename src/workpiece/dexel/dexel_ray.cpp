@@ -207,58 +207,14 @@ void DexelRay::store(const float* pairs, int n) {
   std::memcpy(&slot_[2], &heap, sizeof heap);
 }
 
-double DexelRay::subtract(double lo, double hi, std::vector<Interval>* removed_stretches) {
-  // Removing a point (or nothing) leaves the material's measure as it is.
-  if (!(lo < hi)) return 0.0;
+double DexelRay::subtract(double lo, double hi, std::vector<Interval>* removed) {
+  if (removed == nullptr) return subtract(lo, hi, [](float, float) {});
+  return subtract(lo, hi, [removed](float a, float b) { removed->push_back({a, b}); });
+}
+
+double DexelRay::heap_subtract(double lo, double hi, void (*emit)(void*, float, float),
+                               void* context) {
   const auto cut_lo = static_cast<float>(lo), cut_hi = static_cast<float>(hi);
-  // What is left of an interval is open at the cut; it is stored closed, as material is measured
-  // by length, and dropped when it rounds to nothing in float.
-  double removed = 0.0;
-  bool changed = false;
-  int kept_count = 0;
-  // Cuts one stored pair (a, b), appending what is left of it to `kept`.
-  const auto cut = [&](float a, float b, float* kept) __attribute__((always_inline)) {
-    if (hi <= a || lo >= b) {  // untouched (at most a common end point)
-      kept[2 * kept_count] = a;
-      kept[2 * kept_count + 1] = b;
-      ++kept_count;
-      return;
-    }
-    changed = true;
-    const float taken_lo = std::max(a, cut_lo), taken_hi = std::min(b, cut_hi);
-    removed += static_cast<double>(taken_hi) - static_cast<double>(taken_lo);
-    if (removed_stretches != nullptr && taken_lo < taken_hi) {
-      removed_stretches->push_back({taken_lo, taken_hi});
-    }
-    if (a < cut_lo) {
-      kept[2 * kept_count] = a;
-      kept[2 * kept_count + 1] = cut_lo;
-      ++kept_count;
-    }
-    if (cut_hi < b) {
-      kept[2 * kept_count] = cut_hi;
-      kept[2 * kept_count + 1] = b;
-      ++kept_count;
-    }
-  };
-  // A cut that changed the ray by less than float rounding still counts as a change.
-  const auto change = [&] { return std::max(removed, std::numeric_limits<double>::min()); };
-  if (!on_heap()) {
-    // Inline (nearly every ray): both slots in place, the empty one (+inf, -inf) skipped; the
-    // result goes back into the slots unless the cut split the material into three.
-    float kept[6];
-    for (int k = 0; k < 2; ++k) {
-      if (slot_[2 * k] <= slot_[2 * k + 1]) cut(slot_[2 * k], slot_[2 * k + 1], kept);
-    }
-    if (!changed) return 0.0;
-    if (kept_count > 2) {
-      store(kept, kept_count);
-    } else {
-      clear();
-      for (int k = 0; k < 2 * kept_count; ++k) slot_[k] = kept[k];
-    }
-    return change();
-  }
   const Interval span = extent();
   if (span.is_empty() || hi <= span.lo || lo >= span.hi) return 0.0;
   const int n = count();
@@ -270,11 +226,32 @@ double DexelRay::subtract(double lo, double hi, std::vector<Interval>* removed_s
     spill.resize(2 * static_cast<std::size_t>(n) + 2);
     kept = spill.data();
   }
+  // As the inline path of subtract(): what is left of a pair is kept, what is cut is handed on.
+  double removed = 0.0;
+  bool changed = false;
+  int kept_count = 0;
+  const auto keep = [&](float a, float b) {
+    kept[2 * kept_count] = a;
+    kept[2 * kept_count + 1] = b;
+    ++kept_count;
+  };
   const float* pairs = data();
-  for (int k = 0; k < n; ++k) cut(pairs[2 * k], pairs[2 * k + 1], kept);
+  for (int k = 0; k < n; ++k) {
+    const float a = pairs[2 * k], b = pairs[2 * k + 1];
+    if (hi <= a || lo >= b) {
+      keep(a, b);
+      continue;
+    }
+    changed = true;
+    const float taken_lo = std::max(a, cut_lo), taken_hi = std::min(b, cut_hi);
+    removed += static_cast<double>(taken_hi) - static_cast<double>(taken_lo);
+    if (taken_lo < taken_hi) emit(context, taken_lo, taken_hi);
+    if (a < cut_lo) keep(a, cut_lo);
+    if (cut_hi < b) keep(cut_hi, b);
+  }
   if (!changed) return 0.0;
   store(kept, kept_count);
-  return change();
+  return std::max(removed, std::numeric_limits<double>::min());
 }
 
 }  // namespace cwe

@@ -268,7 +268,6 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
     auto& free_spans = free_[static_cast<std::size_t>(a)];
     const int row_rays = grid_[static_cast<std::size_t>(a)][0];
     const auto apply = [&](const tbb::blocked_range<std::size_t>& range) {
-      std::vector<Interval> stretches;
       for (std::size_t t = range.begin(); t < range.end(); ++t) {
         const int ti = ti0 + static_cast<int>(t % static_cast<std::size_t>(nti));
         const int tj = tj0 + static_cast<int>(t / static_cast<std::size_t>(nti));
@@ -286,17 +285,11 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
           const auto take = [&](DexelRay& material, int i, int j, const Interval& chord) {
             if (chord.is_empty()) return;
             const auto before = static_cast<std::ptrdiff_t>(material.heap_bytes());
-            double removed = 0.0;
-            if (taken == nullptr) {
-              removed = material.subtract(chord.lo, chord.hi);
-            } else {
-              stretches.clear();
-              removed = material.subtract(chord.lo, chord.hi, &stretches);
-              for (const Interval& s : stretches) {
-                taken->stretches.push_back(
-                    {i, j, static_cast<float>(s.lo), static_cast<float>(s.hi)});
-              }
-            }
+            const double removed =
+                taken == nullptr ? material.subtract(chord.lo, chord.hi)
+                                 : material.subtract(chord.lo, chord.hi, [&](float lo, float hi) {
+                                     taken->stretches.push_back({i, j, lo, hi});
+                                   });
             if (removed == 0.0) return;
             ++sum.changed;
             sum.length += removed;

@@ -8,8 +8,11 @@
 // pattern that is never read as a float.
 
 #include <algorithm>
+#include <concepts>
 #include <cstdint>
 #include <cstring>
+#include <limits>
+#include <type_traits>
 #include <vector>
 
 #include "cwe/geometry/interval.hpp"
@@ -48,7 +51,14 @@ class alignas(8) DexelRay {
   // or above hi (the ray has no material strictly between them). Removal keeps these bounds for
   // rows of rays to skip them whole (TriDexel::remove).
   bool overlaps_or_bound(double lo, double hi, float& below, float& above) const {
-    if (on_heap()) return heap_overlaps_or_bound(lo, hi, below, above);
+    if (on_heap()) {
+      // Through copies: the caller's bounds stay in registers, their address never escaping.
+      float low = below, high = above;
+      const bool hit = heap_overlaps_or_bound(lo, hi, low, high);
+      below = low;
+      above = high;
+      return hit;
+    }
     if ((slot_[0] < hi && slot_[1] > lo) || (slot_[2] < hi && slot_[3] > lo)) return true;
     // Each slot now lies wholly at or below lo, or at or above hi; the empty one is (+∞, −∞),
     // below everything.
@@ -68,6 +78,11 @@ class alignas(8) DexelRay {
   // `removed` is given, the stretches of material taken (float ends, ascending, each of positive
   // length) are appended to it.
   double subtract(double lo, double hi, std::vector<Interval>* removed = nullptr);
+  // subtract(lo, hi) handing each stretch taken to `taken(lo, hi)` (float ends, ascending, each
+  // of positive length) as it is cut: inline, for removal's records (TriDexel::remove).
+  template <class Taken>
+  requires std::invocable<Taken&, float, float>
+  double subtract(double lo, double hi, Taken&& taken);
   // Replaces the contents with sorted intervals; those that touch or overlap once rounded to
   // float are merged, and those that round to a point are dropped.
   void assign(const std::vector<Interval>& intervals);
@@ -87,6 +102,8 @@ class alignas(8) DexelRay {
     return b == kHeapTag;
   }
   bool heap_overlaps(double lo, double hi) const;
+  // subtract() of a ray on the heap, handing each stretch taken to emit(context, lo, hi).
+  double heap_subtract(double lo, double hi, void (*emit)(void*, float, float), void* context);
   bool heap_overlaps_or_bound(double lo, double hi, float& below, float& above) const;
   const float* data() const;
   float* heap();  // the heap array (on_heap() only)
@@ -97,5 +114,60 @@ class alignas(8) DexelRay {
 };
 
 static_assert(sizeof(DexelRay) == 16, "a dexel ray is 16 bytes");
+
+template <class Taken>
+requires std::invocable<Taken&, float, float>
+double DexelRay::subtract(double lo, double hi, Taken&& taken) {
+  // Removing a point (or nothing) leaves the material's measure as it is.
+  if (!(lo < hi)) return 0.0;
+  const auto cut_lo = static_cast<float>(lo), cut_hi = static_cast<float>(hi);
+  if (on_heap()) {
+    return heap_subtract(
+        lo, hi,
+        [](void* context, float a, float b) {
+          (*static_cast<std::remove_reference_t<Taken>*>(context))(a, b);
+        },
+        static_cast<void*>(&taken));
+  }
+  // Inline (nearly every ray): both slots in place, the empty one (+inf, -inf) skipped. What is
+  // left of an interval is open at the cut; it is stored closed, as material is measured by
+  // length, and dropped when it rounds to nothing in float. The result goes back into the slots
+  // unless the cut split the material into three.
+  double removed = 0.0;
+  bool changed = false;
+  float kept[6];
+  int kept_count = 0;
+  const auto keep = [&](float a, float b) {
+    kept[2 * kept_count] = a;
+    kept[2 * kept_count + 1] = b;
+    ++kept_count;
+  };
+  for (int k = 0; k < 4; k += 2) {
+    const float a = slot_[k], b = slot_[k + 1];
+    if (!(a <= b)) continue;   // the empty slot
+    if (hi <= a || lo >= b) {  // untouched (at most a common end point)
+      keep(a, b);
+      continue;
+    }
+    changed = true;
+    const float taken_lo = std::max(a, cut_lo), taken_hi = std::min(b, cut_hi);
+    removed += static_cast<double>(taken_hi) - static_cast<double>(taken_lo);
+    if (taken_lo < taken_hi) taken(taken_lo, taken_hi);
+    if (a < cut_lo) keep(a, cut_lo);
+    if (cut_hi < b) keep(cut_hi, b);
+  }
+  if (!changed) return 0.0;
+  if (kept_count > 2) {
+    store(kept, kept_count);
+  } else {
+    for (int k = 0; k < 2 * kept_count; ++k) slot_[k] = kept[k];
+    for (int k = 2 * kept_count; k < 4; k += 2) {
+      slot_[k] = std::numeric_limits<float>::infinity();
+      slot_[k + 1] = -std::numeric_limits<float>::infinity();
+    }
+  }
+  // A cut that changed the ray by less than float rounding still counts as a change.
+  return std::max(removed, std::numeric_limits<double>::min());
+}
 
 }  // namespace cwe
