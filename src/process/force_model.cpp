@@ -150,16 +150,25 @@ class Revolution {
   // Adds the closed-form sums of the whole steps to the revolution; call once, after every add.
   void finish() {
     if (changes_.empty()) return;  // no whole step cut
+    // The changes by step; a step's in the order they were made.
+    std::stable_sort(changes_.begin(), changes_.end(),
+                     [](const Change& a, const Change& b) { return a.step < b.step; });
+    auto next = changes_.begin();
     Harmonics sum{};
     int active = 0;
     for (int k = 0; k < n_; ++k) {
-      const Change& change = changes_[static_cast<std::size_t>(k)];
-      active += change.runs;
+      if (next != changes_.end() && next->step == k) {
+        Harmonics delta{};  // the step's changes summed first, then added
+        for (; next != changes_.end() && next->step == k; ++next) {
+          for (int m = 0; m < kCoefficients; ++m) delta[m] += next->delta[m];
+          active += next->runs;
+        }
+        for (int m = 0; m < kCoefficients; ++m) sum[m] += delta[m];
+      }
       if (active == 0) {  // nothing cuts here: exactly zero, not the rounding of the sums
         sum = Harmonics{};
         continue;
       }
-      for (int m = 0; m < kCoefficients; ++m) sum[m] += change.delta[m];
       const int twice = 2 * k >= n_ ? 2 * k - n_ : 2 * k;
       const double basis[5] = {
           1.0, cos_[static_cast<std::size_t>(k)], sin_[static_cast<std::size_t>(k)],
@@ -183,9 +192,12 @@ class Revolution {
   // sin 2θ.
   static constexpr int kCoefficients = 20;
   using Harmonics = std::array<double, kCoefficients>;
+  // A run of whole steps starts (runs = 1, its harmonics) or ends at the step before (runs = −1,
+  // their negatives) at `step`.
   struct Change {
+    int step = 0;
     Harmonics delta{};
-    int runs = 0;  // runs starting here less runs that ended at the step before
+    int runs = 0;
   };
   struct Rotation {
     double offset, sin, cos;  // φ = θ + offset
@@ -266,7 +278,6 @@ class Revolution {
   // difference array.
   void add_run(const Element& e, const Rotation& at, long lo, long hi) {
     cutting_ = true;
-    if (changes_.empty()) changes_.resize(static_cast<std::size_t>(n_) + 1);
     // Each output is P + Q·a with a = f_x sin φ + f_y cos φ (see `accumulate`).
     const double fx = feed_.x(), fy = feed_.y(), b = feed_.z(), feed = c_;
     const double kt = k_.ktc * feed, kr = k_.krc * feed, ka = k_.kac * feed;
@@ -309,14 +320,11 @@ class Revolution {
   }
 
   void mark(const Harmonics& run, int first, int last) {
-    Change& start = changes_[static_cast<std::size_t>(first)];
-    Change& end = changes_[static_cast<std::size_t>(last) + 1];
-    for (int m = 0; m < kCoefficients; ++m) {
-      start.delta[m] += run[m];
-      end.delta[m] -= run[m];
-    }
-    ++start.runs;
-    --end.runs;
+    if (changes_.capacity() == 0) changes_.reserve(64);  // two per run
+    changes_.push_back({first, run, 1});
+    if (last + 1 == n_) return;  // past the revolution's last step
+    Change& end = changes_.emplace_back(Change{last + 1, {}, -1});
+    for (int m = 0; m < kCoefficients; ++m) end.delta[m] = -run[m];
   }
 
   // The largest A(φ) = f_x sin φ + f_y cos φ for φ in the interval: at an end or where the
@@ -409,7 +417,7 @@ class Revolution {
   double step_;
   std::vector<Vec3> f_;
   std::vector<double> torque_;
-  std::vector<Change> changes_;  // n + 1, made by the first run of whole steps
+  std::vector<Change> changes_;  // a difference array over the steps, sparse
   double max_chip_ = 0.0;
   bool cutting_ = false;
 };
