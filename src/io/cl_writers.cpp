@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <system_error>
 #include <utility>
 
@@ -97,29 +98,30 @@ std::string forces_csv_row(std::size_t k, const ClPoint& cl, std::size_t operati
 std::string engagement_jsonl_line(std::size_t k, const ClPoint& cl, const EngagementMap& map,
                                   const ReportUnit& unit) {
   const int e = unit.extra_decimals;
-  const auto intervals = [](const std::vector<Interval>& phi) {
-    std::string out = "[";
-    for (std::size_t i = 0; i < phi.size(); ++i) {
-      out += fmt::format("{}[{:.3f},{:.3f}]", i ? "," : "", degrees(phi[i].lo), degrees(phi[i].hi));
-    }
-    return out + "]";
-  };
-  // The engaged bands of one kind (discs z0–z1, rings r0–r1) as a JSON array's items.
+  std::string line;
+  auto out = std::back_inserter(line);
+  // The engaged bands of one kind (discs z0–z1, rings r0–r1) as a JSON array's items, each with
+  // its intervals in degrees.
   const auto bands = [&](const auto& list, const char* lo, const char* hi, auto from, auto to) {
-    std::string out;
+    bool first = true;
     for (const auto& band : list) {
       if (band.phi.empty()) continue;
-      out += fmt::format(R"({}{{"{}":{:.{}f},"{}":{:.{}f},"intervals":{}}})",
-                         out.empty() ? "" : ",", lo, unit.length(band.*from), 4 + e, hi,
-                         unit.length(band.*to), 4 + e, intervals(band.phi));
+      fmt::format_to(out, R"({}{{"{}":{:.{}f},"{}":{:.{}f},"intervals":[)", first ? "" : ",", lo,
+                     unit.length(band.*from), 4 + e, hi, unit.length(band.*to), 4 + e);
+      first = false;
+      for (std::size_t i = 0; i < band.phi.size(); ++i) {
+        fmt::format_to(out, "{}[{:.3f},{:.3f}]", i ? "," : "", degrees(band.phi[i].lo),
+                       degrees(band.phi[i].hi));
+      }
+      line += "]}";
     }
-    return out;
   };
-  std::string line = fmt::format(R"({{"cl":{},"move":{},"discs":[)", k, cl.move + 1);
-  line += bands(map.discs, "z0", "z1", &DiscEngagement::z0, &DiscEngagement::z1);
+  fmt::format_to(out, R"({{"cl":{},"move":{},"discs":[)", k, cl.move + 1);
+  bands(map.discs, "z0", "z1", &DiscEngagement::z0, &DiscEngagement::z1);
   line += R"(],"bottom":{"rings":[)";
-  line += bands(map.rings, "r0", "r1", &RingEngagement::r0, &RingEngagement::r1);
-  return line + "]}}\n";
+  bands(map.rings, "r0", "r1", &RingEngagement::r0, &RingEngagement::r1);
+  line += "]}}\n";
+  return line;
 }
 
 const char* const kEngagementCsvHeader =
