@@ -18,7 +18,8 @@ TriDexel::Cut cut_of(const LinearSweep& piece, const Aabb& bounds) {
                     {},
                     [&piece](const Ray& ray, int across, std::span<const double> at,
                              std::span<Interval> chords) { piece.chords(ray, across, at, chords); },
-                    [&piece](const Ray& ray, int across) { return piece.row_key(ray, across); }};
+                    [&piece](const Ray& ray, int across) { return piece.row_key(ray, across); },
+                    [&piece](const Ray& ray, int across) { return piece.row_span(ray, across); }};
   if (piece.has_reach()) cut.reach = [&piece](const Ray& ray) { return piece.reach(ray); };
   return cut;
 }

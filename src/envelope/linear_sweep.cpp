@@ -503,6 +503,16 @@ void LinearSweep::chords(Ray ray, int across, std::span<const double> at,
   }
 }
 
+Interval LinearSweep::row_span(const Ray& ray, int across) const {
+  const Vec3& d = ray.direction;
+  if (mode_ != Mode::kLevel || d.x() != 0.0 || d.y() != 0.0 || d.z() == 0.0 || across == 2) {
+    return Interval::full();
+  }
+  // A vertical ray farther from the path than the tool's largest radius meets no height of it
+  // (level_vertical_chord); the allowance is chord()'s own for such rays.
+  return capsule_span(ray.origin, across, plan_radius_ * (1.0 + tol::kRelative) + tol::kLength);
+}
+
 bool LinearSweep::level_axis_rays(const Vec3& d, int& along) const {
   along = d.y() == 0.0 ? 0 : 1;
   return mode_ == Mode::kLevel && d.z() == 0.0 && d.squaredNorm() == 1.0 && d[1 - along] == 0.0;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -242,6 +243,57 @@ TEST(LinearSweep, RowChordsAreTheRaysChords) {
       }
     }
     EXPECT_GT(nonempty, 1000);
+  }
+}
+
+TEST(LinearSweep, RowSpansHoldEveryRayTheSweepMeets) {
+  // Removal visits only the rays of a row within row_span(): any ray outside it with a chord
+  // would keep material the sweep takes. Dense rows of vertical rays on level moves in every
+  // direction (and along X or Y, and of no length), rays just outside each span's ends, and
+  // other rows, which must get the whole line.
+  test::Random random(65);
+  for (const char* spec :
+       {"flat:10,20", "ball:10,20", "bull:10,2,20", "taper-flat:10,-3,20", "taper-flat:6,5,20"}) {
+    SCOPED_TRACE(spec);
+    const Cutter cutter = cutter_from_spec(spec);
+    int narrowed = 0, inside = 0;
+    for (int m = 0; m < 24; ++m) {
+      const Vec3 start = random.point_in_box(5.0);
+      Vec3 end = start + random.point_in_box(12.0);
+      end.z() = start.z();
+      if (m % 6 == 0) end[(m / 6) % 2] = start[(m / 6) % 2];  // along X or Y
+      if (m == 5) end = start;
+      const LinearSweep sweep(cutter, start, end, Vec3::UnitZ());
+      for (const int across : {0, 1}) {
+        for (const double dz : {1.0, -1.0}) {
+          Ray row{sweep.bounds().center() + random.point_in_box(8.0), Vec3(0.0, 0.0, dz)};
+          const Interval span = sweep.row_span(row, across);
+          narrowed += span == Interval::full() ? 0 : 1;
+          const auto chord_at = [&](double x) {
+            Ray ray = row;
+            ray.origin[across] = x;
+            return sweep.chord(ray);
+          };
+          for (int k = 0; k <= 400; ++k) {
+            const double x = row.origin[across] - 20.0 + 0.1 * k;
+            if (chord_at(x).is_empty()) continue;
+            ++inside;
+            ASSERT_TRUE(span.contains(x)) << "move " << m << " across " << across << " at " << x;
+          }
+          if (span.is_empty() || span == Interval::full()) continue;
+          const double inf = std::numeric_limits<double>::infinity();
+          EXPECT_TRUE(chord_at(std::nextafter(span.lo, -inf)).is_empty()) << m;
+          EXPECT_TRUE(chord_at(std::nextafter(span.hi, inf)).is_empty()) << m;
+        }
+      }
+      // Rows of level rays, and vertical rays on a move that is not level: no span.
+      const Ray level{start, Vec3::UnitX()};
+      EXPECT_EQ(sweep.row_span(level, 1), Interval::full());
+      const LinearSweep climbing(cutter, start, end + Vec3(0.0, 0.0, 1.0), Vec3::UnitZ());
+      EXPECT_EQ(climbing.row_span(Ray{start, Vec3::UnitZ()}, 0), Interval::full());
+    }
+    EXPECT_GT(narrowed, 80);
+    EXPECT_GT(inside, 5000);
   }
 }
 

@@ -312,6 +312,15 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
             // A tile row whose rays hold no material within the box is skipped unread.
             FreeSpan& free = free_spans[free_row(a, j, ti)];
             if (free.lo <= r.low && r.high <= free.hi) continue;
+            // The row's rays within the box and the cut's span across the row.
+            int from = i0, to = i1;
+            if (cut.row_span) {
+              const Interval span = cut.row_span(row_ray, b);
+              const std::array<int, 2> spanned = index_range(a, b, span.lo, span.hi);
+              from = std::max(from, spanned[0]);
+              to = std::min(to, spanned[1]);
+              if (from > to) continue;
+            }
             // While no ray has material within the box, the material's ends about it.
             bool missed = true;
             float below = -std::numeric_limits<float>::infinity();
@@ -321,7 +330,7 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
             std::array<int, kTile> at_i;
             std::array<double, kTile> at;
             std::size_t n = 0;
-            for (int i = i0; i <= i1; ++i) {
+            for (int i = from; i <= to; ++i) {
               DexelRay& material = row[i];
               if (missed ? !material.overlaps_or_bound(r.low, r.high, below, above)
                          : !material.overlaps(r.low, r.high)) {
@@ -343,11 +352,11 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
               }
             }
             if (missed) {
-              // The rest of the tile row, outside the box: if none of it has material within
-              // the box either, the row's free span is noted for the cuts to come.
+              // The rest of the tile row: if none of it has material within the box either,
+              // the row's free span is noted for the cuts to come.
               const int first = ti * kTile, last = std::min(first + kTile, row_rays) - 1;
               for (int i = first; missed && i <= last; ++i) {
-                if (i == i0) i = i1 + 1;
+                if (i == from) i = to + 1;
                 if (i > last) break;
                 missed = !row[i].overlaps_or_bound(r.low, r.high, below, above);
               }

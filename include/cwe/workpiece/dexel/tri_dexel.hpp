@@ -112,6 +112,9 @@ class TriDexel {
     // number (NaN otherwise): rows of one family with the same key and the same `at` get the
     // chords of the first, without a call.
     std::function<double(const Ray& ray, int across)> row_key = {};
+    // Optional: for a row of rays as `rows` has them, an interval of origin[across] outside
+    // which every ray's chord is empty; those rays are not visited.
+    std::function<Interval(const Ray& ray, int across)> row_span = {};
   };
   std::vector<Removal> remove(const std::vector<Cut>& cuts, RemovalRecord* record = nullptr);
   // The same with a record per cut: records[k] (null for none) receives what cut k took, and
