@@ -135,7 +135,8 @@ double DexelRay::subtract(double lo, double hi, Taken&& taken) {
   // unless the cut split the material into three.
   double removed = 0.0;
   bool changed = false;
-  float kept[6];
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  float kept[6] = {kInf, -kInf, kInf, -kInf};  // slots not kept stay empty
   int kept_count = 0;
   const auto keep = [&](float a, float b) {
     kept[2 * kept_count] = a;
@@ -160,11 +161,7 @@ double DexelRay::subtract(double lo, double hi, Taken&& taken) {
   if (kept_count > 2) {
     store(kept, kept_count);
   } else {
-    for (int k = 0; k < 2 * kept_count; ++k) slot_[k] = kept[k];
-    for (int k = 2 * kept_count; k < 4; k += 2) {
-      slot_[k] = std::numeric_limits<float>::infinity();
-      slot_[k + 1] = -std::numeric_limits<float>::infinity();
-    }
+    std::memcpy(slot_, kept, sizeof slot_);
   }
   // A cut that changed the ray by less than float rounding still counts as a change.
   return std::max(removed, std::numeric_limits<double>::min());
