@@ -374,8 +374,12 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
                      : options.mesh_stride ? *options.mesh_stride
                                            : dexel_mesh_stride(*run.stock, kStockMeshTriangles);
   TriangleMesh mesh;
+  AtomicFileWriter stl(folder / "stock.stl");
+  const std::string stock_title = fmt::format("cwe in-process stock after {}", job_paths(job));
   // The stock's contouring beside the last figures and files (they never read the stock): on
-  // one thread they were a serial fifth of a job's time after the parallel engagement.
+  // one thread they were a serial fifth of a job's time after the parallel engagement. stock.stl
+  // is written as soon as its mesh is made, so that the write-back of its tens of megabytes is
+  // under way while the rest finishes (the publication waits for it).
   tbb::parallel_invoke(
       [&] {
         if (options.stock_only) return;
@@ -392,6 +396,8 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
         mesh = run.stock  ? dexel_mesh(*run.stock, stride)
                : run.mesh ? run.mesh->mesh()
                           : tessellate(*run.brep, step_tessellation(job.simulation, false));
+        stl_binary(mesh, stock_title, [&stl](std::string_view piece) { stl.append(piece); });
+        stl.start_writeback();
       });
   const std::size_t maps_written = figures ? figures->maps_written() : 0;
   const std::size_t curves_written = figures ? figures->curves_written() : 0;
@@ -415,13 +421,9 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   // Everything is computed: commit the outputs, each whole; the summary last.
   if (files) files->commit();
   if (figures) figures->commit();
-  const std::string title =
-      fmt::format("cwe in-process stock after {}", summary["path"].get<std::string>());
-  AtomicFileWriter stl(folder / "stock.stl");
-  stl_binary(mesh, title, [&stl](std::string_view piece) { stl.append(piece); });
   stl.commit();
-  if (options.ply) write_file_atomically(folder / "stock.ply", ply_ascii(mesh, title));
-  if (options.off) write_file_atomically(folder / "stock.off", off_ascii(mesh, title));
+  if (options.ply) write_file_atomically(folder / "stock.ply", ply_ascii(mesh, stock_title));
+  if (options.off) write_file_atomically(folder / "stock.off", off_ascii(mesh, stock_title));
   if (run.brep) write_file_atomically(folder / "stock.step", step_bytes(*run.brep));
   write_file_atomically(folder / "summary.json", summary_text);
   outputs.publish();

@@ -95,6 +95,12 @@ void AtomicFileWriter::append(std::string_view text) {
   if (std::fwrite(text.data(), 1, text.size(), file_) != text.size()) fail(std::strerror(errno));
 }
 
+void AtomicFileWriter::start_writeback() {
+  if (file_ == nullptr) fail("the file was already committed");
+  if (std::fflush(file_) != 0) fail(std::strerror(errno));
+  ::sync_file_range(::fileno(file_), 0, 0, SYNC_FILE_RANGE_WRITE);
+}
+
 void AtomicFileWriter::commit() {
   if (file_ == nullptr) fail("the file was already committed");
   bool flushed = std::fflush(file_) == 0;

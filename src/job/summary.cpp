@@ -98,15 +98,20 @@ void add_rapid_cuts_and_warnings(const PreparedJob& job, const RemovalSummary& r
 
 }  // namespace
 
+std::string job_paths(const PreparedJob& job) {
+  std::vector<std::string> paths;
+  for (const PreparedOperation& op : job.operations) paths.push_back(op.path);
+  return fmt::format("{}", fmt::join(paths, ", "));
+}
+
 std::string job_summary(const PreparedJob& job, const JobResult& run, const JobSummary& extras) {
   const SimulationOptions& simulation = job.simulation;
   const RemovalSummary& removal = run.removal;
   const TriDexel::Volume& initial = run.initial_volume;
   const TriDexel::Volume& final_volume = run.final_volume;
-  std::vector<std::string> tool_names, paths;
+  std::vector<std::string> tool_names;
   for (const PreparedOperation& op : job.operations) {
     tool_names.push_back(op.cutter.name());
-    paths.push_back(op.path);
   }
   nlohmann::json summary;  // keys sorted: the order of assignment does not show
   summary["resolution_mm"] = simulation.resolution;
@@ -142,7 +147,7 @@ std::string job_summary(const PreparedJob& job, const JobResult& run, const JobS
   }
   summary["seconds"] = extras.seconds;
   summary["tool"] = fmt::format("{}", fmt::join(tool_names, ", "));
-  summary["path"] = fmt::format("{}", fmt::join(paths, ", "));
+  summary["path"] = job_paths(job);
   summary["stock"] = extras.stock;
   if (job.stock.step) {
     const StepModel& step = *job.stock.step;

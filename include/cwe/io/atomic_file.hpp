@@ -39,6 +39,9 @@ class AtomicFileWriter {
   ~AtomicFileWriter();
 
   void append(std::string_view text);
+  // Hands what was appended to the system and starts its write-back (a hint), so that a large
+  // file's durability costs less wait when commit() or sync_folder() comes.
+  void start_writeback();
   void commit();
   const std::filesystem::path& path() const { return path_; }
 

@@ -27,6 +27,9 @@ struct JobSummary {
 // Rapid moves listed by line in the summary (all are counted).
 inline constexpr std::size_t kRapidCutsListed = 10;
 
+// The job's toolpath files, comma-separated (summary.json's "path").
+std::string job_paths(const PreparedJob& job);
+
 // The summary as JSON text (two-space indents, a final newline).
 std::string job_summary(const PreparedJob& job, const JobResult& run, const JobSummary& extras);
 
