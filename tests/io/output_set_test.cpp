@@ -67,8 +67,10 @@ TEST(OutputSet, StagedFilesAreSyncedTogetherOnPublish) {
     write_file_atomically(set.staging() / "a.csv", "a");
     AtomicFileWriter map(set.staging() / "maps" / "m1.svg");
     map.append("<svg");
+    map.start_writeback();  // what follows is written too
     map.append("/>");
     map.commit();
+    EXPECT_THROW(map.start_writeback(), InputError);  // committed: nothing more to write
     set.publish();
   }
   EXPECT_EQ(read(dir / "out" / "a.csv"), "a");
