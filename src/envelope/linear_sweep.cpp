@@ -219,12 +219,11 @@ LinearSweep::LinearSweep(const Cutter& cutter, const Vec3& start, const Vec3& en
       ball_radius_ = r;
       ball_top_ = segments[1].end.y();
     }
-    if (mode_ == Mode::kLevel) {
-      path_start_ = start.head<2>();
-      const Vec2 along = end.head<2>() - path_start_;
-      path_length_ = along.norm();
-      path_along_ = path_length_ > 0.0 ? Vec2(along / path_length_) : Vec2(1.0, 0.0);
-    }
+    // The tip's path in plan (level chords; every move's row_span).
+    path_start_ = start.head<2>();
+    const Vec2 along = end.head<2>() - path_start_;
+    path_length_ = along.norm();
+    path_along_ = path_length_ > 0.0 ? Vec2(along / path_length_) : Vec2(1.0, 0.0);
   }
 }
 
@@ -505,12 +504,14 @@ void LinearSweep::chords(Ray ray, int across, std::span<const double> at,
 
 Interval LinearSweep::row_span(const Ray& ray, int across) const {
   const Vec3& d = ray.direction;
-  if (mode_ != Mode::kLevel || d.x() != 0.0 || d.y() != 0.0 || d.z() == 0.0 || across == 2) {
+  if (!vertical_axis_ || d.x() != 0.0 || d.y() != 0.0 || d.z() == 0.0 || across == 2) {
     return Interval::full();
   }
-  // A vertical ray farther from the path than the tool's largest radius meets no height of it
-  // (level_vertical_chord); the allowance is chord()'s own for such rays.
-  return capsule_span(ray.origin, across, plan_radius_ * (1.0 + tol::kRelative) + tol::kLength);
+  // The tool lies within its largest radius of its axis, whose plan position runs along the
+  // tip's path in plan: a vertical ray farther than that from the path misses the sweep. chord()
+  // gives such rays an allowance (plan_gap, in other arithmetic); the span adds as much again.
+  return capsule_span(ray.origin, across,
+                      plan_radius_ * (1.0 + tol::kRelative) + 2.0 * tol::kLength);
 }
 
 bool LinearSweep::level_axis_rays(const Vec3& d, int& along) const {

@@ -248,9 +248,9 @@ TEST(LinearSweep, RowChordsAreTheRaysChords) {
 
 TEST(LinearSweep, RowSpansHoldEveryRayTheSweepMeets) {
   // Removal visits only the rays of a row within row_span(): any ray outside it with a chord
-  // would keep material the sweep takes. Dense rows of vertical rays on level moves in every
-  // direction (and along X or Y, and of no length), rays just outside each span's ends, and
-  // other rows, which must get the whole line.
+  // would keep material the sweep takes. Dense rows of vertical rays on moves of an upright tool
+  // in every direction (level, along X or Y, climbing, plunging, of no length), rays just
+  // outside each span's ends, and other rows, which must get the whole line.
   test::Random random(65);
   for (const char* spec :
        {"flat:10,20", "ball:10,20", "bull:10,2,20", "taper-flat:10,-3,20", "taper-flat:6,5,20"}) {
@@ -260,9 +260,10 @@ TEST(LinearSweep, RowSpansHoldEveryRayTheSweepMeets) {
     for (int m = 0; m < 24; ++m) {
       const Vec3 start = random.point_in_box(5.0);
       Vec3 end = start + random.point_in_box(12.0);
-      end.z() = start.z();
+      if (m % 3 != 2) end.z() = start.z();                    // level, or climbing
       if (m % 6 == 0) end[(m / 6) % 2] = start[(m / 6) % 2];  // along X or Y
       if (m == 5) end = start;
+      if (m == 7) end.head<2>() = start.head<2>();  // plunging
       const LinearSweep sweep(cutter, start, end, Vec3::UnitZ());
       for (const int across : {0, 1}) {
         for (const double dz : {1.0, -1.0}) {
@@ -286,11 +287,11 @@ TEST(LinearSweep, RowSpansHoldEveryRayTheSweepMeets) {
           EXPECT_TRUE(chord_at(std::nextafter(span.hi, inf)).is_empty()) << m;
         }
       }
-      // Rows of level rays, and vertical rays on a move that is not level: no span.
+      // Rows of level rays, and vertical rays of a tilted tool: no span.
       const Ray level{start, Vec3::UnitX()};
       EXPECT_EQ(sweep.row_span(level, 1), Interval::full());
-      const LinearSweep climbing(cutter, start, end + Vec3(0.0, 0.0, 1.0), Vec3::UnitZ());
-      EXPECT_EQ(climbing.row_span(Ray{start, Vec3::UnitZ()}, 0), Interval::full());
+      const LinearSweep tilted(cutter, start, end, Vec3(0.3, -0.2, 1.0).normalized());
+      EXPECT_EQ(tilted.row_span(Ray{start, Vec3::UnitZ()}, 0), Interval::full());
     }
     EXPECT_GT(narrowed, 80);
     EXPECT_GT(inside, 5000);

@@ -60,8 +60,9 @@ class LinearSweep {
   // other row.
   double row_key(const Ray& ray, int across) const;
   // The extent along `across` of the rays of such a row whose chords may not be empty: for
-  // vertical rays on a level move, the capsule of the tool's largest radius (with the allowance
-  // chord() gives it) about the tip's path in plan; the whole line for any other row.
+  // vertical rays and a tool standing along +Z, the capsule of the tool's largest radius (with
+  // more than the allowance chord() gives it) about the tip's path in plan; the whole line for
+  // any other row.
   Interval row_span(const Ray& ray, int across) const;
   // The same chord by the general construction only (no closed-form shortcut).
   Interval generic_chord(const Ray& ray) const;
