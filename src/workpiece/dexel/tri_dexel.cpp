@@ -316,7 +316,10 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
             int from = i0, to = i1;
             if (cut.row_span) {
               const Interval span = cut.row_span(row_ray, b);
-              const std::array<int, 2> spanned = index_range(a, b, span.lo, span.hi);
+              // The whole line (rows the cut has no span for) leaves the box's rays as they are.
+              const std::array<int, 2> spanned = span == Interval::full()
+                                                     ? std::array<int, 2>{from, to}
+                                                     : index_range(a, b, span.lo, span.hi);
               from = std::max(from, spanned[0]);
               to = std::min(to, spanned[1]);
               if (from > to) continue;
