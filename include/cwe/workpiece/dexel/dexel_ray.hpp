@@ -129,22 +129,30 @@ double DexelRay::subtract(double lo, double hi, Taken&& taken) {
         },
         static_cast<void*>(&taken));
   }
-  // Inline (nearly every ray): both slots in place, the empty one (+inf, -inf) skipped. What is
-  // left of an interval is open at the cut; it is stored closed, as material is measured by
-  // length, and dropped when it rounds to nothing in float. The result goes back into the slots
-  // unless the cut split the material into three.
+  // Inline (nearly every ray): both slots read first, the empty one (+inf, -inf) skipped; what
+  // is kept is written straight back into the slots, piece by piece. (Kept pieces gathered in a
+  // local array and copied back as one 16-byte block made every cut wait: a load cannot take its
+  // value from two narrower stores still in flight.) What is left of an interval is open at the
+  // cut; it is stored closed, as material is measured by length, and dropped when it rounds to
+  // nothing in float. A cut that splits the material into three moves the ray to the heap.
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  const float in[4] = {slot_[0], slot_[1], slot_[2], slot_[3]};
   double removed = 0.0;
   bool changed = false;
-  constexpr float kInf = std::numeric_limits<float>::infinity();
-  float kept[6] = {kInf, -kInf, kInf, -kInf};  // slots not kept stay empty
   int kept_count = 0;
+  float third[2] = {0.0f, 0.0f};
   const auto keep = [&](float a, float b) {
-    kept[2 * kept_count] = a;
-    kept[2 * kept_count + 1] = b;
+    if (kept_count < 2) {
+      slot_[2 * kept_count] = a;
+      slot_[2 * kept_count + 1] = b;
+    } else {
+      third[0] = a;
+      third[1] = b;
+    }
     ++kept_count;
   };
   for (int k = 0; k < 4; k += 2) {
-    const float a = slot_[k], b = slot_[k + 1];
+    const float a = in[k], b = in[k + 1];
     if (!(a <= b)) continue;   // the empty slot
     if (hi <= a || lo >= b) {  // untouched (at most a common end point)
       keep(a, b);
@@ -157,11 +165,15 @@ double DexelRay::subtract(double lo, double hi, Taken&& taken) {
     if (a < cut_lo) keep(a, cut_lo);
     if (cut_hi < b) keep(cut_hi, b);
   }
+  // Slots left over are emptied (an unchanged ray may have had its one interval in the second).
+  for (int k = 2 * kept_count; k < 4; k += 2) {
+    slot_[k] = kInf;
+    slot_[k + 1] = -kInf;
+  }
   if (!changed) return 0.0;
   if (kept_count > 2) {
-    store(kept, kept_count);
-  } else {
-    std::memcpy(slot_, kept, sizeof slot_);
+    const float pairs[6] = {slot_[0], slot_[1], slot_[2], slot_[3], third[0], third[1]};
+    store(pairs, 3);
   }
   // A cut that changed the ray by less than float rounding still counts as a change.
   return std::max(removed, std::numeric_limits<double>::min());
