@@ -324,22 +324,24 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
               to = std::min(to, spanned[1]);
               if (from > to) continue;
             }
-            // While no ray has material within the box, the material's ends about it.
-            bool missed = true;
+            // Up to the first ray with material within the box, the material's ends about it
+            // (a loop of its own, which keeps the bounds in registers).
             float below = -std::numeric_limits<float>::infinity();
             float above = std::numeric_limits<float>::infinity();
+            int first_hit = from;
+            while (first_hit <= to &&
+                   !row[first_hit].overlaps_or_bound(r.low, r.high, below, above)) {
+              ++first_hit;
+            }
+            bool missed = first_hit > to;
             // The rays whose material the cut's box (and its reach) holds: with `rows`, gathered
             // for one call; without, each ray's chord at once.
             std::array<int, kTile> at_i;
             std::array<double, kTile> at;
             std::size_t n = 0;
-            for (int i = from; i <= to; ++i) {
+            for (int i = first_hit; i <= to; ++i) {
               DexelRay& material = row[i];
-              if (missed ? !material.overlaps_or_bound(r.low, r.high, below, above)
-                         : !material.overlaps(r.low, r.high)) {
-                continue;
-              }
-              missed = false;
+              if (i > first_hit && !material.overlaps(r.low, r.high)) continue;
               const double ob = domain_.min[b] + (i + 0.5) * spacing_[b];
               if (cut.reach) {
                 const Interval w = cut.reach(ray_at(ob));
