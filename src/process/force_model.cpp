@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include "cwe/core/error.hpp"
@@ -160,7 +161,13 @@ class Revolution {
       if (next != changes_.end() && next->step == k) {
         Harmonics delta{};  // the step's changes summed first, then added
         for (; next != changes_.end() && next->step == k; ++next) {
-          for (int m = 0; m < kCoefficients; ++m) delta[m] += next->delta[m];
+          // A run's end takes its harmonics away: the same sums as adding their negatives.
+          const Harmonics& run = runs_[next->run];
+          if (next->runs > 0) {
+            for (int m = 0; m < kCoefficients; ++m) delta[m] += run[m];
+          } else {
+            for (int m = 0; m < kCoefficients; ++m) delta[m] -= run[m];
+          }
           active += next->runs;
         }
         for (int m = 0; m < kCoefficients; ++m) sum[m] += delta[m];
@@ -192,12 +199,13 @@ class Revolution {
   // sin 2θ.
   static constexpr int kCoefficients = 20;
   using Harmonics = std::array<double, kCoefficients>;
-  // A run of whole steps starts (runs = 1, its harmonics) or ends at the step before (runs = −1,
-  // their negatives) at `step`.
+  // A run of whole steps starts (runs = 1: its harmonics are added) or ends at the step before
+  // (runs = −1: they are taken away) at `step`; `run` indexes the harmonics in runs_. Small, so
+  // that sorting them by step moves 12 bytes each rather than the harmonics' 160.
   struct Change {
     int step = 0;
-    Harmonics delta{};
     int runs = 0;
+    std::uint32_t run = 0;
   };
   struct Rotation {
     double offset, sin, cos;  // φ = θ + offset
@@ -320,11 +328,15 @@ class Revolution {
   }
 
   void mark(const Harmonics& run, int first, int last) {
-    if (changes_.capacity() == 0) changes_.reserve(64);  // two per run
-    changes_.push_back({first, run, 1});
+    if (changes_.capacity() == 0) {
+      changes_.reserve(64);  // two per run
+      runs_.reserve(32);
+    }
+    const auto index = static_cast<std::uint32_t>(runs_.size());
+    runs_.push_back(run);
+    changes_.push_back({first, 1, index});
     if (last + 1 == n_) return;  // past the revolution's last step
-    Change& end = changes_.emplace_back(Change{last + 1, {}, -1});
-    for (int m = 0; m < kCoefficients; ++m) end.delta[m] = -run[m];
+    changes_.push_back({last + 1, -1, index});
   }
 
   // The largest A(φ) = f_x sin φ + f_y cos φ for φ in the interval: at an end or where the
@@ -418,6 +430,7 @@ class Revolution {
   std::vector<Vec3> f_;
   std::vector<double> torque_;
   std::vector<Change> changes_;  // a difference array over the steps, sparse
+  std::vector<Harmonics> runs_;  // the harmonics of each run marked
   double max_chip_ = 0.0;
   bool cutting_ = false;
 };
