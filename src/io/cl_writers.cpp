@@ -8,6 +8,7 @@
 #include <system_error>
 #include <utility>
 
+#include <fmt/compile.h>
 #include <fmt/format.h>
 #include <tbb/task_group.h>
 
@@ -81,8 +82,9 @@ std::string forces_csv_row(std::size_t k, const ClPoint& cl, std::size_t operati
                            double feed_rate, const ClForces& f, const ReportUnit& unit) {
   const int e = unit.extra_decimals;
   return fmt::format(
-      "{},{},{:.{}f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.5f},{:.5f},{:.3f},{},{},"
-      "{:.{}f},{:.1f},{:.{}f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{}\n",
+      FMT_COMPILE("{},{},{:.{}f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.5f},{:.5f},"
+                  "{:.3f},{},{},{:.{}f},{:.1f},{:.{}f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},"
+                  "{}\n"),
       k, cl.move + 1, unit.length(f.feed_per_tooth), 6 + e, unsigned_zero(f.mean_force.x(), 3),
       unsigned_zero(f.mean_force.y(), 3), unsigned_zero(f.mean_force.z(), 3), f.peak_force.x(),
       f.peak_force.y(), f.peak_force.z(), f.peak_resultant, unsigned_zero(f.mean_torque, 5),
@@ -106,17 +108,18 @@ std::string engagement_jsonl_line(std::size_t k, const ClPoint& cl, const Engage
     bool first = true;
     for (const auto& band : list) {
       if (band.phi.empty()) continue;
-      fmt::format_to(out, R"({}{{"{}":{:.{}f},"{}":{:.{}f},"intervals":[)", first ? "" : ",", lo,
-                     unit.length(band.*from), 4 + e, hi, unit.length(band.*to), 4 + e);
+      fmt::format_to(out, FMT_COMPILE(R"({}{{"{}":{:.{}f},"{}":{:.{}f},"intervals":[)"),
+                     first ? "" : ",", lo, unit.length(band.*from), 4 + e, hi,
+                     unit.length(band.*to), 4 + e);
       first = false;
       for (std::size_t i = 0; i < band.phi.size(); ++i) {
-        fmt::format_to(out, "{}[{:.3f},{:.3f}]", i ? "," : "", degrees(band.phi[i].lo),
+        fmt::format_to(out, FMT_COMPILE("{}[{:.3f},{:.3f}]"), i ? "," : "", degrees(band.phi[i].lo),
                        degrees(band.phi[i].hi));
       }
       line += "]}";
     }
   };
-  fmt::format_to(out, R"({{"cl":{},"move":{},"discs":[)", k, cl.move + 1);
+  fmt::format_to(out, FMT_COMPILE(R"({{"cl":{},"move":{},"discs":[)"), k, cl.move + 1);
   bands(map.discs, "z0", "z1", &DiscEngagement::z0, &DiscEngagement::z1);
   line += R"(],"bottom":{"rings":[)";
   bands(map.rings, "r0", "r1", &RingEngagement::r0, &RingEngagement::r1);
@@ -136,8 +139,8 @@ std::string engagement_csv_row(std::size_t k, const ClPoint& cl, const ToolState
   const Vec3 at = cl.position / unit.mm;
   const auto unit6 = [](double value) { return unsigned_zero(value, 6); };
   return fmt::format(
-      "{},{},{},{:.{}f},{:.{}f},{:.{}f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{},"
-      "{:.3f},{:.3f},{:.{}f},{:.{}f},{:.6f},{:.{}f},{},{},{}\n",
+      FMT_COMPILE("{},{},{},{:.{}f},{:.{}f},{:.{}f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{},"
+                  "{:.3f},{:.3f},{:.{}f},{:.{}f},{:.6f},{:.{}f},{},{},{}\n"),
       k, cl.move + 1, cl.line, unsigned_zero(at.x(), p), p, unsigned_zero(at.y(), p), p,
       unsigned_zero(at.z(), p), p, unit6(cl.axis.x()), unit6(cl.axis.y()), unit6(cl.axis.z()),
       unit6(cl.feed_direction.x()), unit6(cl.feed_direction.y()), unit6(cl.feed_direction.z()),
