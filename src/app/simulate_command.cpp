@@ -295,6 +295,9 @@ const std::vector<std::string> kSimulateOutputs = {
     "stock.stl",      "stock.ply",        "stock.off",  "stock.step", "summary.json",
     "engagement.csv", "engagement.jsonl", "forces.csv", "maps",       "force_curves"};
 
+// stock.stl's write-back is started after every this many bytes appended.
+constexpr std::size_t kWritebackBytes = std::size_t{4} << 20;
+
 }  // namespace
 
 void check_output_folder(const std::filesystem::path& folder, const SimulateCommandOptions& options,
@@ -378,8 +381,9 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   const std::string stock_title = fmt::format("cwe in-process stock after {}", job_paths(job));
   // The stock's contouring beside the last figures and files (they never read the stock): on
   // one thread they were a serial fifth of a job's time after the parallel engagement. stock.stl
-  // is written as soon as its mesh is made, so that the write-back of its tens of megabytes is
-  // under way while the rest finishes (the publication waits for it).
+  // is written as soon as its mesh is made, its write-back started every few megabytes, so that
+  // the disk writes its tens of megabytes while the rest is encoded and finished (the
+  // publication waits for them).
   tbb::parallel_invoke(
       [&] {
         if (options.stock_only) return;
@@ -396,7 +400,15 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
         mesh = run.stock  ? dexel_mesh(*run.stock, stride)
                : run.mesh ? run.mesh->mesh()
                           : tessellate(*run.brep, step_tessellation(job.simulation, false));
-        stl_binary(mesh, stock_title, [&stl](std::string_view piece) { stl.append(piece); });
+        std::size_t unstarted = 0;  // bytes appended since the last write-back started
+        stl_binary(mesh, stock_title, [&](std::string_view piece) {
+          stl.append(piece);
+          unstarted += piece.size();
+          if (unstarted >= kWritebackBytes) {
+            stl.start_writeback();
+            unstarted = 0;
+          }
+        });
         stl.start_writeback();
       });
   const std::size_t maps_written = figures ? figures->maps_written() : 0;

@@ -93,12 +93,16 @@ void AtomicFileWriter::fail(const std::string& why) {
 void AtomicFileWriter::append(std::string_view text) {
   if (file_ == nullptr) fail("the file was already committed");
   if (std::fwrite(text.data(), 1, text.size(), file_) != text.size()) fail(std::strerror(errno));
+  appended_ += text.size();
 }
 
 void AtomicFileWriter::start_writeback() {
   if (file_ == nullptr) fail("the file was already committed");
   if (std::fflush(file_) != 0) fail(std::strerror(errno));
-  ::sync_file_range(::fileno(file_), 0, 0, SYNC_FILE_RANGE_WRITE);
+  if (appended_ == started_) return;
+  ::sync_file_range(::fileno(file_), static_cast<off_t>(started_),
+                    static_cast<off_t>(appended_ - started_), SYNC_FILE_RANGE_WRITE);
+  started_ = appended_;
 }
 
 void AtomicFileWriter::commit() {

@@ -2,6 +2,7 @@
 // Outputs are written whole or not at all: the content goes to a temporary file beside the
 // target, is flushed, and is renamed over the target only when complete.
 
+#include <cstddef>
 #include <cstdio>
 #include <filesystem>
 #include <string_view>
@@ -39,8 +40,10 @@ class AtomicFileWriter {
   ~AtomicFileWriter();
 
   void append(std::string_view text);
-  // Hands what was appended to the system and starts its write-back (a hint), so that a large
-  // file's durability costs less wait when commit() or sync_folder() comes.
+  // Hands what was appended to the system and starts the write-back (a hint) of what was appended
+  // since the last call, so that a large file's durability costs less wait when commit() or
+  // sync_folder() comes. Called every few megabytes while a large file is written, it keeps the
+  // disk busy meanwhile.
   void start_writeback();
   void commit();
   const std::filesystem::path& path() const { return path_; }
@@ -51,6 +54,8 @@ class AtomicFileWriter {
   std::filesystem::path path_;
   std::filesystem::path temporary_;
   std::FILE* file_ = nullptr;
+  std::size_t appended_ = 0;  // bytes appended
+  std::size_t started_ = 0;   // bytes whose write-back was started
 };
 
 }  // namespace cwe
