@@ -111,6 +111,7 @@ class Revolution {
     for (const Interval& in : phi) {
       if (!in.is_empty()) thickest_chip(e, in);
     }
+    const Arc arc = chip_arc(e);
     for (int j = 0; j < flutes_; ++j) {
       const double pitch = 2.0 * kPi * j / flutes_;
       const double offset = pitch - e.lag;  // φ_j = θ + offset
@@ -119,7 +120,7 @@ class Revolution {
         if (in.is_empty()) continue;
         // A full ring: every step, whole.
         if (in.hi - in.lo >= 2.0 * kPi * (1.0 - tol::kRelative)) {
-          whole_steps(e, j, at, 0, n_ - 1);
+          whole_steps(e, j, at, arc, 0, n_ - 1);
           continue;
         }
         // The interval in spindle angle θ, started within [−Δ/2, 2π − Δ/2).
@@ -143,7 +144,7 @@ class Revolution {
         const bool first_whole = whole_end(k0);
         const bool last_whole = k1 == k0 ? first_whole : whole_end(k1);
         const long whole0 = first_whole ? k0 : k0 + 1, whole1 = last_whole ? k1 : k1 - 1;
-        if (whole0 <= whole1) whole_steps(e, j, at, whole0, whole1);
+        if (whole0 <= whole1) whole_steps(e, j, at, arc, whole0, whole1);
       }
     }
   }
@@ -234,8 +235,27 @@ class Revolution {
     return a * e.s1 - feed_.z() * e.c1 > 0.0;
   }
 
-  // The whole steps first..last (unwrapped, fewer than n + 1) of flute j on element e.
-  void whole_steps(const Element& e, int j, const Rotation& at, long first, long last) {
+  // Where an element cuts a chip without runout: A sin φ + B cos φ > T, with A = f_x·∫sin κ,
+  // B = f_y·∫sin κ and T = f_z·∫cos κ, is an arc of half-width δ about φ_p (in φ, the same for
+  // every flute). r = √(A² + B²); where r is 0 the chip is the same at every step.
+  struct Arc {
+    double r = 0.0, peak = 0.0, half = 0.0;
+  };
+  Arc chip_arc(const Element& e) const {
+    Arc arc;
+    if (runout_.offset > 0.0) return arc;  // not used: the steps are evaluated one by one
+    const double big_a = feed_.x() * e.s1, big_b = feed_.y() * e.s1, big_t = feed_.z() * e.c1;
+    arc.r = std::hypot(big_a, big_b);
+    if (!(arc.r > 0.0)) return arc;
+    arc.peak = std::atan2(big_a, big_b);
+    arc.half = std::acos(std::clamp(big_t / arc.r, -1.0, 1.0));
+    return arc;
+  }
+
+  // The whole steps first..last (unwrapped, fewer than n + 1) of flute j on element e, whose
+  // chip arc is `arc`.
+  void whole_steps(const Element& e, int j, const Rotation& at, const Arc& arc, long first,
+                   long last) {
     if (runout_.offset > 0.0) {
       for (long k = first; k <= last; ++k) {
         double s, c;
@@ -244,15 +264,11 @@ class Revolution {
       }
       return;
     }
-    // The chip is positive where A sin φ + B cos φ > T, an arc of half-width δ about φ_p.
-    const double big_a = feed_.x() * e.s1, big_b = feed_.y() * e.s1, big_t = feed_.z() * e.c1;
-    const double r = std::hypot(big_a, big_b);
-    if (!(r > 0.0)) {  // the same chip at every step
+    if (!(arc.r > 0.0)) {  // the same chip at every step
       if (chip_at(e, at, first)) add_run(e, at, first, last);
       return;
     }
-    const double peak = std::atan2(big_a, big_b);
-    const double half = std::acos(std::clamp(big_t / r, -1.0, 1.0));
+    const double peak = arc.peak, half = arc.half;
     // Unwrapped step of angle φ: θ = φ − offset = kΔ.
     const auto step_of = [&](double phi) { return (phi - at.offset) / step_; };
     // Arcs about φ_p + 2πm that can meet the steps' span.
