@@ -8,8 +8,11 @@
 #include <cstring>
 #include <limits>
 #include <unordered_map>
+#include <vector>
 
 #include <fmt/format.h>
+#include <tbb/parallel_pipeline.h>
+#include <tbb/task_arena.h>
 
 #include "cwe/core/error.hpp"
 #include "cwe/core/text_file.hpp"
@@ -365,36 +368,56 @@ StlMesh read_stl(const std::string& path) {
 
 void stl_binary(const TriangleMesh& mesh, std::string_view header,
                 const std::function<void(std::string_view)>& write) {
-  constexpr std::size_t kChunkTriangles = 1300;  // 65,000 bytes a piece
+  constexpr std::size_t kChunkTriangles = 4000;  // 200,000 bytes a piece
   std::string out(84, ' ');
   out.replace(0, std::min<std::size_t>(header.size(), 80), header.substr(0, 80));
   const auto count = static_cast<std::uint32_t>(mesh.triangles.size());
   std::memcpy(out.data() + 80, &count, 4);
   write(out);
-  // Each piece sized once and filled in place: appending four bytes at a time was most of the
-  // time taken for a stock of a million triangles.
-  for (std::size_t first = 0; first < mesh.triangles.size(); first += kChunkTriangles) {
-    const std::size_t n = std::min(kChunkTriangles, mesh.triangles.size() - first);
-    out.assign(50 * n, '\0');
-    char* at = out.data();
-    for (std::size_t k = first; k < first + n; ++k) {
-      const auto& t = mesh.triangles[k];
-      const Vec3& a = mesh.vertices[static_cast<std::size_t>(t[0])];
-      const Vec3& b = mesh.vertices[static_cast<std::size_t>(t[1])];
-      const Vec3& c = mesh.vertices[static_cast<std::size_t>(t[2])];
-      Vec3 normal = (b - a).cross(c - a);
-      if (normal.norm() > 0.0) normal.normalize();
-      for (const Vec3* v : {static_cast<const Vec3*>(&normal), &a, &b, &c}) {
-        // STL is little-endian, as is every platform cwe builds on.
-        const float xyz[3] = {static_cast<float>(v->x()), static_cast<float>(v->y()),
-                              static_cast<float>(v->z())};
-        std::memcpy(at, xyz, sizeof xyz);
-        at += sizeof xyz;
-      }
-      at += 2;  // the attribute count, 0
-    }
-    write(out);
-  }
+  // Pieces encoded in parallel and written in order. A piece's buffer is sized once and filled
+  // in place (appending four bytes at a time was most of the time taken for a stock of a million
+  // triangles), and is one of `tokens` reused in turn: pieces finish in order, so piece p's
+  // buffer is free again when piece p + tokens starts.
+  const std::size_t pieces = (mesh.triangles.size() + kChunkTriangles - 1) / kChunkTriangles;
+  const auto tokens = static_cast<std::size_t>(2 * tbb::this_task_arena::max_concurrency());
+  std::vector<std::string> buffers(tokens);
+  std::size_t next = 0;
+  tbb::parallel_pipeline(
+      tokens,
+      tbb::make_filter<void, std::size_t>(tbb::filter_mode::serial_in_order,
+                                          [&](tbb::flow_control& control) -> std::size_t {
+                                            if (next == pieces) control.stop();
+                                            return next++;
+                                          }) &
+          tbb::make_filter<std::size_t, std::size_t>(
+              tbb::filter_mode::parallel,
+              [&](std::size_t piece) {
+                const std::size_t first = piece * kChunkTriangles;
+                const std::size_t n = std::min(kChunkTriangles, mesh.triangles.size() - first);
+                std::string& bytes = buffers[piece % tokens];
+                bytes.assign(50 * n, '\0');
+                char* at = bytes.data();
+                for (std::size_t k = first; k < first + n; ++k) {
+                  const auto& t = mesh.triangles[k];
+                  const Vec3& a = mesh.vertices[static_cast<std::size_t>(t[0])];
+                  const Vec3& b = mesh.vertices[static_cast<std::size_t>(t[1])];
+                  const Vec3& c = mesh.vertices[static_cast<std::size_t>(t[2])];
+                  Vec3 normal = (b - a).cross(c - a);
+                  if (normal.norm() > 0.0) normal.normalize();
+                  for (const Vec3* v : {static_cast<const Vec3*>(&normal), &a, &b, &c}) {
+                    // STL is little-endian, as is every platform cwe builds on.
+                    const float xyz[3] = {static_cast<float>(v->x()), static_cast<float>(v->y()),
+                                          static_cast<float>(v->z())};
+                    std::memcpy(at, xyz, sizeof xyz);
+                    at += sizeof xyz;
+                  }
+                  at += 2;  // the attribute count, 0
+                }
+                return piece;
+              }) &
+          tbb::make_filter<std::size_t, void>(
+              tbb::filter_mode::serial_in_order,
+              [&](std::size_t piece) { write(buffers[piece % tokens]); }));
 }
 
 std::string stl_binary(const TriangleMesh& mesh, std::string_view header) {

@@ -14,8 +14,9 @@ namespace cwe {
 // Binary STL: 80-byte header (from `header`, truncated), facet normals from the winding,
 // coordinates as 32-bit floats in millimetres.
 std::string stl_binary(const TriangleMesh& mesh, std::string_view header);
-// The same bytes handed to `write` in pieces of at most about 64 KiB, in order: a stock of a
-// million triangles (50 MB) goes to its file without a buffer of its size.
+// The same bytes handed to `write` in pieces of at most about 200 KB, in order: a stock of a
+// million triangles (50 MB) goes to its file without a buffer of its size. The pieces are encoded
+// on all threads while `write` takes them one at a time, in order.
 void stl_binary(const TriangleMesh& mesh, std::string_view header,
                 const std::function<void(std::string_view)>& write);
 
