@@ -11,6 +11,8 @@
 //    chord construction);
 //  - BullRaster: the same with a 10 mm bull-nose end mill of corner radius 2 (the swept grazing
 //    curves of the torus, followed by Brent's method per ray).
+//  - PocketMesh: the block after PocketJob at s = 0.1 contoured as `cwe simulate` contours
+//    stock.stl (dexel_mesh at stride 3, about 930,000 triangles); items are triangles.
 // Counters: moves per second, bytes per ray (current) and peak bytes per ray, rays.
 #include <benchmark/benchmark.h>
 
@@ -21,6 +23,7 @@
 #include "cwe/envelope/linear_sweep.hpp"
 #include "cwe/simulation/simulation.hpp"
 #include "cwe/tool/tool_spec.hpp"
+#include "cwe/workpiece/dexel/dexel_mesh.hpp"
 #include "cwe/workpiece/dexel/tri_dexel.hpp"
 
 namespace {
@@ -121,5 +124,17 @@ BENCHMARK(BM_BallRaster)->Arg(100)->Arg(50)->Unit(benchmark::kMillisecond)->UseR
 
 void BM_BullRaster(benchmark::State& state) { run_job(state, "bull:10,2,20", raster_job()); }
 BENCHMARK(BM_BullRaster)->Arg(100)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_PocketMesh(benchmark::State& state) {
+  cwe::TriDexel stock = cwe::TriDexel::from_box(kBlock, 0.1);
+  cwe::remove_toolpath(stock, cwe::cutter_from_spec("flat:10,30"), pocket_job(), {});
+  std::size_t triangles = 0;
+  for (auto _ : state) {
+    const cwe::TriangleMesh mesh = cwe::dexel_mesh(stock, 3);
+    triangles = mesh.triangles.size();
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * triangles));
+}
+BENCHMARK(BM_PocketMesh)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

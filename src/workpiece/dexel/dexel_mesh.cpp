@@ -6,12 +6,15 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <utility>
 #include <vector>
 
 #include <fmt/format.h>
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include "cwe/core/assert.hpp"
 #include "cwe/core/error.hpp"
@@ -292,11 +295,14 @@ class LatticeMesher {
   }
 
   // Z rays cross every layer: their state flips at the layers where an interval starts and
-  // after the one where it ends. The flips are bucketed by layer (two per interval).
+  // after the one where it ends. The flips are bucketed by layer (two per interval), each bucket
+  // in the order of the rows j and then i. Two passes over the rows, each on all threads in
+  // blocks of rows: one counts each block's flips per layer, the other puts them in place, a
+  // block's after those of the blocks before it.
   void collect_z_events() {
-    z_event_start_.assign(static_cast<std::size_t>(nz_) + 1, 0);
-    const auto for_each_flip = [this](const auto& visit) {
-      for (int j = 0; j < ny_; ++j) {
+    const auto layers = static_cast<std::size_t>(nz_);
+    const auto for_each_flip = [this](int j0, int j1, const auto& visit) {
+      for (int j = j0; j < j1; ++j) {
         for (int i = 0; i < nx_; ++i) {
           const DexelRay& ray = stock_.at(2, fine(0, i), fine(1, j));
           for (int m = 0; m < ray.count(); ++m) {
@@ -308,15 +314,37 @@ class LatticeMesher {
         }
       }
     };
-    for_each_flip(
-        [this](int k, std::size_t) { ++z_event_start_[static_cast<std::size_t>(k) + 1]; });
-    for (std::size_t k = 1; k < z_event_start_.size(); ++k) {
-      z_event_start_[k] += z_event_start_[k - 1];
+    constexpr int kBlockRows = 16;
+    const int blocks = (ny_ + kBlockRows - 1) / kBlockRows;
+    const auto rows_of = [this](int block) {
+      return std::array<int, 2>{block * kBlockRows, std::min(ny_, (block + 1) * kBlockRows)};
+    };
+    // at[b][k]: where block b's flips of layer k go (counted first).
+    std::vector<std::vector<std::size_t>> at(static_cast<std::size_t>(blocks),
+                                             std::vector<std::size_t>(layers, 0));
+    tbb::parallel_for(0, blocks, [&](int block) {
+      std::vector<std::size_t>& count = at[static_cast<std::size_t>(block)];
+      const auto [j0, j1] = rows_of(block);
+      for_each_flip(j0, j1, [&](int k, std::size_t) { ++count[static_cast<std::size_t>(k)]; });
+    });
+    z_event_start_.assign(layers + 1, 0);
+    for (std::size_t k = 0; k < layers; ++k) {
+      std::size_t next = z_event_start_[k];
+      for (std::vector<std::size_t>& block : at) {
+        const std::size_t count = block[k];
+        block[k] = next;
+        next += count;
+      }
+      z_event_start_[k + 1] = next;
     }
     z_events_.resize(z_event_start_.back());
-    std::vector<std::size_t> fill(z_event_start_.begin(), z_event_start_.end() - 1);
-    for_each_flip(
-        [&](int k, std::size_t p) { z_events_[fill[static_cast<std::size_t>(k)]++] = p; });
+    tbb::parallel_for(0, blocks, [&](int block) {
+      std::vector<std::size_t>& fill = at[static_cast<std::size_t>(block)];
+      const auto [j0, j1] = rows_of(block);
+      for_each_flip(j0, j1, [&](int k, std::size_t p) {
+        z_events_[fill[static_cast<std::size_t>(k)]++] = p;
+      });
+    });
   }
 
   // Room for the whole mesh at once: grown by doubling, it was copied and its pages faulted in
@@ -327,11 +355,17 @@ class LatticeMesher {
   // cross the surface this asks for more than is used, which costs address space only: pages
   // never written are never mapped.
   void reserve() {
-    std::size_t ends = z_events_.size();
-    for (int k = 0; k < nz_; ++k) {
-      for (int j = 0; j < ny_; ++j) ends += 2 * stock_.at(0, fine(1, j), fine(2, k)).count();
-      for (int i = 0; i < nx_; ++i) ends += 2 * stock_.at(1, fine(2, k), fine(0, i)).count();
-    }
+    // Counted layer by layer on all threads (whole numbers: the same sum in any order).
+    const std::size_t ends = tbb::parallel_reduce(
+        tbb::blocked_range<int>(0, nz_), z_events_.size(),
+        [this](const tbb::blocked_range<int>& layers, std::size_t sum) {
+          for (int k = layers.begin(); k < layers.end(); ++k) {
+            for (int j = 0; j < ny_; ++j) sum += 2 * stock_.at(0, fine(1, j), fine(2, k)).count();
+            for (int i = 0; i < nx_; ++i) sum += 2 * stock_.at(1, fine(2, k), fine(0, i)).count();
+          }
+          return sum;
+        },
+        std::plus<>());
     mesh_.triangles.reserve(ends / 2 * 5);
     mesh_.vertices.reserve(ends / 4 * 5);
     advise_huge_pages(mesh_.triangles.data(),
