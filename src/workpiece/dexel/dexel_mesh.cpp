@@ -8,6 +8,7 @@
 #include <cstring>
 #include <functional>
 #include <limits>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -303,8 +304,9 @@ class LatticeMesher {
     const auto layers = static_cast<std::size_t>(nz_);
     const auto for_each_flip = [this](int j0, int j1, const auto& visit) {
       for (int j = j0; j < j1; ++j) {
+        const std::span<const DexelRay> rays = stock_.row(2, fine(1, j));
         for (int i = 0; i < nx_; ++i) {
-          const DexelRay& ray = stock_.at(2, fine(0, i), fine(1, j));
+          const DexelRay& ray = rays[static_cast<std::size_t>(fine(0, i))];
           for (int m = 0; m < ray.count(); ++m) {
             const auto [first, end] = span(ray.interval(m), 2);
             if (first == end) continue;
@@ -360,7 +362,11 @@ class LatticeMesher {
         tbb::blocked_range<int>(0, nz_), z_events_.size(),
         [this](const tbb::blocked_range<int>& layers, std::size_t sum) {
           for (int k = layers.begin(); k < layers.end(); ++k) {
-            for (int j = 0; j < ny_; ++j) sum += 2 * stock_.at(0, fine(1, j), fine(2, k)).count();
+            const std::span<const DexelRay> x_rays = stock_.row(0, fine(2, k));
+            for (int j = 0; j < ny_; ++j) {
+              sum += 2 *
+                     static_cast<std::size_t>(x_rays[static_cast<std::size_t>(fine(1, j))].count());
+            }
             for (int i = 0; i < nx_; ++i) sum += 2 * stock_.at(1, fine(2, k), fine(0, i)).count();
           }
           return sum;
@@ -381,8 +387,9 @@ class LatticeMesher {
     std::fill(layer.inside.begin(), layer.inside.end(), std::uint8_t{0});
     if (k < 0 || k >= nz_) return;
     // X rays (j, k) lie in the layer along its rows: count their spans directly.
+    const std::span<const DexelRay> x_rays = stock_.row(0, fine(2, k));
     for (int j = 0; j < ny_; ++j) {
-      const DexelRay& ray = stock_.at(0, fine(1, j), fine(2, k));
+      const DexelRay& ray = x_rays[static_cast<std::size_t>(fine(1, j))];
       std::uint8_t* row = votes + point(0, j);
       for (int m = 0; m < ray.count(); ++m) {
         const auto [first, end] = span(ray.interval(m), 0);
@@ -518,16 +525,21 @@ int dexel_mesh_stride(const TriDexel& stock, std::size_t triangle_budget) {
   // through gives about two triangles and is crossed by about one ray of the three families
   // (exactly one for faces square to an axis), so a stride-k lattice gives about
   // 2 × crossings / k² triangles.
-  // Counted family by family at once (whole numbers: the same sum in any order).
-  std::array<double, 3> by_family{};
-  tbb::parallel_for(0, 3, [&](int a) {
-    double count = 0.0;
-    for (int j = 0; j < stock.grid(a)[1]; ++j) {
-      for (int i = 0; i < stock.grid(a)[0]; ++i) count += 2.0 * stock.at(a, i, j).count();
-    }
-    by_family[static_cast<std::size_t>(a)] = count;
-  });
-  const double crossings = by_family[0] + by_family[1] + by_family[2];
+  // Counted row by row on all threads (whole numbers: the same sum in any order).
+  const int rows0 = stock.grid(0)[1], rows1 = stock.grid(1)[1],
+            rows = rows0 + rows1 + stock.grid(2)[1];
+  const auto crossings = static_cast<double>(tbb::parallel_reduce(
+      tbb::blocked_range<int>(0, rows), std::size_t{0},
+      [&](const tbb::blocked_range<int>& range, std::size_t sum) {
+        for (int r = range.begin(); r < range.end(); ++r) {
+          const int a = r < rows0 ? 0 : (r < rows0 + rows1 ? 1 : 2);
+          const int j = r - (a == 0 ? 0 : (a == 1 ? rows0 : rows0 + rows1));
+          for (const DexelRay& ray : stock.row(a, j))
+            sum += 2 * static_cast<std::size_t>(ray.count());
+        }
+        return sum;
+      },
+      std::plus<>()));
   const double budget = std::max<double>(1.0, static_cast<double>(triangle_budget));
   return std::max(1, static_cast<int>(std::ceil(std::sqrt(2.0 * crossings / budget))));
 }

@@ -158,6 +158,11 @@ const DexelRay& TriDexel::at(int axis, int i, int j) const {
   return rays_[static_cast<std::size_t>(axis)][index(axis, i, j)];
 }
 
+std::span<const DexelRay> TriDexel::row(int axis, int j) const {
+  const auto n = static_cast<std::size_t>(grid_[static_cast<std::size_t>(axis)][0]);
+  return {&rays_[static_cast<std::size_t>(axis)][index(axis, 0, j)], n};
+}
+
 std::array<int, 2> TriDexel::index_range(int axis, int cross, double lo, double hi) const {
   const int n = grid_[static_cast<std::size_t>(axis)][cross == cross_b(axis) ? 0 : 1];
   // Ray k sits at min + (k + ½)s: it lies within [lo, hi] for k in [lo'/s - ½, hi'/s - ½].

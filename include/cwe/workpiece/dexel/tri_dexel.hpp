@@ -74,6 +74,9 @@ class TriDexel {
 
   Ray ray(int axis, int i, int j) const;
   const DexelRay& at(int axis, int i, int j) const;
+  // The rays (i, j) of family `axis` for i = 0 … grid(axis)[0] − 1, in that order: a scan of
+  // every ray without an index check each.
+  std::span<const DexelRay> row(int axis, int j) const;
 
   // Removes the solid given by `chord` from every ray whose line meets `bounds`. Returns the
   // number of rays that changed and the volume removed (the mean of the families' measures). Rays
