@@ -386,14 +386,19 @@ class LatticeMesher {
     std::uint8_t* votes = layer.inside.data();
     std::fill(layer.inside.begin(), layer.inside.end(), std::uint8_t{0});
     if (k < 0 || k >= nz_) return;
-    // X rays (j, k) lie in the layer along its rows: count their spans directly.
+    // X rays (j, k) lie in the layer along its rows: count their spans directly, eight points a
+    // word where they can (the layer is zero here, so no byte carries).
     const std::span<const DexelRay> x_rays = stock_.row(0, fine(2, k));
     for (int j = 0; j < ny_; ++j) {
       const DexelRay& ray = x_rays[static_cast<std::size_t>(fine(1, j))];
       std::uint8_t* row = votes + point(0, j);
       for (int m = 0; m < ray.count(); ++m) {
         const auto [first, end] = span(ray.interval(m), 0);
-        for (int i = first; i < end; ++i) ++row[i];
+        int i = first;
+        for (; i + static_cast<int>(kWord) <= end; i += static_cast<int>(kWord)) {
+          add_word(row + i, kAllOnes);
+        }
+        for (; i < end; ++i) ++row[i];
       }
     }
     // Y rays (k, i) run across the rows: mark where each span starts and ends, then carry the
