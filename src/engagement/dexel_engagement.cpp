@@ -1,5 +1,6 @@
 #include "cwe/engagement/dexel_engagement.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <span>
 
@@ -10,7 +11,37 @@ DexelEngagement::DexelEngagement(const Cutter& cutter, double spacing,
     : grid_(cutter, spacing, options), spacing_(spacing) {
   contact_ = options.contact > 0.0 ? options.contact : spacing / 10.0;
   skip_far_cells_ = options.skip_far_cells;
+  skip_far_discs_ = options.skip_far_discs;
   reuse_alike_discs_ = options.reuse_alike_discs;
+  for (const Band& disc : grid_.discs())
+    most_departure_ = std::max(most_departure_, disc.departure);
+}
+
+double DexelEngagement::margin(double departure) const {
+  return spacing_ * std::sqrt(1.5) + std::sqrt(3.0) * (departure + contact_);
+}
+
+std::array<std::size_t, 2> DexelEngagement::discs_near(const RemovalRecord& step,
+                                                       const ToolState& state) const {
+  const std::vector<Band>& discs = grid_.discs();
+  const Frame& tcs = state.tcs;
+  if (!skip_far_discs_ || tcs.z() != Vec3::UnitZ()) return {0, discs.size()};
+  // An upright tool's disc circle lies at height origin + z (its box is flat), within the box
+  // grown by the disc's margin or not at all. The heights the largest margin allows, widened by
+  // far more than their rounding: a disc kept needlessly is still tested exactly by scan().
+  const Aabb& box = step.bounds();
+  const double reach =
+      margin(most_departure_) +
+      1e-9 * (1.0 + std::abs(tcs.origin.z()) + std::abs(box.min.z()) + std::abs(box.max.z()));
+  const double lo = box.min.z() - reach - tcs.origin.z();
+  const double hi = box.max.z() + reach - tcs.origin.z();
+  // Discs rise with their index.
+  const auto below = [](const Band& disc, double z) { return disc.z < z; };
+  const auto first = std::lower_bound(discs.begin(), discs.end(), lo, below);
+  const auto end = std::upper_bound(first, discs.end(), hi,
+                                    [](double z, const Band& disc) { return z < disc.z; });
+  return {static_cast<std::size_t>(first - discs.begin()),
+          static_cast<std::size_t>(end - discs.begin())};
 }
 
 std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const RemovalRecord& step,
@@ -24,9 +55,8 @@ std::vector<Interval> DexelEngagement::scan(const TriDexel& stock, const Removal
   // P's tangent plane within s√(3/2) of P, and the window along it reaches √3·(departure +
   // contact) from there. So a P farther than that from the step's box reads nothing, and a band
   // whose circle's box misses that grown box is skipped whole.
-  const double margin = spacing_ * std::sqrt(1.5) + std::sqrt(3.0) * (band.departure + contact_);
   Aabb near = step.bounds();
-  near.inflate(margin);
+  near.inflate(margin(band.departure));
   if (!EngagementGrid::circle_bounds(band, tcs).intersects(near)) return {};
 
   const EngagementGrid::Front front = EngagementGrid::front(band, v_tcs, w_tcs);
@@ -129,7 +159,12 @@ EngagementMap DexelEngagement::at(const TriDexel& stock, const RemovalRecord& st
   // A step that removes nothing engages nothing: the bands are left empty without a scan.
   if (!step.empty()) {
     Scanned last;
-    for (std::size_t k = 0; k < found.size(); ++k) {
+    // The discs out of the step's reach are left empty unscanned, as scan() would leave them.
+    const auto [first, end] = discs_near(step, state);
+    for (std::size_t k = first; k < end; ++k) {
+      found[k] = scan(stock, step, state, grid_.band(k), v, w, last);
+    }
+    for (std::size_t k = grid_.discs().size(); k < found.size(); ++k) {
       found[k] = scan(stock, step, state, grid_.band(k), v, w, last);
     }
   }

@@ -488,6 +488,13 @@ TEST(EngagementFidelity, SkippingFarCellsChangesNoMap) {
   expect_same_maps_without([](EngagementOptions& o) { o.skip_far_cells = false; });
 }
 
+// An upright tool's side discs above or below the step's removal box, beyond the far-cell
+// test's margin, are left unscanned: exact. The step-down's and the raster's steps remove
+// material over a few millimetres of the tool's height, with discs above and below them.
+TEST(EngagementFidelity, SkippingFarDiscsChangesNoMap) {
+  expect_same_maps_without([](EngagementOptions& o) { o.skip_far_discs = false; });
+}
+
 // A side disc of an upright tool that takes the intervals of the disc below (the rays it reads
 // lost what that disc's rays lost) gets the intervals its own scan finds. In the step-down's
 // second level, the discs above the first level's floor (their rays lost nothing) stand over

@@ -89,11 +89,20 @@ class DexelEngagement {
                              const ToolState& state, const Band& band, const Vec3& v_tcs,
                              const Vec3& w_tcs, Scanned& last) const;
 
+  // A step's box grown by the margin of scan()'s first test (its `near`): `departure` is the
+  // band's.
+  double margin(double departure) const;
+  // The discs [first, end) whose circles an upright tool at `state` can have within a step's
+  // box: for every other disc scan() returns at its first test. All discs for any other tool.
+  std::array<std::size_t, 2> discs_near(const RemovalRecord& step, const ToolState& state) const;
+
   EngagementGrid grid_;
   double spacing_;
   double contact_;
   bool skip_far_cells_;
+  bool skip_far_discs_;
   bool reuse_alike_discs_;
+  double most_departure_ = 0.0;  // the largest departure of a disc
 };
 
 }  // namespace cwe

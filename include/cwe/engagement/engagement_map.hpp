@@ -65,6 +65,10 @@ struct EngagementOptions {
   // Dexel: skip a cell whose point lies farther from the step's removal box than any stretch its
   // test can touch (exact: the same maps, with less work). Off only to check that in the tests.
   bool skip_far_cells = true;
+  // Dexel: the side discs of an upright tool whose circles lie above or below the step's
+  // removal box, beyond the far-cell test's largest margin, are not visited (exact: each would
+  // be skipped whole by its first test). Off only to check that in the tests.
+  bool skip_far_discs = true;
   // Dexel: a side disc of an upright tool's cylindrical part takes the intervals of the last
   // disc scanned when its front is the same and the X and Y rays its cells read lost in the step
   // what that disc's rays lost (exact: the same maps, with less work). Off only to check that in
