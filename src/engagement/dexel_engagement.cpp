@@ -13,8 +13,9 @@ DexelEngagement::DexelEngagement(const Cutter& cutter, double spacing,
   skip_far_cells_ = options.skip_far_cells;
   skip_far_discs_ = options.skip_far_discs;
   reuse_alike_discs_ = options.reuse_alike_discs;
-  for (const Band& disc : grid_.discs())
+  for (const Band& disc : grid_.discs()) {
     most_departure_ = std::max(most_departure_, disc.departure);
+  }
 }
 
 double DexelEngagement::margin(double departure) const {

@@ -89,8 +89,8 @@ class DexelEngagement {
                              const ToolState& state, const Band& band, const Vec3& v_tcs,
                              const Vec3& w_tcs, Scanned& last) const;
 
-  // A step's box grown by the margin of scan()'s first test (its `near`): `departure` is the
-  // band's.
+  // How far scan()'s first test grows a step's box (its `near`) for a band whose surface
+  // departs `departure` from its tangent plane.
   double margin(double departure) const;
   // The discs [first, end) whose circles an upright tool at `state` can have within a step's
   // box: for every other disc scan() returns at its first test. All discs for any other tool.
