@@ -400,14 +400,9 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
         mesh = run.stock  ? dexel_mesh(*run.stock, stride)
                : run.mesh ? run.mesh->mesh()
                           : tessellate(*run.brep, step_tessellation(job.simulation, false));
-        std::size_t unstarted = 0;  // bytes appended since the last write-back started
-        stl_binary(mesh, stock_title, [&](std::string_view piece) {
+        stl_binary(mesh, stock_title, [&stl](std::string_view piece) {
           stl.append(piece);
-          unstarted += piece.size();
-          if (unstarted >= kWritebackBytes) {
-            stl.start_writeback();
-            unstarted = 0;
-          }
+          if (stl.writeback_pending() >= kWritebackBytes) stl.start_writeback();
         });
         stl.start_writeback();
       });

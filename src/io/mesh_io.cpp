@@ -386,7 +386,10 @@ void stl_binary(const TriangleMesh& mesh, std::string_view header,
       tokens,
       tbb::make_filter<void, std::size_t>(tbb::filter_mode::serial_in_order,
                                           [&](tbb::flow_control& control) -> std::size_t {
-                                            if (next == pieces) control.stop();
+                                            if (next == pieces) {
+                                              control.stop();
+                                              return pieces;  // not used
+                                            }
                                             return next++;
                                           }) &
           tbb::make_filter<std::size_t, std::size_t>(

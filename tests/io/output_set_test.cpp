@@ -67,8 +67,11 @@ TEST(OutputSet, StagedFilesAreSyncedTogetherOnPublish) {
     write_file_atomically(set.staging() / "a.csv", "a");
     AtomicFileWriter map(set.staging() / "maps" / "m1.svg");
     map.append("<svg");
+    EXPECT_EQ(map.writeback_pending(), 4u);
     map.start_writeback();  // what follows is written too
+    EXPECT_EQ(map.writeback_pending(), 0u);
     map.append("/>");
+    EXPECT_EQ(map.writeback_pending(), 2u);
     map.commit();
     EXPECT_THROW(map.start_writeback(), InputError);  // committed: nothing more to write
     set.publish();

@@ -45,6 +45,8 @@ class AtomicFileWriter {
   // sync_folder() comes. Called every few megabytes while a large file is written, it keeps the
   // disk busy meanwhile.
   void start_writeback();
+  // Bytes appended since the write-back was last started (all of them before the first start).
+  std::size_t writeback_pending() const { return appended_ - started_; }
   void commit();
   const std::filesystem::path& path() const { return path_; }
 

@@ -539,8 +539,9 @@ int dexel_mesh_stride(const TriDexel& stock, std::size_t triangle_budget) {
         for (int r = range.begin(); r < range.end(); ++r) {
           const int a = r < rows0 ? 0 : (r < rows0 + rows1 ? 1 : 2);
           const int j = r - (a == 0 ? 0 : (a == 1 ? rows0 : rows0 + rows1));
-          for (const DexelRay& ray : stock.row(a, j))
+          for (const DexelRay& ray : stock.row(a, j)) {
             sum += 2 * static_cast<std::size_t>(ray.count());
+          }
         }
         return sum;
       },
