@@ -1,13 +1,16 @@
 #include "cwe/envelope/linear_sweep.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include "cwe/core/assert.hpp"
 #include "cwe/core/error.hpp"
 #include "cwe/envelope/swept_volume.hpp"
 #include "cwe/geometry/intersect.hpp"
+#include "cwe/geometry/quotient.hpp"
 #include "cwe/geometry/roots.hpp"
 #include "cwe/geometry/tolerance.hpp"
 #include "cwe/tool/piece_chord.hpp"
@@ -49,17 +52,21 @@ bool solve_in_plane(const Vec3& d, const Vec3& D, const Vec3& rhs, double& t, do
 }
 
 // Narrows `chord` to the parameters where s0 + t·ds lies in [lo, hi].
-void clip(Interval& chord, double s0, double ds, double lo, double hi) {
+[[gnu::always_inline]] inline void clip(Interval& chord, double s0, double ds, double lo,
+                                        double hi) {
   if (ds == 0.0) {
     if (s0 < lo || s0 > hi) chord = Interval::empty();
     return;
   }
-  const double a = (lo - s0) / ds, b = (hi - s0) / ds;
+  // x / ±1 is ±x, to the last bit: axis-aligned paths and rays spare their divisions.
+  const auto over = [ds](double x) { return ds == 1.0 ? x : (ds == -1.0 ? -x : x / ds); };
+  const double a = over(lo - s0), b = over(hi - s0);
   chord = intersect(chord, Interval{std::min(a, b), std::max(a, b)});
 }
 
 // The 2-D line o + t d (d ≠ 0) through the disc |p - c| ≤ r.
-Interval disc_chord(const Vec2& o, const Vec2& d, const Vec2& c, double r) {
+[[gnu::always_inline]] inline Interval disc_chord(const Vec2& o, const Vec2& d, const Vec2& c,
+                                                  double r) {
   const Vec2 w = o - c;
   const double a = d.squaredNorm();
   const double cross = d.x() * w.y() - d.y() * w.x();
@@ -70,44 +77,75 @@ Interval disc_chord(const Vec2& o, const Vec2& d, const Vec2& c, double r) {
   return {middle - half, middle + half};
 }
 
-// The 2-D line through the capsule of radius r about the segment c0–c1 (convex: the hull of the
-// chords through both end discs and the rectangle between them).
-Interval capsule_chord(const Vec2& o, const Vec2& d, const Vec2& c0, const Vec2& c1, double r) {
-  Hull hull;
-  hull.add(disc_chord(o, d, c0, r));
-  hull.add(disc_chord(o, d, c1, r));
-  const Vec2 along = c1 - c0;
-  const double length = along.norm();
-  if (length > 0.0) {
-    const Vec2 e = along / length;
-    const Vec2 n(-e.y(), e.x());
-    Interval band = Interval::full();
-    clip(band, (o - c0).dot(e), d.dot(e), 0.0, length);
-    clip(band, (o - c0).dot(n), d.dot(n), -r, r);
-    hull.add(band);
+// The capsule of radius r about the segment c0–c1 in a plane, with what its chords share.
+struct Capsule {
+  Vec2 c0 = Vec2::Zero(), c1 = Vec2::Zero();
+  double length = 0.0;
+  Vec2 e = Vec2::Zero(), n = Vec2::Zero();  // unit vectors along the segment and square to it
+  Capsule() = default;
+  Capsule(const Vec2& from, const Vec2& to) : c0(from), c1(to) {
+    const Vec2 along = c1 - c0;
+    length = along.norm();
+    if (length > 0.0) {
+      e = along / length;
+      n = Vec2(-e.y(), e.x());
+    }
   }
-  return hull.interval();
+  // The 2-D line o + t d (d ≠ 0) through it (convex: the hull of the chords through both end
+  // discs and the rectangle between them). Inlined, so that a d known where it is called (a ray
+  // along X or Y) spares what multiplies by 1 or divides by |d|² = 1.
+  [[gnu::always_inline]] Interval chord(const Vec2& o, const Vec2& d, double r) const {
+    Hull hull;
+    hull.add(disc_chord(o, d, c0, r));
+    hull.add(disc_chord(o, d, c1, r));
+    if (length > 0.0) {
+      Interval band = Interval::full();
+      clip(band, (o - c0).dot(e), d.dot(e), 0.0, length);
+      clip(band, (o - c0).dot(n), d.dot(n), -r, r);
+      hull.add(band);
+    }
+    return hull.interval();
+  }
+};
+
+// The 2-D line through the capsule of radius r about the segment c0–c1.
+Interval capsule_chord(const Vec2& o, const Vec2& d, const Vec2& c0, const Vec2& c1, double r) {
+  return Capsule(c0, c1).chord(o, d, r);
 }
 
 // A ball of radius r swept along D from the centre c: where the ray o + t·d (rel = o - c)
 // crosses the cylinder of radius r about the centre's path with its foot on the path between
-// the two end balls, at path fraction λ ∈ [0, 1]: visit(t, λ) for each (at most two).
+// the two end balls, at path fraction λ ∈ [0, 1]: visit(t, λ·|D|²) for each (at most two).
+// `feed2` is |D|², m the direction's part square to D and a = |m|² (fixed for a move and a
+// direction: swept_ball_side below finds them).
 template <class Visit>
-void swept_ball_side(const Vec3& rel, const Vec3& d, const Vec3& feed, double r, Visit&& visit) {
-  const double feed2 = feed.squaredNorm();
-  if (!(feed2 > 0.0)) return;
+void swept_ball_side(const Vec3& rel, const Vec3& d, const Vec3& feed, double feed2, const Vec3& m,
+                     double a, double r, Visit&& visit) {
+  if (!(feed2 > 0.0) || !(a > 0.0)) return;
   const Vec3 p0 = rel - (rel.dot(feed) / feed2) * feed;
-  const Vec3 m = d - (d.dot(feed) / feed2) * feed;
-  const double a = m.squaredNorm();
-  if (!(a > 0.0)) return;
   const double b = p0.dot(m);
   const double disc = b * b - a * (p0.squaredNorm() - r * r);
   if (disc < 0.0) return;
   const double root = std::sqrt(disc);
-  for (const double t : {(-b - root) / a, (-b + root) / a}) {
-    const double lambda = (rel + t * d).dot(feed) / feed2;
-    if (lambda >= 0.0 && lambda <= 1.0) visit(t, lambda);
+  // x / 1 is x: a ray square to the feed spares the divisions.
+  const auto over_a = [a](double x) { return a == 1.0 ? x : x / a; };
+  for (const double t : {over_a(-b - root), over_a(-b + root)}) {
+    const double along = (rel + t * d).dot(feed);
+    if (quotient_in_unit(along, feed2)) visit(t, along);
   }
+}
+
+// The direction's part square to the feed (for swept_ball_side).
+Vec3 square_to_feed(const Vec3& d, const Vec3& feed, double feed2) {
+  return d - (d.dot(feed) / feed2) * feed;
+}
+
+template <class Visit>
+void swept_ball_side(const Vec3& rel, const Vec3& d, const Vec3& feed, double r, Visit&& visit) {
+  const double feed2 = feed.squaredNorm();
+  if (!(feed2 > 0.0)) return;
+  const Vec3 m = square_to_feed(d, feed, feed2);
+  swept_ball_side(rel, d, feed, feed2, m, m.squaredNorm(), r, visit);
 }
 
 }  // namespace
@@ -218,6 +256,14 @@ LinearSweep::LinearSweep(const Cutter& cutter, const Vec3& start, const Vec3& en
         segments[1].end.y() >= 2.0 * r) {
       ball_radius_ = r;
       ball_top_ = segments[1].end.y();
+      ball_feed_ = end_ - start_;
+      ball_centres_ = {start_ + Vec3(0.0, 0.0, r), Vec3(start_ + Vec3(0.0, 0.0, r) + ball_feed_)};
+      ball_feed2_ = ball_feed_.squaredNorm();
+      for (int a = 0; a < 3; ++a) {
+        const auto k = static_cast<std::size_t>(a);
+        ball_square_[k] = square_to_feed(Vec3::Unit(a), ball_feed_, ball_feed2_);
+        ball_square2_[k] = ball_square_[k].squaredNorm();
+      }
     }
     // The tip's path in plan (level chords; every move's row_span).
     path_start_ = start.head<2>();
@@ -326,34 +372,48 @@ Interval LinearSweep::level_vertical_chord(const Vec2& q, double oz, double dz) 
   const Vec2 c0 = start_.head<2>(), c1 = end_.head<2>();
   const Vec2 along = c1 - c0;
   const double length2 = along.squaredNorm();
-  const double u = length2 > 0.0 ? std::clamp((q - c0).dot(along) / length2, 0.0, 1.0) : 0.0;
+  const double u = length2 > 0.0 ? clamped_quotient((q - c0).dot(along), length2) : 0.0;
   const Interval h = cutter_->profile().heights_reaching((q - c0 - u * along).norm());
   if (h.is_empty()) return h;
   const double a = (start_.z() + h.lo - oz) / dz, b = (start_.z() + h.hi - oz) / dz;
   return {std::min(a, b), std::max(a, b)};
 }
 
-Interval LinearSweep::ball_chord(const Ray& ray) const {
-  const Vec3& o = ray.origin;
-  const Vec3& d = ray.direction;
+// The swept cylinder's section at a height: the plan capsule of its discs at the path
+// parameters u0 to u1 whose heights hold it.
+struct LinearSweep::BallLevel {
+  bool made = false;
+  std::uint64_t u0 = 0, u1 = 0;  // the parameters' bits (a zero's sign too)
+  Capsule capsule;
+};
+
+template <int A>
+Interval LinearSweep::ball_chord(const Vec3& o, const Vec3& given, BallLevel* level) const {
+  static_assert(A >= -1 && A <= 2);
+  const Vec3 d = A < 0 ? given : Vec3(A == 0 ? 1.0 : 0.0, A == 1 ? 1.0 : 0.0, A == 2 ? 1.0 : 0.0);
   const double r = ball_radius_, top = ball_top_;
-  const Vec3 feed = end_ - start_;
+  const Vec3& feed = ball_feed_;
   Hull hull;
   // The ball's capsule: the balls at both ends, and the cylinder of radius r about the centre's
   // path where the ray meets it between the two ends.
-  const Vec3 centre = start_ + Vec3(0.0, 0.0, r);
   // The end balls by their quadratic: intersect(Ray, Sphere) gives the same chords with a
   // tangency allowance removal has no use for (a touching ray removes nothing), and cost a
   // quarter of a ball raster's removal time here.
   const double a = d.squaredNorm();
-  for (const Vec3& c : {centre, Vec3(centre + feed)}) {
+  for (const Vec3& c : ball_centres_) {
     const Vec3 w = o - c;
     const double b = w.dot(d), gap = b * b - a * (w.squaredNorm() - r * r);
     if (gap < 0.0) continue;
     const double root = std::sqrt(gap);
     hull.add((-b - root) / a), hull.add((-b + root) / a);
   }
-  swept_ball_side(o - centre, d, feed, r, [&](double t, double) { hull.add(t); });
+  const auto visit = [&](double t, double) { hull.add(t); };
+  if constexpr (A < 0) {
+    swept_ball_side(o - ball_centres_[0], d, feed, r, visit);
+  } else {
+    swept_ball_side(o - ball_centres_[0], d, feed, ball_feed2_, ball_square_[A], ball_square2_[A],
+                    r, visit);
+  }
   // The cylinder (radius r, heights r to `top` above the tip) swept along the feed: at the path
   // parameter u its plan disc is about start + u·feed and its heights are shifted by u·feed_z.
   const Vec2 plan = feed.head<2>();
@@ -366,8 +426,9 @@ Interval LinearSweep::ball_chord(const Ray& ray) const {
       const double gap = b * b - p2 * c;
       if (gap < 0.0) return hull.interval();
       const double root = std::sqrt(gap);
-      u0 = std::max(0.0, (b - root) / p2);
-      u1 = std::min(1.0, (b + root) / p2);
+      // Where the quotient's sign or its side of 1 decides them, without the division.
+      u0 = b - root <= 0.0 ? 0.0 : std::max(0.0, (b - root) / p2);
+      u1 = b + root >= p2 ? 1.0 : std::min(1.0, (b + root) / p2);
     } else if (c > 0.0) {
       return hull.interval();
     }
@@ -380,17 +441,49 @@ Interval LinearSweep::ball_chord(const Ray& ray) const {
   // A horizontal ray: the u whose heights hold the ray's, then the plan capsule of their discs.
   const double h = o.z() - start_.z();
   double u0 = 0.0, u1 = 1.0;
-  if (feed.z() != 0.0) {
-    const double first = (h - top) / feed.z(), last = (h - r) / feed.z();
-    u0 = std::max(0.0, std::min(first, last));
-    u1 = std::min(1.0, std::max(first, last));
+  if (const double fz = feed.z(); fz != 0.0) {
+    // u0 = max(0, min(first, last)) and u1 = min(1, max(first, last)) with first = (h - top)/fz
+    // and last = (h - r)/fz (first < last where fz > 0, r < top). Where the quotient's sign or
+    // its side of 1 decides them (the heights the cylinder spans over the whole move), without
+    // the division: the same numbers.
+    const double above = h - top, below = h - r;
+    if (fz > 0.0) {
+      u0 = above <= 0.0 ? 0.0 : std::max(0.0, above / fz);
+      u1 = below >= fz ? 1.0 : std::min(1.0, below / fz);
+    } else {
+      u0 = below >= 0.0 ? 0.0 : std::max(0.0, below / fz);
+      u1 = above <= fz ? 1.0 : std::min(1.0, above / fz);
+    }
   } else if (h < r || h > top) {
     return hull.interval();
   }
   if (u0 > u1) return hull.interval();
-  hull.add(capsule_chord(o.head<2>(), d.head<2>(), start_.head<2>() + u0 * plan,
-                         start_.head<2>() + u1 * plan, r));
+  BallLevel here;
+  BallLevel& section = level != nullptr ? *level : here;
+  if (const auto b0 = std::bit_cast<std::uint64_t>(u0), b1 = std::bit_cast<std::uint64_t>(u1);
+      !section.made || section.u0 != b0 || section.u1 != b1) {
+    section = {true, b0, b1, Capsule(start_.head<2>() + u0 * plan, start_.head<2>() + u1 * plan)};
+  }
+  hull.add(section.capsule.chord(o.head<2>(), d.head<2>(), r));
   return hull.interval();
+}
+
+template <int A>
+void LinearSweep::ball_chords(Ray ray, int across, std::span<const double> at,
+                              std::span<Interval> chords) const {
+  const bool vertical = A == 2, horizontal = A != 2;
+  BallLevel level;
+  Floor floor;
+  const Vec3& o = ray.origin;
+  for (std::size_t k = 0; k < at.size(); ++k) {
+    // Each ray made whole (see chords()).
+    const Ray each{
+        Vec3(across == 0 ? at[k] : o.x(), across == 1 ? at[k] : o.y(), across == 2 ? at[k] : o.z()),
+        ray.direction};
+    chords[k] = out_of_reach(each, vertical, horizontal, &floor)
+                    ? Interval::empty()
+                    : ball_chord<A>(each.origin, each.direction, &level);
+  }
 }
 
 Interval LinearSweep::axial_chord(const Ray& ray) const {
@@ -417,12 +510,24 @@ Interval LinearSweep::chord(const Ray& ray) const {
   const bool vertical = d.x() == 0.0 && d.y() == 0.0 && d.z() != 0.0;
   if (mode_ == Mode::kLevel && (horizontal || vertical)) return level_chord(ray);
   if (mode_ == Mode::kAxial && (horizontal || vertical)) return axial_chord(ray);
+  if (out_of_reach(ray, vertical, horizontal)) return Interval::empty();
+  if (ball_radius_ > 0.0 && (vertical || (horizontal && (d.x() == 0.0 || d.y() == 0.0)))) {
+    if (d == Vec3::UnitX()) return ball_chord<0>(ray.origin, d);
+    if (d == Vec3::UnitY()) return ball_chord<1>(ray.origin, d);
+    if (d == Vec3::UnitZ()) return ball_chord<2>(ray.origin, d);
+    return ball_chord<-1>(ray.origin, d);
+  }
+  return generic_chord(ray);
+}
+
+bool LinearSweep::out_of_reach(const Ray& ray, bool vertical, bool horizontal, Floor* last) const {
+  const Vec3& d = ray.direction;
   if (vertical && vertical_axis_) {
     // Every point of a tool standing along +Z lies within its largest radius of the axis, whose
     // plan position is the tip's: a vertical ray farther than that from the tip's path in plan
     // misses the sweep (the box around a climbing move holds many such rays).
     if (plan_gap(ray.origin) > plan_radius_ * (1.0 + tol::kRelative) + tol::kLength) {
-      return Interval::empty();
+      return true;
     }
   } else if (horizontal && vertical_axis_ && (d.x() == 0.0 || d.y() == 0.0)) {
     // A ray along world X or Y passes every axis position at least `gap` away in plan (its
@@ -434,17 +539,19 @@ Interval LinearSweep::chord(const Ray& ray) const {
     const double a1 = std::max(start_[across], end_[across]);
     const double o = ray.origin[across];
     const double gap = o < a0 ? a0 - o : (o > a1 ? o - a1 : 0.0);
-    if (gap > plan_radius_ * (1.0 + tol::kRelative) + tol::kLength) return Interval::empty();
-    const double floor =
-        std::min(start_.z(), end_.z()) + cutter_->profile().lowest_reaching(gap);
-    if (ray.origin.z() < floor - tol::kLength * (1.0 + std::abs(floor) / tol::kModelScale)) {
-      return Interval::empty();
+    if (gap > plan_radius_ * (1.0 + tol::kRelative) + tol::kLength) return true;
+    Floor here;
+    Floor& floor = last != nullptr ? *last : here;
+    if (const auto bits = std::bit_cast<std::uint64_t>(gap); !floor.made || floor.gap != bits) {
+      floor = {true, bits,
+               std::min(start_.z(), end_.z()) + cutter_->profile().lowest_reaching(gap)};
+    }
+    const double lowest = floor.z;
+    if (ray.origin.z() < lowest - tol::kLength * (1.0 + std::abs(lowest) / tol::kModelScale)) {
+      return true;
     }
   }
-  if (ball_radius_ > 0.0 && (vertical || (horizontal && (d.x() == 0.0 || d.y() == 0.0)))) {
-    return ball_chord(ray);
-  }
-  return generic_chord(ray);
+  return false;
 }
 
 void LinearSweep::chords(Ray ray, int across, std::span<const double> at,
@@ -493,6 +600,12 @@ void LinearSweep::chords(Ray ray, int across, std::span<const double> at,
     }
     return;
   }
+  if (ball_radius_ > 0.0) {
+    // A ball end's chords on rays along +X, +Y or +Z, with what they share found once.
+    if (d == Vec3::UnitX()) return ball_chords<0>(ray, across, at, chords);
+    if (d == Vec3::UnitY()) return ball_chords<1>(ray, across, at, chords);
+    if (d == Vec3::UnitZ()) return ball_chords<2>(ray, across, at, chords);
+  }
   for (std::size_t k = 0; k < at.size(); ++k) {
     // Each ray made whole (see above).
     const Ray each{
@@ -539,7 +652,7 @@ double LinearSweep::row_key(const Ray& ray, int across) const {
 double LinearSweep::plan_gap(const Vec3& p) const {
   const Vec2 q = p.head<2>() - start_.head<2>(), along = (end_ - start_).head<2>();
   const double length2 = along.squaredNorm();
-  const double u = length2 > 0.0 ? std::clamp(q.dot(along) / length2, 0.0, 1.0) : 0.0;
+  const double u = length2 > 0.0 ? clamped_quotient(q.dot(along), length2) : 0.0;
   return (q - u * along).norm();
 }
 
@@ -617,7 +730,8 @@ Interval LinearSweep::generic_chord(const Ray& ray) const {
   // grazing point lies on the sphere's piece of the profile.
   for (const SpherePiece& sphere : spheres_) {
     const Vec3 rel = o - Vec3(0.0, 0.0, sphere.center_z);
-    swept_ball_side(rel, d, delta_, sphere.radius, [&](double t, double lambda) {
+    swept_ball_side(rel, d, delta_, sphere.radius, [&](double t, double along) {
+      const double lambda = along / delta_.squaredNorm();
       const double height = sphere.center_z + (rel + t * d - lambda * delta_).z();
       if (height >= sphere.z0 && height <= sphere.z1) hull.add(t);
     });

@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <string>
 #include <vector>
@@ -215,28 +217,42 @@ TEST(LinearSweep, RowChordsAreTheRaysChords) {
         if (m % 8 == 0) end[(m / 8) % 2] = start[(m / 8) % 2];  // level along X or Y
       } else if (m % 4 == 1) {
         end.head<2>() = start.head<2>();  // axial
+      } else if (m % 8 == 2) {
+        end[(m / 8) % 2] = start[(m / 8) % 2];  // climbing along Y or X
       }
       const Vec3 axis = m % 4 == 3 ? Vec3(0.3, -0.2, 1.0).normalized() : Vec3::UnitZ();
       const LinearSweep sweep(cutter, start, end, axis);
+      const Vec3 low_tip = start.z() < end.z() ? start : end;
       for (int a = 0; a < 3; ++a) {
         for (int across = 0; across < 3; ++across) {
           if (across == a) continue;
-          const Ray row{sweep.bounds().center() + random.point_in_box(6.0),
-                        (m % 2 == 0 ? 1.0 : -1.0) * Vec3::Unit(a)};
-          std::vector<double> at(32);
-          for (std::size_t k = 0; k < at.size(); ++k) {
-            at[k] = row.origin[across] - 8.0 + 0.5 * static_cast<double>(k);
-          }
-          std::vector<Interval> chords(at.size());
-          sweep.chords(row, across, at, chords);
-          for (std::size_t k = 0; k < at.size(); ++k) {
-            Ray ray = row;
-            ray.origin[across] = at[k];
-            const Interval one = sweep.chord(ray);
-            nonempty += one.is_empty() ? 0 : 1;
-            ASSERT_EQ(chords[k].is_empty(), one.is_empty()) << m << " " << a << " " << k;
-            if (!one.is_empty()) {
-              ASSERT_EQ(chords[k], one) << "move " << m << " family " << a << " ray " << k;
+          const Vec3 d = (m % 2 == 0 ? 1.0 : -1.0) * Vec3::Unit(a);
+          // A row about the sweep's middle, and rows just above its lowest tip, across it from
+          // far beside the path to far beyond it (each ray's lowest reach its own).
+          std::vector<Ray> rows{{sweep.bounds().center() + random.point_in_box(6.0), d}};
+          for (const double lift : {0.05, 0.5, 2.0}) rows.push_back({low_tip + lift * axis, d});
+          for (const Ray& row : rows) {
+            std::vector<double> at(32);
+            for (std::size_t k = 0; k < at.size(); ++k) {
+              at[k] = row.origin[across] - 8.0 + 0.5 * static_cast<double>(k);
+            }
+            std::vector<Interval> chords(at.size());
+            sweep.chords(row, across, at, chords);
+            for (std::size_t k = 0; k < at.size(); ++k) {
+              Ray ray = row;
+              ray.origin[across] = at[k];
+              const Interval one = sweep.chord(ray);
+              nonempty += one.is_empty() ? 0 : 1;
+              ASSERT_EQ(chords[k].is_empty(), one.is_empty()) << m << " " << a << " " << k;
+              if (!one.is_empty()) {
+                // Bit for bit (a zero's sign too).
+                ASSERT_EQ(std::bit_cast<std::uint64_t>(chords[k].lo),
+                          std::bit_cast<std::uint64_t>(one.lo))
+                    << "move " << m << " family " << a << " ray " << k;
+                ASSERT_EQ(std::bit_cast<std::uint64_t>(chords[k].hi),
+                          std::bit_cast<std::uint64_t>(one.hi))
+                    << "move " << m << " family " << a << " ray " << k;
+              }
             }
           }
         }

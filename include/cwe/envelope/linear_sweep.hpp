@@ -30,6 +30,7 @@
 // `generic_chord` always takes the general route; tests hold the closed forms to it.
 
 #include <array>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -115,9 +116,29 @@ class LinearSweep {
   // dz.
   Interval level_vertical_chord(const Vec2& q, double oz, double dz) const;
   Interval axial_chord(const Ray& ray) const;
-  // A ball end standing along +Z, moved in any direction, on a ray along X, Y or Z (see
-  // ball_radius_).
-  Interval ball_chord(const Ray& ray) const;
+  // A ball end standing along +Z, moved in any direction, on a ray o + t·d along X, Y or Z (see
+  // ball_radius_). With A ≥ 0 the ray runs along +X, +Y or +Z (A its axis, d that unit vector),
+  // and its components known here spare what multiplies by 1 or divides by d's length 1: the
+  // same numbers as with A = -1 (any such d). `level`, if given, keeps the section of the swept
+  // cylinder last made, for the next horizontal ray whose height gives the same one (rays at one
+  // height; rays at heights the cylinder spans over the whole move).
+  struct BallLevel;
+  template <int A>
+  Interval ball_chord(const Vec3& o, const Vec3& d, BallLevel* level = nullptr) const;
+  template <int A>
+  void ball_chords(Ray ray, int across, std::span<const double> at,
+                   std::span<Interval> chords) const;
+  // Whether chord() returns the empty interval for the ray before its construction: rays a
+  // tool standing along +Z cannot reach, by plan distance (vertical rays) or height (rays
+  // along X or Y). `vertical` and `horizontal` classify the ray as chord() does. `last`, if
+  // given, keeps the lowest height reached at the last plan offset asked, for the next ray at
+  // the same offset (a row of rays along Y up the height).
+  struct Floor {
+    bool made = false;
+    std::uint64_t gap = 0;  // the offset's bits
+    double z = 0.0;
+  };
+  bool out_of_reach(const Ray& ray, bool vertical, bool horizontal, Floor* last = nullptr) const;
   // Plan distance from a point to the tip's path (vertical tools).
   double plan_gap(const Vec3& p) const;
   // Level mode: the extent along world axis `along` (0 or 1) of the capsule of radius r about
@@ -156,6 +177,13 @@ class LinearSweep {
   // the cylinder swept along D, and a ray's chord is the hull of its chords through the two.
   // 0 for other tools.
   double ball_radius_ = 0.0, ball_top_ = 0.0;
+  // What a ball end's chords share on a move: the ball's centre at both ends, the feed D and
+  // |D|², and for rays along +X, +Y and +Z their part square to D and its length squared.
+  std::array<Vec3, 2> ball_centres_;
+  Vec3 ball_feed_ = Vec3::Zero();
+  double ball_feed2_ = 0.0;
+  std::array<Vec3, 3> ball_square_;
+  std::array<double, 3> ball_square2_{};
 };
 
 }  // namespace cwe
