@@ -525,10 +525,10 @@ bool LinearSweep::out_of_reach(const Ray& ray, bool vertical, bool horizontal, F
   if (vertical && vertical_axis_) {
     // Every point of a tool standing along +Z lies within its largest radius of the axis, whose
     // plan position is the tip's: a vertical ray farther than that from the tip's path in plan
-    // misses the sweep (the box around a climbing move holds many such rays).
-    if (plan_gap(ray.origin) > plan_radius_ * (1.0 + tol::kRelative) + tol::kLength) {
-      return true;
-    }
+    // misses the sweep (the box around a climbing move holds many such rays). Squared, without
+    // a root: the allowance is far above the difference.
+    const double reach = plan_radius_ * (1.0 + tol::kRelative) + tol::kLength;
+    if (plan_gap2(ray.origin) > reach * reach) return true;
   } else if (horizontal && vertical_axis_ && (d.x() == 0.0 || d.y() == 0.0)) {
     // A ray along world X or Y passes every axis position at least `gap` away in plan (its
     // offset across from the tip path's range), so every tool point on it stands at least
@@ -622,7 +622,7 @@ Interval LinearSweep::row_span(const Ray& ray, int across) const {
   }
   // The tool lies within its largest radius of its axis, whose plan position runs along the
   // tip's path in plan: a vertical ray farther than that from the path misses the sweep. chord()
-  // gives such rays an allowance (plan_gap, in other arithmetic); the span adds as much again.
+  // gives such rays an allowance (plan_gap2, in other arithmetic); the span adds as much again.
   return capsule_span(ray.origin, across,
                       plan_radius_ * (1.0 + tol::kRelative) + 2.0 * tol::kLength);
 }
@@ -649,20 +649,27 @@ double LinearSweep::row_key(const Ray& ray, int across) const {
   return level_radius(ray.origin.z(), r) ? r : -1.0;
 }
 
-double LinearSweep::plan_gap(const Vec3& p) const {
+double LinearSweep::plan_gap2(const Vec3& p) const {
   const Vec2 q = p.head<2>() - start_.head<2>(), along = (end_ - start_).head<2>();
   const double length2 = along.squaredNorm();
   const double u = length2 > 0.0 ? clamped_quotient(q.dot(along), length2) : 0.0;
-  return (q - u * along).norm();
+  return (q - u * along).squaredNorm();
 }
 
 Interval LinearSweep::reach(const Ray& ray) const {
   const Vec3& d = ray.direction;
   if (!has_reach() || d.x() != 0.0 || d.y() != 0.0 || d.z() == 0.0) return Interval::full();
   // Every tool point over plan point q stands at least h_lo(gap) above its tip (see chord()).
-  const double gap = plan_gap(ray.origin);
-  if (gap > plan_radius_ * (1.0 + tol::kRelative) + tol::kLength) return Interval::empty();
-  const double floor = std::min(start_.z(), end_.z()) + cutter_->profile().lowest_reaching(gap);
+  // A bound, not a chord: rounding far below the margin cannot matter, so a ball end's h_lo,
+  // r - √(r² - gap²), is taken from the squared gap with one root.
+  const double gap2 = plan_gap2(ray.origin);
+  const double reach = plan_radius_ * (1.0 + tol::kRelative) + tol::kLength;
+  if (gap2 > reach * reach) return Interval::empty();
+  const double r = ball_radius_;
+  const double lowest = r > 0.0 && gap2 <= r * r
+                            ? std::max(r - std::sqrt(r * r - gap2), 0.0)
+                            : cutter_->profile().lowest_reaching(std::sqrt(gap2));
+  const double floor = std::min(start_.z(), end_.z()) + lowest;
   const double margin = tol::kLength * (1.0 + std::abs(floor) / tol::kModelScale);
   const double t = (floor - margin - ray.origin.z()) / d.z();
   return d.z() > 0.0 ? Interval{t, Interval::full().hi} : Interval{Interval::full().lo, t};

@@ -139,8 +139,8 @@ class LinearSweep {
     double z = 0.0;
   };
   bool out_of_reach(const Ray& ray, bool vertical, bool horizontal, Floor* last = nullptr) const;
-  // Plan distance from a point to the tip's path (vertical tools).
-  double plan_gap(const Vec3& p) const;
+  // Squared plan distance from a point to the tip's path (vertical tools).
+  double plan_gap2(const Vec3& p) const;
   // Level mode: the extent along world axis `along` (0 or 1) of the capsule of radius r about
   // the tip's path, on the horizontal line through o parallel to that axis.
   Interval capsule_span(const Vec3& o, int along, double r) const;
