@@ -14,12 +14,21 @@
 
 #include "cwe/core/error.hpp"
 #include "cwe/core/text_file.hpp"
+#include "cwe/io/fixed_decimal.hpp"
 #include "cwe/io/force_plot.hpp"
 
 namespace cwe {
 namespace {
 
 double degrees(double radians) { return radians * 180.0 / kPi; }
+
+// A number the rows print with a fixed count of decimals: "{}" of fixed(v, n) is "{:.nf}" of v,
+// by write_fixed where it can (most of the rows' time went into fmt's exact rounding).
+struct Fixed {
+  double value;
+  int decimals;
+};
+Fixed fixed(double value, int decimals) { return {value, decimals}; }
 
 // A value that rounds to zero at `decimals` places, without its sign: "0.000", never "-0.000"
 // (the sign of a rounding residue, such as the mean lateral force of a symmetric slot, says
@@ -33,6 +42,22 @@ double unsigned_zero(double value, int decimals) {
 }
 
 }  // namespace
+}  // namespace cwe
+
+template <>
+struct fmt::formatter<cwe::Fixed> {
+  constexpr auto parse(fmt::format_parse_context& context) { return context.begin(); }
+  template <class Context>
+  auto format(const cwe::Fixed& f, Context& context) const {
+    char text[cwe::kFixedDecimalMax];
+    if (const char* end = cwe::write_fixed(text, f.value, f.decimals)) {
+      return std::copy(static_cast<const char*>(text), end, context.out());
+    }
+    return fmt::format_to(context.out(), "{:.{}f}", f.value, f.decimals);
+  }
+};
+
+namespace cwe {
 
 OutputFolder::OutputFolder(const std::filesystem::path& out, const std::string& name)
     : target_(out / name),
@@ -81,18 +106,18 @@ std::string ReportUnit::header(std::string mm_header) const {
 std::string forces_csv_row(std::size_t k, const ClPoint& cl, std::size_t operation, int tool,
                            double feed_rate, const ClForces& f, const ReportUnit& unit) {
   const int e = unit.extra_decimals;
+  const auto f3 = [](double value) { return fixed(value, 3); };
+  const auto mean3 = [](double value) { return fixed(unsigned_zero(value, 3), 3); };
   return fmt::format(
-      FMT_COMPILE("{},{},{:.{}f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.5f},{:.5f},"
-                  "{:.3f},{},{},{:.{}f},{:.1f},{:.{}f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},"
-                  "{}\n"),
-      k, cl.move + 1, unit.length(f.feed_per_tooth), 6 + e, unsigned_zero(f.mean_force.x(), 3),
-      unsigned_zero(f.mean_force.y(), 3), unsigned_zero(f.mean_force.z(), 3), f.peak_force.x(),
-      f.peak_force.y(), f.peak_force.z(), f.peak_resultant, unsigned_zero(f.mean_torque, 5),
-      f.peak_torque, unsigned_zero(f.mean_power, 3), cl.line, operation, unit.length(feed_rate),
-      3 + e, f.spindle_speed, unit.length(f.max_chip), 6 + e,
-      unsigned_zero(f.mean_force_world.x(), 3), unsigned_zero(f.mean_force_world.y(), 3),
-      unsigned_zero(f.mean_force_world.z(), 3), f.peak_force_world.x(), f.peak_force_world.y(),
-      f.peak_force_world.z(), tool);
+      FMT_COMPILE("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n"),
+      k, cl.move + 1, fixed(unit.length(f.feed_per_tooth), 6 + e), mean3(f.mean_force.x()),
+      mean3(f.mean_force.y()), mean3(f.mean_force.z()), f3(f.peak_force.x()), f3(f.peak_force.y()),
+      f3(f.peak_force.z()), f3(f.peak_resultant), fixed(unsigned_zero(f.mean_torque, 5), 5),
+      fixed(f.peak_torque, 5), mean3(f.mean_power), cl.line, operation,
+      fixed(unit.length(feed_rate), 3 + e), fixed(f.spindle_speed, 1),
+      fixed(unit.length(f.max_chip), 6 + e), mean3(f.mean_force_world.x()),
+      mean3(f.mean_force_world.y()), mean3(f.mean_force_world.z()), f3(f.peak_force_world.x()),
+      f3(f.peak_force_world.y()), f3(f.peak_force_world.z()), tool);
 }
 
 // One engagement.jsonl line: the engaged discs and rings, angles in degrees, heights and radii in
@@ -108,13 +133,13 @@ std::string engagement_jsonl_line(std::size_t k, const ClPoint& cl, const Engage
     bool first = true;
     for (const auto& band : list) {
       if (band.phi.empty()) continue;
-      fmt::format_to(out, FMT_COMPILE(R"({}{{"{}":{:.{}f},"{}":{:.{}f},"intervals":[)"),
-                     first ? "" : ",", lo, unit.length(band.*from), 4 + e, hi,
-                     unit.length(band.*to), 4 + e);
+      fmt::format_to(out, FMT_COMPILE(R"({}{{"{}":{},"{}":{},"intervals":[)"), first ? "" : ",", lo,
+                     fixed(unit.length(band.*from), 4 + e), hi,
+                     fixed(unit.length(band.*to), 4 + e));
       first = false;
       for (std::size_t i = 0; i < band.phi.size(); ++i) {
-        fmt::format_to(out, FMT_COMPILE("{}[{:.3f},{:.3f}]"), i ? "," : "", degrees(band.phi[i].lo),
-                       degrees(band.phi[i].hi));
+        fmt::format_to(out, FMT_COMPILE("{}[{},{}]"), i ? "," : "",
+                       fixed(degrees(band.phi[i].lo), 3), fixed(degrees(band.phi[i].hi), 3));
       }
       line += "]}";
     }
@@ -137,16 +162,17 @@ std::string engagement_csv_row(std::size_t k, const ClPoint& cl, const ToolState
                                const ReportUnit& unit) {
   const int p = 4 + unit.extra_decimals;
   const Vec3 at = cl.position / unit.mm;
-  const auto unit6 = [](double value) { return unsigned_zero(value, 6); };
+  const auto unit6 = [](double value) { return fixed(unsigned_zero(value, 6), 6); };
+  const auto coordinate = [&](double value) { return fixed(unsigned_zero(value, p), p); };
   return fmt::format(
-      FMT_COMPILE("{},{},{},{:.{}f},{:.{}f},{:.{}f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{},"
-                  "{:.3f},{:.3f},{:.{}f},{:.{}f},{:.6f},{:.{}f},{},{},{}\n"),
-      k, cl.move + 1, cl.line, unsigned_zero(at.x(), p), p, unsigned_zero(at.y(), p), p,
-      unsigned_zero(at.z(), p), p, unit6(cl.axis.x()), unit6(cl.axis.y()), unit6(cl.axis.z()),
-      unit6(cl.feed_direction.x()), unit6(cl.feed_direction.y()), unit6(cl.feed_direction.z()),
-      map.engaged ? 1 : 0, degrees(map.phi_entry), degrees(map.phi_exit),
-      unit.length(map.axial_depth), p, unit.area(map.area), p + unit.extra_decimals, cl.u,
-      unit.length(cl.path_length), p, to_string(state.motion), operation, tool);
+      FMT_COMPILE("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n"), k,
+      cl.move + 1, cl.line, coordinate(at.x()), coordinate(at.y()), coordinate(at.z()),
+      unit6(cl.axis.x()), unit6(cl.axis.y()), unit6(cl.axis.z()), unit6(cl.feed_direction.x()),
+      unit6(cl.feed_direction.y()), unit6(cl.feed_direction.z()), map.engaged ? 1 : 0,
+      fixed(degrees(map.phi_entry), 3), fixed(degrees(map.phi_exit), 3),
+      fixed(unit.length(map.axial_depth), p), fixed(unit.area(map.area), p + unit.extra_decimals),
+      fixed(cl.u, 6), fixed(unit.length(cl.path_length), p), to_string(state.motion), operation,
+      tool);
 }
 
 EngagementFiles::EngagementFiles(const std::filesystem::path& folder, bool forces,
