@@ -393,55 +393,15 @@ Interval LinearSweep::ball_chord(const Vec3& o, const Vec3& given, BallLevel* le
   const Vec3 d = A < 0 ? given : Vec3(A == 0 ? 1.0 : 0.0, A == 1 ? 1.0 : 0.0, A == 2 ? 1.0 : 0.0);
   const double r = ball_radius_, top = ball_top_;
   const Vec3& feed = ball_feed_;
-  Hull hull;
-  // The ball's capsule: the balls at both ends, and the cylinder of radius r about the centre's
-  // path where the ray meets it between the two ends.
-  // The end balls by their quadratic: intersect(Ray, Sphere) gives the same chords with a
-  // tangency allowance removal has no use for (a touching ray removes nothing), and cost a
-  // quarter of a ball raster's removal time here.
-  const double a = d.squaredNorm();
-  for (const Vec3& c : ball_centres_) {
-    const Vec3 w = o - c;
-    const double b = w.dot(d), gap = b * b - a * (w.squaredNorm() - r * r);
-    if (gap < 0.0) continue;
-    const double root = std::sqrt(gap);
-    hull.add((-b - root) / a), hull.add((-b + root) / a);
-  }
-  const auto visit = [&](double t, double) { hull.add(t); };
-  if constexpr (A < 0) {
-    swept_ball_side(o - ball_centres_[0], d, feed, r, visit);
-  } else {
-    swept_ball_side(o - ball_centres_[0], d, feed, ball_feed2_, ball_square_[A], ball_square2_[A],
-                    r, visit);
-  }
-  // The cylinder (radius r, heights r to `top` above the tip) swept along the feed: at the path
-  // parameter u its plan disc is about start + u·feed and its heights are shifted by u·feed_z.
   const Vec2 plan = feed.head<2>();
-  if (d.x() == 0.0 && d.y() == 0.0) {
-    // A vertical ray: the u whose disc holds the ray's plan point, then their heights' hull.
-    const Vec2 q = o.head<2>() - start_.head<2>();
-    const double p2 = plan.squaredNorm(), b = q.dot(plan), c = q.squaredNorm() - r * r;
-    double u0 = 0.0, u1 = 1.0;
-    if (p2 > 0.0) {
-      const double gap = b * b - p2 * c;
-      if (gap < 0.0) return hull.interval();
-      const double root = std::sqrt(gap);
-      // Where the quotient's sign or its side of 1 decides them, without the division.
-      u0 = b - root <= 0.0 ? 0.0 : std::max(0.0, (b - root) / p2);
-      u1 = b + root >= p2 ? 1.0 : std::min(1.0, (b + root) / p2);
-    } else if (c > 0.0) {
-      return hull.interval();
-    }
-    if (u0 > u1) return hull.interval();
-    const double low = start_.z() + r + std::min(u0 * feed.z(), u1 * feed.z());
-    const double high = start_.z() + top + std::max(u0 * feed.z(), u1 * feed.z());
-    hull.add((low - o.z()) / d.z()), hull.add((high - o.z()) / d.z());
-    return hull.interval();
-  }
-  // A horizontal ray: the u whose heights hold the ray's, then the plan capsule of their discs.
+  const bool vertical = d.x() == 0.0 && d.y() == 0.0;
+  // A horizontal ray meets the cylinder (radius r, heights r to `top` above the tip, its plan
+  // disc about start + u·feed at the path parameter u and its heights shifted by u·feed_z) at
+  // the u whose heights hold the ray's: u0 to u1, where `section`.
   const double h = o.z() - start_.z();
   double u0 = 0.0, u1 = 1.0;
-  if (const double fz = feed.z(); fz != 0.0) {
+  bool section = !vertical;
+  if (const double fz = feed.z(); section && fz != 0.0) {
     // u0 = max(0, min(first, last)) and u1 = min(1, max(first, last)) with first = (h - top)/fz
     // and last = (h - r)/fz (first < last where fz > 0, r < top). Where the quotient's sign or
     // its side of 1 decides them (the heights the cylinder spans over the whole move), without
@@ -454,17 +414,71 @@ Interval LinearSweep::ball_chord(const Vec3& o, const Vec3& given, BallLevel* le
       u0 = below >= 0.0 ? 0.0 : std::max(0.0, below / fz);
       u1 = above <= fz ? 1.0 : std::min(1.0, above / fz);
     }
-  } else if (h < r || h > top) {
+    section = u0 <= u1;
+  } else if (section) {
+    section = !(h < r || h > top);
+  }
+  Hull hull;
+  // The ball's capsule (the balls at both ends, and the cylinder of radius r about the centre's
+  // path where the ray meets it between the two ends), but for a ray along X or Y where the
+  // cylinder's section spans the whole move and the ray passes at least kBallClearance·r above
+  // both centres (m = kBallClearance·r): every point of the ball's capsule at that height lies
+  // within √(r² − m²) of the tip's path in plan, g = r − √(r² − m²) ≈ 1.2e-3·r inside the
+  // section's capsule, and the ray's crossings with it lie that far inside the section's chord,
+  // ten thousand times the rounding of either construction (≈ 5e-8·r at a tangent, where a
+  // root's argument loses its digits): the hull is the section's chord alone, to the last bit.
+  const bool ball_inside = (A == 0 || A == 1) && section && u0 == 0.0 && u1 == 1.0 &&
+                           h >= r + std::max(0.0, feed.z()) + kBallClearance * r;
+  if (!ball_inside) {
+    // The end balls by their quadratic: intersect(Ray, Sphere) gives the same chords with a
+    // tangency allowance removal has no use for (a touching ray removes nothing), and cost a
+    // quarter of a ball raster's removal time here.
+    const double a = d.squaredNorm();
+    for (const Vec3& c : ball_centres_) {
+      const Vec3 w = o - c;
+      const double b = w.dot(d), gap = b * b - a * (w.squaredNorm() - r * r);
+      if (gap < 0.0) continue;
+      const double root = std::sqrt(gap);
+      hull.add((-b - root) / a), hull.add((-b + root) / a);
+    }
+    const auto visit = [&](double t, double) { hull.add(t); };
+    if constexpr (A < 0) {
+      swept_ball_side(o - ball_centres_[0], d, feed, r, visit);
+    } else {
+      swept_ball_side(o - ball_centres_[0], d, feed, ball_feed2_, ball_square_[A], ball_square2_[A],
+                      r, visit);
+    }
+  }
+  if (vertical) {
+    // A vertical ray: the u whose disc holds the ray's plan point, then their heights' hull.
+    const Vec2 q = o.head<2>() - start_.head<2>();
+    const double p2 = plan.squaredNorm(), b = q.dot(plan), c = q.squaredNorm() - r * r;
+    double v0 = 0.0, v1 = 1.0;
+    if (p2 > 0.0) {
+      const double gap = b * b - p2 * c;
+      if (gap < 0.0) return hull.interval();
+      const double root = std::sqrt(gap);
+      // Where the quotient's sign or its side of 1 decides them, without the division.
+      v0 = b - root <= 0.0 ? 0.0 : std::max(0.0, (b - root) / p2);
+      v1 = b + root >= p2 ? 1.0 : std::min(1.0, (b + root) / p2);
+    } else if (c > 0.0) {
+      return hull.interval();
+    }
+    if (v0 > v1) return hull.interval();
+    const double low = start_.z() + r + std::min(v0 * feed.z(), v1 * feed.z());
+    const double high = start_.z() + top + std::max(v0 * feed.z(), v1 * feed.z());
+    hull.add((low - o.z()) / d.z()), hull.add((high - o.z()) / d.z());
     return hull.interval();
   }
-  if (u0 > u1) return hull.interval();
+  // A horizontal ray: the plan capsule of the section's discs.
+  if (!section) return hull.interval();
   BallLevel here;
-  BallLevel& section = level != nullptr ? *level : here;
+  BallLevel& kept = level != nullptr ? *level : here;
   if (const auto b0 = std::bit_cast<std::uint64_t>(u0), b1 = std::bit_cast<std::uint64_t>(u1);
-      !section.made || section.u0 != b0 || section.u1 != b1) {
-    section = {true, b0, b1, Capsule(start_.head<2>() + u0 * plan, start_.head<2>() + u1 * plan)};
+      !kept.made || kept.u0 != b0 || kept.u1 != b1) {
+    kept = {true, b0, b1, Capsule(start_.head<2>() + u0 * plan, start_.head<2>() + u1 * plan)};
   }
-  hull.add(section.capsule.chord(o.head<2>(), d.head<2>(), r));
+  hull.add(kept.capsule.chord(o.head<2>(), d.head<2>(), r));
   return hull.interval();
 }
 

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -311,6 +312,73 @@ TEST(LinearSweep, RowSpansHoldEveryRayTheSweepMeets) {
     }
     EXPECT_GT(narrowed, 80);
     EXPECT_GT(inside, 5000);
+  }
+}
+
+// chord() takes a ball end's chord on a ray along X or Y above both ball centres from the
+// swept cylinder's section alone (LinearSweep::kBallClearance): exact only while the ball's
+// capsule stays well inside the section, by g = R − √(R² − m²), m = kBallClearance·R, far more
+// than rounding. Rays just above that clearance, on climbing and descending moves along X, Y and
+// diagonals: the ray's interval through the ball's capsule (points within R of the centres'
+// segment, found by dense steps and bisection) lies at least g/2 inside the chord.
+TEST(LinearSweep, BallCapsuleLiesInsideTheSectionAboveTheClearance) {
+  test::Random random(66);
+  for (const char* spec : {"ball:6,20", "ball:10,30", "ball:3.175,12"}) {
+    SCOPED_TRACE(spec);
+    const Cutter cutter = cutter_from_spec(spec);
+    const double r = cutter.profile().max_radius();
+    const double m = LinearSweep::kBallClearance * r, g = r - std::sqrt(r * r - m * m);
+    // A thousand times the rounding of the chords at a tangent (≈ 5e-8·R).
+    EXPECT_GT(g, 1000.0 * 5e-8 * r);
+    int checked = 0;
+    for (int k = 0; k < 60; ++k) {
+      const Vec3 start = random.point_in_box(20.0);
+      Vec3 feed(random.uniform(-2.0, 2.0), random.uniform(-2.0, 2.0), random.uniform(-0.6, 0.6));
+      if (k % 3 == 0) feed.y() = 0.0;  // along X
+      if (k % 3 == 1) feed.x() = 0.0;  // along Y
+      const LinearSweep sweep(cutter, start, start + feed, Vec3::UnitZ());
+      const Vec3 c0 = start + Vec3(0.0, 0.0, r), c1 = c0 + feed;
+      const double lowest = std::max(c0.z(), c1.z()) + m;
+      for (int a = 0; a < 2; ++a) {
+        for (int n = 0; n < 20; ++n) {
+          // Just above the clearance, or anywhere up to the cylinder's top; beside the path.
+          const double z =
+              lowest + (n % 2 == 0 ? random.uniform(0.0, 0.01 * r) : random.uniform(0.0, 2.0 * r));
+          Vec3 o = 0.5 * (c0 + c1) + random.point_in_box(r);
+          o.z() = z;
+          o[a] -= 30.0;
+          const Ray ray{o, Vec3::Unit(a)};
+          const auto inside = [&](double t) {
+            const Vec3 p = o + t * ray.direction, f = c1 - c0;
+            const double u = std::clamp((p - c0).dot(f) / f.squaredNorm(), 0.0, 1.0);
+            return (p - c0 - u * f).norm() <= r;
+          };
+          // The capsule's interval: the first and last steps inside, refined to 1e-12.
+          double first = -1.0, last = -1.0;
+          for (double t = 20.0; t <= 40.0; t += 1e-3) {
+            if (!inside(t)) continue;
+            if (first < 0.0) first = t;
+            last = t;
+          }
+          if (first < 0.0) continue;
+          const auto edge = [&](double in, double out) {
+            for (int i = 0; i < 60; ++i) {
+              const double mid = 0.5 * (in + out);
+              (inside(mid) ? in : out) = mid;
+            }
+            return in;
+          };
+          first = edge(first, first - 1e-3);
+          last = edge(last, last + 1e-3);
+          const Interval chord = sweep.chord(ray);
+          ASSERT_FALSE(chord.is_empty()) << k;
+          EXPECT_LE(chord.lo, first - 0.5 * g) << "move " << k << " ray " << n;
+          EXPECT_GE(chord.hi, last + 0.5 * g) << "move " << k << " ray " << n;
+          ++checked;
+        }
+      }
+    }
+    EXPECT_GT(checked, 1500);
   }
 }
 

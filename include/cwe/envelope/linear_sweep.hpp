@@ -68,6 +68,12 @@ class LinearSweep {
   // The same chord by the general construction only (no closed-form shortcut).
   Interval generic_chord(const Ray& ray) const;
 
+  // A ball end standing along +Z (a ball under a cylinder at least as tall): on a ray along X
+  // or Y at least kBallClearance·R above both of the ball's centres, at a height the cylinder
+  // spans over the whole move, the ball's capsule lies well inside the cylinder's section, and
+  // chord() takes the section's chord alone (see ball_chord): the same bits.
+  static constexpr double kBallClearance = 0.05;
+
   // A box containing the swept volume.
   const Aabb& bounds() const { return bounds_; }
   // What the sweep was made of.
