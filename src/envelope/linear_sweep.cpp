@@ -674,15 +674,10 @@ Interval LinearSweep::reach(const Ray& ray) const {
   const Vec3& d = ray.direction;
   if (!has_reach() || d.x() != 0.0 || d.y() != 0.0 || d.z() == 0.0) return Interval::full();
   // Every tool point over plan point q stands at least h_lo(gap) above its tip (see chord()).
-  // A bound, not a chord: rounding far below the margin cannot matter, so a ball end's h_lo,
-  // r - √(r² - gap²), is taken from the squared gap with one root.
   const double gap2 = plan_gap2(ray.origin);
   const double reach = plan_radius_ * (1.0 + tol::kRelative) + tol::kLength;
   if (gap2 > reach * reach) return Interval::empty();
-  const double r = ball_radius_;
-  const double lowest = r > 0.0 && gap2 <= r * r
-                            ? std::max(r - std::sqrt(r * r - gap2), 0.0)
-                            : cutter_->profile().lowest_reaching(std::sqrt(gap2));
+  const double lowest = cutter_->profile().lowest_reaching(std::sqrt(gap2));
   const double floor = std::min(start_.z(), end_.z()) + lowest;
   const double margin = tol::kLength * (1.0 + std::abs(floor) / tol::kModelScale);
   const double t = (floor - margin - ray.origin.z()) / d.z();

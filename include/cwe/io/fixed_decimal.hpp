@@ -1,8 +1,9 @@
 #pragma once
 // Fixed-point decimal text of a double, exactly as printf's "%.*f" and fmt's "{:.Nf}" give it
 // (the binary value rounded to N decimals, a tie to even; a minus sign on every negative value
-// and on -0), about six times faster for the values the output files hold: engagement.jsonl,
-// engagement.csv and forces.csv format about a hundred numbers at each cutter location.
+// and on -0), about three times faster (20 to 30 ns a number against fmt's 60 to 90): the
+// output files engagement.jsonl, engagement.csv and forces.csv format about a hundred numbers at
+// each cutter location.
 //
 // How: with m = 10^N, the product v·m is exactly hi + lo (hi = fl(v·m), lo = fma(v, m, -hi)),
 // and hi's nearest integer n0 (ties to even) is the answer unless hi lies halfway between two
