@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
 #include <limits>
 #include <utility>
 
@@ -148,6 +151,97 @@ TEST(DexelRay, RandomCutsMatchTheReference) {
       }
     }
   }
+}
+
+// The subtraction rule written out plainly, on float pairs: a pair the cut meets (more than at
+// an end point) hands on the stretch within the cut and keeps what lies below and above it,
+// with the cut's ends rounded to float; pieces of no length are dropped. Returns the removed
+// length as DexelRay::subtract does (the float differences summed in order; at least the
+// smallest normal double when the ray changed).
+double subtract_rule(std::vector<Interval>& pairs, double lo, double hi,
+                     std::vector<Interval>& taken) {
+  if (!(lo < hi)) return 0.0;
+  const auto cut_lo = static_cast<float>(lo), cut_hi = static_cast<float>(hi);
+  std::vector<Interval> kept;
+  double removed = 0.0;
+  bool changed = false;
+  for (const Interval& pair : pairs) {
+    const auto a = static_cast<float>(pair.lo), b = static_cast<float>(pair.hi);
+    if (hi <= a || lo >= b) {
+      kept.push_back(pair);
+      continue;
+    }
+    changed = true;
+    const float taken_lo = std::max(a, cut_lo), taken_hi = std::min(b, cut_hi);
+    removed += static_cast<double>(taken_hi) - static_cast<double>(taken_lo);
+    if (taken_lo < taken_hi) taken.push_back({taken_lo, taken_hi});
+    if (a < cut_lo) kept.push_back({a, cut_lo});
+    if (cut_hi < b) kept.push_back({cut_hi, b});
+  }
+  pairs = kept;
+  return changed ? std::max(removed, std::numeric_limits<double>::min()) : 0.0;
+}
+
+// Every cut follows the rule to the last bit (intervals, length and stretches taken), inline
+// and on the heap, where cuts end at the material's ends, a float step or a double step beside
+// them, halfway between two floats, or within one float (which leaves touching pieces).
+TEST(DexelRay, SubtractFollowsTheRuleBitForBit) {
+  test::Random random(52);
+  int inline_cuts = 0, heap_cuts = 0, splits = 0;
+  for (int trial = 0; trial < 1000; ++trial) {
+    DexelRay r(0.0f, 100.0f);
+    std::vector<Interval> rule{{0.0, 100.0}};
+    for (int k = 0; k < 40 && !rule.empty(); ++k) {
+      // An end of the material, or a random place, nudged by nothing, a double or a float step,
+      // or half a float step.
+      const auto near = [&] {
+        const Interval& pair =
+            rule[static_cast<std::size_t>(random.integer(0, static_cast<int>(rule.size()) - 1))];
+        const int pick = random.integer(0, 2);
+        const double at = pick == 0 ? pair.lo : pick == 1 ? pair.hi : random.uniform(-5, 105);
+        const auto f = static_cast<float>(at);
+        const double ulp = static_cast<double>(std::nextafter(f, 1e9f)) - f;
+        switch (random.integer(0, 5)) {
+          case 0:
+            return at;
+          case 1:
+            return std::nextafter(at, 1e9);
+          case 2:
+            return std::nextafter(at, -1e9);
+          case 3:
+            return at + ulp / 2;
+          case 4:
+            return at + random.integer(-3, 3) * ulp;
+          default:
+            return at + random.uniform(-2, 2);
+        }
+      };
+      double lo = near(), hi = near();
+      // Half the cuts end near the material too; the others end within a float or two of
+      // where they start, across pieces, or (most likely splitting a piece) within 2 mm.
+      const int length = random.integer(0, 5);
+      if (length == 0) hi = lo + random.uniform(0, 1e-6);
+      if (length == 1) hi = lo + random.uniform(5, 40);
+      if (length == 2) hi = lo + random.uniform(0, 2);
+      if (hi < lo) std::swap(lo, hi);
+      std::vector<Interval> taken, taken_rule;
+      const bool was_inline = r.heap_bytes() == 0;
+      const double removed = r.subtract(lo, hi, &taken);
+      const double removed_rule = subtract_rule(rule, lo, hi, taken_rule);
+      ASSERT_EQ(r.intervals(), rule) << "trial " << trial << " cut " << k;
+      ASSERT_EQ(std::bit_cast<std::uint64_t>(removed), std::bit_cast<std::uint64_t>(removed_rule))
+          << "trial " << trial << " cut " << k;
+      ASSERT_EQ(taken, taken_rule) << "trial " << trial << " cut " << k;
+      if (removed > 0.0) {
+        ++(was_inline ? inline_cuts : heap_cuts);
+        if (was_inline && r.heap_bytes() > 0) ++splits;
+      }
+    }
+  }
+  // The draws reach every path: inline cuts, heap cuts and inline rays split into three.
+  EXPECT_GT(inline_cuts, 1000) << inline_cuts;
+  EXPECT_GT(heap_cuts, 500) << heap_cuts;
+  EXPECT_GT(splits, 200) << splits;
 }
 
 }  // namespace

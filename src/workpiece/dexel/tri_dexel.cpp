@@ -290,11 +290,13 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
           const auto take = [&](DexelRay& material, int i, int j, const Interval& chord) {
             if (chord.is_empty()) return;
             const auto before = static_cast<std::ptrdiff_t>(material.heap_bytes());
-            const double removed =
-                taken == nullptr ? material.subtract(chord.lo, chord.hi)
-                                 : material.subtract(chord.lo, chord.hi, [&](float lo, float hi) {
-                                     taken->stretches.push_back({i, j, lo, hi});
-                                   });
+            // Each stretch taken is appended in place (subtract() hands them on from two places).
+            auto append = [&](float lo, float hi) __attribute__((always_inline)) {
+              taken->stretches.push_back({i, j, lo, hi});
+            };
+            const double removed = taken == nullptr
+                                       ? material.subtract(chord.lo, chord.hi, [](float, float) {})
+                                       : material.subtract(chord.lo, chord.hi, append);
             if (removed == 0.0) return;
             ++sum.changed;
             sum.length += removed;

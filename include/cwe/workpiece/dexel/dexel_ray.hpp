@@ -101,6 +101,13 @@ class alignas(8) DexelRay {
     std::memcpy(&b, &slot_[0], sizeof b);
     return b == kHeapTag;
   }
+  // The pair (a, b) as the 8 bytes two slots hold it.
+  static std::uint64_t pair_bits(float a, float b) {
+    const float pair[2] = {a, b};
+    std::uint64_t bits = 0;
+    std::memcpy(&bits, pair, sizeof bits);
+    return bits;
+  }
   bool heap_overlaps(double lo, double hi) const;
   // subtract() of a ray on the heap, handing each stretch taken to emit(context, lo, hi).
   double heap_subtract(double lo, double hi, void (*emit)(void*, float, float), void* context);
@@ -120,7 +127,6 @@ requires std::invocable<Taken&, float, float>
 double DexelRay::subtract(double lo, double hi, Taken&& taken) {
   // Removing a point (or nothing) leaves the material's measure as it is.
   if (!(lo < hi)) return 0.0;
-  const auto cut_lo = static_cast<float>(lo), cut_hi = static_cast<float>(hi);
   if (on_heap()) {
     return heap_subtract(
         lo, hi,
@@ -129,51 +135,57 @@ double DexelRay::subtract(double lo, double hi, Taken&& taken) {
         },
         static_cast<void*>(&taken));
   }
-  // Inline (nearly every ray): both slots read first, the empty one (+inf, -inf) skipped; what
-  // is kept is written straight back into the slots, piece by piece. (Kept pieces gathered in a
-  // local array and copied back as one 16-byte block made every cut wait: a load cannot take its
-  // value from two narrower stores still in flight.) What is left of an interval is open at the
-  // cut; it is stored closed, as material is measured by length, and dropped when it rounds to
-  // nothing in float. A cut that splits the material into three moves the ray to the heap.
+  // Inline (nearly every ray): both slots read once, each piece that is kept written once. A
+  // slot the cut meets (more than at an end point) loses the stretch within it and keeps what
+  // lies below and above the cut, open at the cut: stored closed, as material is measured by
+  // length, and dropped when it rounds to nothing in float. The empty slot (+inf, -inf) meets
+  // nothing. The pieces, at most three, are gathered as 8-byte pairs in order (without a branch
+  // per piece) and written back over the slots; three move the ray to the heap.
   constexpr float kInf = std::numeric_limits<float>::infinity();
-  const float in[4] = {slot_[0], slot_[1], slot_[2], slot_[3]};
+  const float a0 = slot_[0], b0 = slot_[1], a1 = slot_[2], b1 = slot_[3];
+  const bool met0 = hi > a0 && lo<b0, met1 = hi> a1 && lo < b1;
+  if (!met0 && !met1) {
+    // Unchanged; a lone interval in the second slot moves to the first, as a cut leaves it.
+    if (!(a0 <= b0)) {
+      slot_[0] = a1;
+      slot_[1] = b1;
+      slot_[2] = kInf;
+      slot_[3] = -kInf;
+    }
+    return 0.0;
+  }
+  const auto cut_lo = static_cast<float>(lo), cut_hi = static_cast<float>(hi);
   double removed = 0.0;
-  bool changed = false;
-  int kept_count = 0;
-  float third[2] = {0.0f, 0.0f};
-  const auto keep = [&](float a, float b) {
-    if (kept_count < 2) {
-      slot_[2 * kept_count] = a;
-      slot_[2 * kept_count + 1] = b;
-    } else {
-      third[0] = a;
-      third[1] = b;
-    }
-    ++kept_count;
-  };
-  for (int k = 0; k < 4; k += 2) {
-    const float a = in[k], b = in[k + 1];
-    if (!(a <= b)) continue;   // the empty slot
-    if (hi <= a || lo >= b) {  // untouched (at most a common end point)
-      keep(a, b);
-      continue;
-    }
-    changed = true;
-    const float taken_lo = std::max(a, cut_lo), taken_hi = std::min(b, cut_hi);
+  if (met0) {
+    const float taken_lo = std::max(a0, cut_lo), taken_hi = std::min(b0, cut_hi);
     removed += static_cast<double>(taken_hi) - static_cast<double>(taken_lo);
     if (taken_lo < taken_hi) taken(taken_lo, taken_hi);
-    if (a < cut_lo) keep(a, cut_lo);
-    if (cut_hi < b) keep(cut_hi, b);
   }
-  // Slots left over are emptied (an unchanged ray may have had its one interval in the second).
-  for (int k = 2 * kept_count; k < 4; k += 2) {
-    slot_[k] = kInf;
-    slot_[k + 1] = -kInf;
+  if (met1) {
+    const float taken_lo = std::max(a1, cut_lo), taken_hi = std::min(b1, cut_hi);
+    removed += static_cast<double>(taken_hi) - static_cast<double>(taken_lo);
+    if (taken_lo < taken_hi) taken(taken_lo, taken_hi);
   }
-  if (!changed) return 0.0;
-  if (kept_count > 2) {
-    const float pairs[6] = {slot_[0], slot_[1], slot_[2], slot_[3], third[0], third[1]};
-    store(pairs, 3);
+  // Each candidate is written at the next free place and kept by counting it.
+  std::uint64_t kept[4];
+  int n = 0;
+  const auto offer = [&](float a, float b, bool keep) {
+    kept[n] = pair_bits(a, b);
+    n += keep ? 1 : 0;
+  };
+  offer(a0, met0 ? cut_lo : b0, met0 ? a0 < cut_lo : a0 <= b0);
+  offer(cut_hi, b0, met0 && cut_hi < b0);
+  offer(a1, met1 ? cut_lo : b1, met1 ? a1 < cut_lo : a1 <= b1);
+  offer(cut_hi, b1, met1 && cut_hi < b1);
+  if (n <= 2) {
+    const std::uint64_t empty = pair_bits(kInf, -kInf);
+    const std::uint64_t first = n > 0 ? kept[0] : empty, second = n > 1 ? kept[1] : empty;
+    std::memcpy(&slot_[0], &first, sizeof first);
+    std::memcpy(&slot_[2], &second, sizeof second);
+  } else {
+    float pairs[8];
+    std::memcpy(pairs, kept, sizeof(std::uint64_t) * static_cast<std::size_t>(n));
+    store(pairs, n);
   }
   // A cut that changed the ray by less than float rounding still counts as a change.
   return std::max(removed, std::numeric_limits<double>::min());
