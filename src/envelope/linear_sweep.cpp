@@ -375,7 +375,10 @@ Interval LinearSweep::level_vertical_chord(const Vec2& q, double oz, double dz) 
   const double u = length2 > 0.0 ? clamped_quotient((q - c0).dot(along), length2) : 0.0;
   const Interval h = cutter_->profile().heights_reaching((q - c0 - u * along).norm());
   if (h.is_empty()) return h;
-  const double a = (start_.z() + h.lo - oz) / dz, b = (start_.z() + h.hi - oz) / dz;
+  // The ray's parameters at those heights: a stock's rays run along ±Z, where the division
+  // is the (exact) identity or sign change.
+  const auto on_ray = [dz](double t) { return dz == 1.0 ? t : dz == -1.0 ? -t : t / dz; };
+  const double a = on_ray(start_.z() + h.lo - oz), b = on_ray(start_.z() + h.hi - oz);
   return {std::min(a, b), std::max(a, b)};
 }
 

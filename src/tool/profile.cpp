@@ -224,6 +224,22 @@ Profile::Profile(std::vector<ProfileSegment> segments, const std::string& source
       foot.end == Vec2(foot.radius, foot.radius)) {
     foot_ball_radius_ = foot.radius;
   }
+  // Each piece gives heights_reaching the same heights for every r up to a radius of its own: a
+  // level line its point while either end reaches r, another line its height range while both
+  // ends do, a convex arc its height range while r is at most its centre's radius. A concave
+  // arc's answer turns on a root for every r (no such radius).
+  double reach_all = std::numeric_limits<double>::infinity();
+  for (const ProfileSegment& s : segments_) {
+    if (s.kind == ProfileSegment::Kind::kLine) {
+      const double r0 = s.start.x(), r1 = s.end.x();
+      reach_all = std::min(reach_all, s.min_z() == s.max_z() ? std::max(r0, r1) : std::min(r0, r1));
+    } else {
+      reach_all = s.counterclockwise ? std::min(reach_all, s.center.x())
+                                     : -std::numeric_limits<double>::infinity();
+    }
+  }
+  reach_all_heights_ = heights_reaching(reach_all);
+  reach_all_ = reach_all;
 }
 
 double Profile::max_radius() const {
@@ -249,6 +265,7 @@ double Profile::radius_at(double z) const {
 }
 
 Interval Profile::heights_reaching(double r) const {
+  if (r <= reach_all_) return reach_all_heights_;
   Interval heights = Interval::empty();
   for (const ProfileSegment& s : segments_) {
     const double z0 = s.min_z(), z1 = s.max_z();

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "cwe/tool/tool_spec.hpp"
@@ -129,6 +130,27 @@ TEST(Profile, HeightsReachingSpanTheSampledHeights) {
     EXPECT_EQ(flat.profile().heights_reaching(r).hi, 20.0);
   }
   EXPECT_TRUE(flat.profile().heights_reaching(std::nextafter(5.0, 9.0)).is_empty());
+}
+
+// Up to the radius where the first piece's answer begins to change (a flat bottom's rim, or the
+// axis for a tool without one), the tool reaches r over its whole height exactly; just beyond,
+// it does not.
+TEST(Profile, HeightsReachingIsTheWholeHeightUpToTheFirstChange) {
+  const std::pair<const char*, double> tools[] = {
+      {"flat:10,20", 5.0}, {"bull:10,2,20", 3.0},     {"taper-flat:6,5,20", 3.0},
+      {"ball:6,20", 0.0},  {"chamfer:12,90,15", 0.0}, {"taper-ball:4,3,20", 0.0}};
+  for (const auto& [spec, edge] : tools) {
+    SCOPED_TRACE(spec);
+    const Cutter cutter = cutter_from_spec(spec);
+    const Profile& p = cutter.profile();
+    for (const double r : {-1.0, 0.0, edge / 2.0, std::nextafter(edge, -1.0), edge}) {
+      const Interval heights = p.heights_reaching(r);
+      EXPECT_EQ(heights.lo, 0.0) << "r = " << r;
+      EXPECT_EQ(heights.hi, p.height()) << "r = " << r;
+    }
+    const Interval beyond = p.heights_reaching(edge + 1e-3);
+    EXPECT_TRUE(beyond.is_empty() || beyond.lo > 0.0) << beyond.lo;
+  }
 }
 
 TEST(Profile, SnapsEndPointsWithinInputTolerance) {

@@ -13,6 +13,7 @@
 // tip upwards, so the solid lies to the left and the outward normal is the tangent turned
 // clockwise: (t_z, -t_ρ). Aras 2008 §5.2 builds its generic cutter from three such pieces.
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -82,7 +83,8 @@ class Profile {
   // Largest ρ of the solid at height z ∈ [0, height]; 0 outside.
   double radius_at(double z) const;
   // The heights where the solid is at least r wide: one interval for a convex profile (the
-  // radius is then concave in z), the hull of them otherwise; empty if none.
+  // radius is then concave in z), the hull of them otherwise; empty if none. Up to a radius
+  // where no piece's answer has begun to change (a flat end's radius, say), the answer is kept.
   Interval heights_reaching(double r) const;
   // The lowest of those heights (heights_reaching(r).lo), 0 if there are none. Sweeps ask it
   // for every ray they cull; a profile that starts with a quarter ball answers it for r up to
@@ -110,6 +112,9 @@ class Profile {
   // The radius R of a first piece that is the quarter circle about (0, R) from the tip to
   // (R, R) (a ball end's), 0 otherwise.
   double foot_ball_radius_ = 0.0;
+  // heights_reaching(r) for every r ≤ reach_all_ (−∞ where a piece's answer changes everywhere).
+  double reach_all_ = -std::numeric_limits<double>::infinity();
+  Interval reach_all_heights_;
 };
 
 }  // namespace cwe
