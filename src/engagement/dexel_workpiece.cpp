@@ -72,7 +72,9 @@ class DexelStepEngagement : public StepEngagement {
       owner.insert(owner.end(), added, p);
     }
     std::vector<double> volumes(parts.size(), 0.0);
-    const std::vector<TriDexel::Removal> removed = stock_.remove(cuts, records);
+    // The records are indexed by finish(), beside their engagement.
+    const std::vector<TriDexel::Removal> removed =
+        stock_.remove(cuts, records, TriDexel::Indexing::kDeferred);
     for (std::size_t k = 0; k < cuts.size(); ++k) volumes[owner[k]] += removed[k].volume;
     return volumes;
   }
@@ -99,6 +101,8 @@ class DexelStepEngagement : public StepEngagement {
     }
     return static_cast<std::size_t>(rays) * sizeof(RemovalRecord::Stretch);
   }
+
+  void finish(Step& step) const override { static_cast<DexelStep&>(step).removed.index(); }
 
   // Reads the stock's grid only (never its rays), so later removals may run meanwhile.
   EngagementMap at(const ToolState& state, const Step& step) const override {

@@ -435,6 +435,7 @@ void EngagementRun::flush() {
               [this](Group* group) {
                 tbb::parallel_for(std::size_t{0}, group->slots.size(), [&](std::size_t k) {
                   Slot& slot = group->slots[k];
+                  engage_->finish(*slot.step);
                   slot.map = engage_->at(slot.at->state, *slot.step);
                   if (prepare_) slot.extra = prepare_(slot.engagement(files_));
                 });

@@ -502,6 +502,7 @@ class CountingWorkpiece : public Workpiece {
         ++(step != nullptr ? owner.recorded : owner.unrecorded);
         return inner->remove(sweep, step);
       }
+      void finish(Step& step) const override { inner->finish(step); }
       // Called from several threads at once.
       EngagementMap at(const ToolState& state, const Step& step) const override {
         ++owner.queries;

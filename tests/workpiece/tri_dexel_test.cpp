@@ -569,7 +569,8 @@ std::size_t same_record(const RemovalRecord& got, const RemovalRecord& want, con
 
 // Steps removed a group at a time, each into its own record (the main loop's groups), give every
 // ray, record and removal that one call per step gives: with groups of every size, steps without
-// a record among them, and a record holding two cuts.
+// a record among them, and a record holding two cuts; and records indexed later (as the main
+// loop has them indexed beside their engagement) hold what records indexed at once hold.
 TEST(TriDexel, RecordsPerCutMatchOneCallPerStep) {
   const Cutter ball = cutter_from_spec("ball:5,12");
   std::vector<LinearSweep> steps;
@@ -620,8 +621,13 @@ TEST(TriDexel, RecordsPerCutMatchOneCallPerStep) {
     if (shares_next(k)) ++k;
   }
   ASSERT_GT(steps.size(), 150u);
-  for (const std::size_t group : {1, 5, 16, 37}) {
+  const std::pair<std::size_t, TriDexel::Indexing> groups[] = {
+      {1, TriDexel::Indexing::kNow},      {5, TriDexel::Indexing::kNow},
+      {16, TriDexel::Indexing::kNow},     {37, TriDexel::Indexing::kNow},
+      {5, TriDexel::Indexing::kDeferred}, {37, TriDexel::Indexing::kDeferred}};
+  for (const auto& [group, indexing] : groups) {
     SCOPED_TRACE(group);
+    SCOPED_TRACE(indexing == TriDexel::Indexing::kNow ? "indexed at once" : "indexed later");
     TriDexel grouped = start;
     // The records are reused group after group, as the main loop reuses them.
     std::vector<RemovalRecord> pool(group);
@@ -648,9 +654,12 @@ TEST(TriDexel, RecordsPerCutMatchOneCallPerStep) {
         pool[0].release();
         EXPECT_EQ(pool[0].held_bytes(), 0u);
       }
-      const std::vector<TriDexel::Removal> removed = grouped.remove(cuts, owners);
+      const std::vector<TriDexel::Removal> removed = grouped.remove(cuts, owners, indexing);
       removals.insert(removals.end(), removed.begin(), removed.end());
       for (const auto& [step, record] : checks) {
+        EXPECT_EQ(record->indexed(), indexing == TriDexel::Indexing::kNow);
+        record->index();
+        ASSERT_TRUE(record->indexed());
         stretches += same_record(*record, expected[step], steps[step].bounds(), start);
       }
     }

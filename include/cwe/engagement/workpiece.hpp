@@ -64,8 +64,14 @@ class StepEngagement {
   virtual bool removes_whole_moves() const { return false; }
   // Removes the sweep of a whole move (removes_whole_moves() backends only); the volume, mm³.
   virtual double remove_move(const MoveSweep& /*sweep*/) { return 0.0; }
-  // The engagement at `state`, where `step` records the step that starts there. Safe to call
-  // concurrently with other calls of `at` and with `remove` of later steps into other records.
+  // Work on a step's record that the removals after it need not wait for (the tri-dexel
+  // record's index): called once after the step's removal and before `at`, on any thread,
+  // concurrently with other steps' calls and with `remove` of later steps into other records.
+  // A wrapper of another StepEngagement passes it on. The default has nothing to do.
+  virtual void finish(Step& /*step*/) const {}
+  // The engagement at `state`, where `step` records the step that starts there (finished). Safe
+  // to call concurrently with other calls of `at` and with `remove` of later steps into other
+  // records.
   virtual EngagementMap at(const ToolState& state, const Step& step) const = 0;
 };
 

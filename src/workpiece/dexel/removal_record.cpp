@@ -1,6 +1,7 @@
 #include "cwe/workpiece/dexel/removal_record.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <limits>
 
 #include "cwe/core/assert.hpp"
@@ -24,6 +25,75 @@ void RemovalRecord::clear() {
   }
   stretches_ = 0;
   bounds_ = Aabb();
+  indexed_ = true;
+}
+
+void RemovalRecord::index() {
+  if (indexed_) return;
+  for (int a = 0; a < 3; ++a) {
+    Family& family = families_[static_cast<std::size_t>(a)];
+    for (int lj = 0; lj < family.tiles_j; ++lj) {
+      for (int li = 0; li < family.tiles_i; ++li) {
+        index_tile(
+            family.tiles[static_cast<std::size_t>(lj) * static_cast<std::size_t>(family.tiles_i) +
+                         static_cast<std::size_t>(li)],
+            (family.first_j + lj) * kTileRows, sort_);
+      }
+    }
+    bound_family(a, origin_, spacing_);
+  }
+  indexed_ = true;
+}
+
+void RemovalRecord::index_tile(Tile& tile, int first_j, bool sort) {
+  auto& stretches = tile.stretches;
+  if (sort) std::sort(stretches.begin(), stretches.end(), before);
+  std::size_t k = 0;
+  tile.single_rows = 0;
+  for (int row = 0; row <= kTileRows; ++row) {
+    while (k < stretches.size() && stretches[k].j < first_j + row) ++k;
+    tile.rows[static_cast<std::size_t>(row)] = static_cast<std::uint32_t>(k);
+    if (row == kTileRows) break;
+    // The row's rays: which lost something, and whether any lost more than one stretch.
+    std::uint32_t present = 0;
+    bool single = true;
+    for (std::size_t m = k; m < stretches.size() && stretches[m].j == first_j + row; ++m) {
+      const std::uint32_t bit = std::uint32_t{1} << (stretches[m].i % kTileRows);
+      single = single && (present & bit) == 0;
+      present |= bit;
+    }
+    tile.present[static_cast<std::size_t>(row)] = present;
+    if (single) tile.single_rows |= std::uint32_t{1} << row;
+  }
+}
+
+void RemovalRecord::bound_family(int axis, const Vec3& origin, const Vec3& spacing) {
+  const int a = axis, b = (a + 1) % 3, c = (a + 2) % 3;
+  const Family& taken = families_[static_cast<std::size_t>(a)];
+  const auto tiles =
+      static_cast<std::size_t>(taken.tiles_i) * static_cast<std::size_t>(taken.tiles_j);
+  for (std::size_t t = 0; t < tiles; ++t) {
+    const Tile& tile = taken.tiles[t];
+    if (tile.stretches.empty()) continue;
+    stretches_ += tile.stretches.size();
+    // The tile's box: its rays' extent across the family, its stretches' along it.
+    float lo = tile.stretches.front().lo, hi = tile.stretches.front().hi;
+    int i0 = tile.stretches.front().i, i1 = i0;
+    for (const Stretch& s : tile.stretches) {
+      lo = std::min(lo, s.lo);
+      hi = std::max(hi, s.hi);
+      i0 = std::min(i0, s.i);
+      i1 = std::max(i1, s.i);
+    }
+    Aabb box;
+    box.min[a] = origin[a] + lo;
+    box.max[a] = origin[a] + hi;
+    box.min[b] = origin[b] + (i0 + 0.5) * spacing[b];
+    box.max[b] = origin[b] + (i1 + 0.5) * spacing[b];
+    box.min[c] = origin[c] + (tile.stretches.front().j + 0.5) * spacing[c];
+    box.max[c] = origin[c] + (tile.stretches.back().j + 0.5) * spacing[c];
+    bounds_.extend(box);
+  }
 }
 
 std::size_t RemovalRecord::held_bytes() const {
@@ -39,11 +109,13 @@ void RemovalRecord::release() {
   for (Family& family : families_) family = Family();
   stretches_ = 0;
   bounds_ = Aabb();
+  indexed_ = true;
 }
 
 static_assert(RemovalRecord::kTileRows == TriDexel::kTile, "a record's tiles are the removal's");
 
 bool RemovalRecord::alike(int axis, int across, int a, int b) const {
+  CWE_ASSERT(indexed_, "a removal record read before index()");
   CWE_ASSERT(a >= 0 && b >= 0, "alike compares rays of the grid");
   if (a == b) return true;
   const Family& family = families_[static_cast<std::size_t>(axis)];
@@ -90,6 +162,7 @@ bool RemovalRecord::alike(int axis, int across, int a, int b) const {
 }
 
 std::vector<RemovalRecord::Stretch> RemovalRecord::family(int axis) const {
+  CWE_ASSERT(indexed_, "a removal record read before index()");
   const Family& family = families_[static_cast<std::size_t>(axis)];
   std::vector<Stretch> all;
   for (std::size_t t = 0; t < static_cast<std::size_t>(family.tiles_i * family.tiles_j); ++t) {

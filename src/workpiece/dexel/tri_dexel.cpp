@@ -24,33 +24,6 @@ int cross_c(int axis) { return (axis + 2) % 3; }
 
 // Orders a tile's recorded stretches by ray (needed when several cuts appended theirs one after
 // the other) and notes where each row of rays starts.
-void TriDexel::index_tile(RemovalRecord::Tile& tile, int first_j, bool sort) {
-  auto& stretches = tile.stretches;
-  if (sort) {
-    std::sort(stretches.begin(), stretches.end(),
-              [](const RemovalRecord::Stretch& x, const RemovalRecord::Stretch& y) {
-                return x.j != y.j ? x.j < y.j : x.i != y.i ? x.i < y.i : x.lo < y.lo;
-              });
-  }
-  std::size_t k = 0;
-  tile.single_rows = 0;
-  for (int row = 0; row <= kTile; ++row) {
-    while (k < stretches.size() && stretches[k].j < first_j + row) ++k;
-    tile.rows[static_cast<std::size_t>(row)] = static_cast<std::uint32_t>(k);
-    if (row == kTile) break;
-    // The row's rays: which lost something, and whether any lost more than one stretch.
-    std::uint32_t present = 0;
-    bool single = true;
-    for (std::size_t m = k; m < stretches.size() && stretches[m].j == first_j + row; ++m) {
-      const std::uint32_t bit = std::uint32_t{1} << (stretches[m].i % kTile);
-      single = single && (present & bit) == 0;
-      present |= bit;
-    }
-    tile.present[static_cast<std::size_t>(row)] = present;
-    if (single) tile.single_rows |= std::uint32_t{1} << row;
-  }
-}
-
 namespace {
 
 // The cells along x, y, z a stock box at `spacing` gets: the fewest whole cells no wider than the
@@ -184,7 +157,8 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
 }
 
 std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
-                                                std::span<RemovalRecord* const> records) {
+                                                std::span<RemovalRecord* const> records,
+                                                Indexing indexing) {
   CWE_ASSERT(records.size() == cuts.size(), "one record (or null) per cut");
   // The records, each once (its cuts follow one another): the first and last cut of each.
   struct Owner {
@@ -393,8 +367,9 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
         // Every tile of a record is indexed, those its cuts left empty too. A record of
         // several cuts gets their stretches cut by cut, and sorts them by ray.
         for (const Owner& owner : owners) {
+          if (indexing == Indexing::kDeferred) break;
           if (RemovalRecord::Tile* tile = tile_of(owner.record, ti, tj)) {
-            index_tile(*tile, tj * kTile, owner.last > owner.first);
+            RemovalRecord::index_tile(*tile, tj * kTile, owner.last > owner.first);
           }
         }
       }
@@ -414,34 +389,17 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
         heap_bytes_ = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(heap_bytes_) + sum.heap);
       }
     }
-    for (const Owner& owner : owners) {
-      RemovalRecord* const record = owner.record;
-      const RemovalRecord::Family& taken = record->families_[static_cast<std::size_t>(a)];
-      const auto tiles =
-          static_cast<std::size_t>(taken.tiles_i) * static_cast<std::size_t>(taken.tiles_j);
-      for (std::size_t t = 0; t < tiles; ++t) {
-        const RemovalRecord::Tile& tile = taken.tiles[t];
-        if (tile.stretches.empty()) continue;
-        record->stretches_ += tile.stretches.size();
-        // The tile's box: its rays' extent across the family, its stretches' along it.
-        float lo = tile.stretches.front().lo, hi = tile.stretches.front().hi;
-        int i0 = tile.stretches.front().i, i1 = i0;
-        for (const RemovalRecord::Stretch& s : tile.stretches) {
-          lo = std::min(lo, s.lo);
-          hi = std::max(hi, s.hi);
-          i0 = std::min(i0, s.i);
-          i1 = std::max(i1, s.i);
-        }
-        Aabb box;
-        box.min[a] = domain_.min[a] + lo;
-        box.max[a] = domain_.min[a] + hi;
-        box.min[b] = domain_.min[b] + (i0 + 0.5) * spacing_[b];
-        box.max[b] = domain_.min[b] + (i1 + 0.5) * spacing_[b];
-        box.min[c] = domain_.min[c] + (tile.stretches.front().j + 0.5) * spacing_[c];
-        box.max[c] = domain_.min[c] + (tile.stretches.back().j + 0.5) * spacing_[c];
-        record->bounds_.extend(box);
-      }
+    if (indexing == Indexing::kNow) {
+      for (const Owner& owner : owners) owner.record->bound_family(a, domain_.min, spacing_);
     }
+  }
+  // A deferred record keeps what its index() needs.
+  for (const Owner& owner : owners) {
+    if (indexing == Indexing::kNow) continue;
+    owner.record->indexed_ = false;
+    owner.record->sort_ = owner.last > owner.first;
+    owner.record->origin_ = domain_.min;
+    owner.record->spacing_ = spacing_;
   }
   peak_heap_bytes_ = std::max(peak_heap_bytes_, heap_bytes_);
   for (std::size_t k = 0; k < cuts.size(); ++k) {

@@ -10,6 +10,11 @@
 // lost something, so that recording costs no sort of the whole step and a look-up is a bit test,
 // then a count of the bits below (a row whose rays lost one stretch each) or a short binary
 // search within the row. A record reused for step after step keeps its buffers.
+//
+// TriDexel::remove indexes a record as it fills it, or, when asked, leaves the index (and the
+// record's bounds and count) to index(): the main loop indexes each step's record beside its
+// engagement, off the path of the removals that follow. Only index() may be called on a record
+// that waits for it.
 
 #include <array>
 #include <cstddef>
@@ -17,7 +22,9 @@
 #include <span>
 #include <vector>
 
+#include "cwe/core/assert.hpp"
 #include "cwe/geometry/aabb.hpp"
+#include "cwe/geometry/vec.hpp"
 
 namespace cwe {
 
@@ -30,13 +37,23 @@ class RemovalRecord {
   static constexpr int kTileRows = 32;  // rays along a tile's side: TriDexel::kTile
 
   void clear();
+  // Whether the record is ready to read, and its indexing where it is not (once; a no-op on a
+  // ready record).
+  bool indexed() const { return indexed_; }
+  void index();
   // Bytes the record holds (its buffers, kept by clear() for the next step), and a release of
   // them all (a record that once held a large step need not keep that much).
   std::size_t held_bytes() const;
   void release();
-  bool empty() const { return stretches_ == 0; }
+  bool empty() const {
+    CWE_ASSERT(indexed_, "a removal record read before index()");
+    return stretches_ == 0;
+  }
   // A box holding every stretch (empty when nothing was removed).
-  const Aabb& bounds() const { return bounds_; }
+  const Aabb& bounds() const {
+    CWE_ASSERT(indexed_, "a removal record read before index()");
+    return bounds_;
+  }
   // The stretches removed from ray (i, j) of family `axis` (0 x, 1 y, 2 z), ascending. Inline:
   // engagement asks it for every cell of the cutter surface that moves into material.
   [[gnu::always_inline]] std::span<const Stretch> on_ray(int axis, int i, int j) const {
@@ -93,6 +110,12 @@ class RemovalRecord {
     while (last != end && last->i == i) ++last;
     return {first, last};
   }
+  // Sorts a tile's stretches by ray (when several cuts filled it, cut after cut) and indexes its
+  // rows; `first_j` is the j of its first row of rays.
+  static void index_tile(Tile& tile, int first_j, bool sort);
+  // Adds family `axis`'s stretches to the count and the bounds, for a grid whose rays of that
+  // family start at `origin` (the domain's lower corner) and lie `spacing` apart.
+  void bound_family(int axis, const Vec3& origin, const Vec3& spacing);
   // Tile (ti, tj) of a family (tile units), or null outside its tiles.
   [[gnu::always_inline]] static const Tile* tile_at(const Family& family, int ti, int tj) {
     const int li = ti - family.first_i, lj = tj - family.first_j;
@@ -110,6 +133,10 @@ class RemovalRecord {
   std::array<Family, 3> families_;
   std::size_t stretches_ = 0;
   Aabb bounds_;
+  // What index() needs: whether the tiles hold several cuts' stretches, and the grid's.
+  bool indexed_ = true;
+  bool sort_ = false;
+  Vec3 origin_ = Vec3::Zero(), spacing_ = Vec3::Ones();
 };
 
 }  // namespace cwe

@@ -123,9 +123,11 @@ class TriDexel {
   // The same with a record per cut: records[k] (null for none) receives what cut k took, and
   // cuts that share a record must follow one another. So the steps between several cutter
   // locations are removed in one parallel pass, each into its own record, with every ray and
-  // record as removing them one call after the other gives.
-  std::vector<Removal> remove(const std::vector<Cut>& cuts,
-                              std::span<RemovalRecord* const> records);
+  // record as removing them one call after the other gives. With `indexing` kDeferred, each
+  // record waits for its RemovalRecord::index() before it may be read.
+  enum class Indexing { kNow, kDeferred };
+  std::vector<Removal> remove(const std::vector<Cut>& cuts, std::span<RemovalRecord* const> records,
+                              Indexing indexing = Indexing::kNow);
 
   // Material volume as each family measures it (Σ lengths × s²), mm³.
   struct Volume {
@@ -232,7 +234,6 @@ class TriDexel {
   // full across the box (`filled`).
   static TriDexel empty_grid(const Aabb& box, double spacing, bool filled = false);
   std::size_t index(int axis, int i, int j) const;
-  static void index_tile(RemovalRecord::Tile& tile, int first_j, bool sort);
   // Range of ray indices along one cross axis whose lines come within [lo, hi].
   std::array<int, 2> index_range(int axis, int cross, double lo, double hi) const;
 
