@@ -18,7 +18,8 @@ constexpr float kEmptyHi = -std::numeric_limits<float>::infinity();
 // of an inline ray's material makes one, and the next cut along often takes it back (a pass
 // beside an earlier one first notches each ray across, then widens the notch into the gap): a
 // pocket's removal made and dropped a million of them, a tenth of its time in malloc and free,
-// whose bins are locked between threads. At most kSpareArrays (96 KiB) wait per thread.
+// whose bins are locked between threads. At most kSpareArrays wait per thread (160 KiB with
+// malloc's headers and the list).
 constexpr int kSpareCount = 3;
 constexpr std::size_t kSpareArrays = 4096;
 struct SpareArrays {

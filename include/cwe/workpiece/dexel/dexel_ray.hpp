@@ -143,7 +143,8 @@ double DexelRay::subtract(double lo, double hi, Taken&& taken) {
   // per piece) and written back over the slots; three move the ray to the heap.
   constexpr float kInf = std::numeric_limits<float>::infinity();
   const float a0 = slot_[0], b0 = slot_[1], a1 = slot_[2], b1 = slot_[3];
-  const bool met0 = hi > a0 && lo<b0, met1 = hi> a1 && lo < b1;
+  const bool met0 = hi > a0 && lo < b0;
+  const bool met1 = hi > a1 && lo < b1;
   if (!met0 && !met1) {
     // Unchanged; a lone interval in the second slot moves to the first, as a cut leaves it.
     if (!(a0 <= b0)) {
