@@ -33,19 +33,26 @@ struct SpareArrays {
 };
 thread_local SpareArrays spare;
 
+// Each names `spare` once: every use of a thread_local with a destructor calls its guard.
 float* new_pairs(int n) {
-  if (n == kSpareCount && !spare.arrays.empty()) {
-    float* array = spare.arrays.back();
-    spare.arrays.pop_back();
-    return array;
+  if (n == kSpareCount) {
+    std::vector<float*>& arrays = spare.arrays;
+    if (!arrays.empty()) {
+      float* array = arrays.back();
+      arrays.pop_back();
+      return array;
+    }
   }
   return new float[2 * static_cast<std::size_t>(n)];
 }
 
 void delete_pairs(float* array, int n) {
-  if (n == kSpareCount && spare.arrays.size() < kSpareArrays) {
-    spare.arrays.push_back(array);
-    return;
+  if (n == kSpareCount) {
+    std::vector<float*>& arrays = spare.arrays;
+    if (arrays.size() < kSpareArrays) {
+      arrays.push_back(array);
+      return;
+    }
   }
   delete[] array;
 }
