@@ -58,9 +58,8 @@ bool solve_in_plane(const Vec3& d, const Vec3& D, const Vec3& rhs, double& t, do
     if (s0 < lo || s0 > hi) chord = Interval::empty();
     return;
   }
-  // x / ±1 is ±x, to the last bit: axis-aligned paths and rays spare their divisions.
-  const auto over = [ds](double x) { return ds == 1.0 ? x : (ds == -1.0 ? -x : x / ds); };
-  const double a = over(lo - s0), b = over(hi - s0);
+  // Axis-aligned paths and rays spare their divisions.
+  const double a = quotient_by_unit(lo - s0, ds), b = quotient_by_unit(hi - s0, ds);
   chord = intersect(chord, Interval{std::min(a, b), std::max(a, b)});
 }
 
@@ -375,10 +374,9 @@ Interval LinearSweep::level_vertical_chord(const Vec2& q, double oz, double dz) 
   const double u = length2 > 0.0 ? clamped_quotient((q - c0).dot(along), length2) : 0.0;
   const Interval h = cutter_->profile().heights_reaching((q - c0 - u * along).norm());
   if (h.is_empty()) return h;
-  // The ray's parameters at those heights: a stock's rays run along ±Z, where the division
-  // is the (exact) identity or sign change.
-  const auto on_ray = [dz](double t) { return dz == 1.0 ? t : dz == -1.0 ? -t : t / dz; };
-  const double a = on_ray(start_.z() + h.lo - oz), b = on_ray(start_.z() + h.hi - oz);
+  // The ray's parameters at those heights (a stock's rays run along ±Z).
+  const double a = quotient_by_unit(start_.z() + h.lo - oz, dz);
+  const double b = quotient_by_unit(start_.z() + h.hi - oz, dz);
   return {std::min(a, b), std::max(a, b)};
 }
 

@@ -86,5 +86,20 @@ TEST(Quotient, AsTheDivisionAtTheEdges) {
   EXPECT_EQ(cases, 24 * static_cast<int>(ys.size()));
 }
 
+// quotient_by_unit is the division, bit for bit (a zero's sign too), by ±1 and by others.
+TEST(Quotient, ByUnitIsTheDivision) {
+  const double inf = std::numeric_limits<double>::infinity();
+  int cases = 0;
+  for (const double y : {1.0, -1.0, 2.0, -0.5, 3.0, 1e-300}) {
+    for (const double x : {0.0, -0.0, 1.0, -1.0, 0.1, -7.25, 1e308, -1e-320, inf, -inf}) {
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(quotient_by_unit(x, y)),
+                std::bit_cast<std::uint64_t>(x / y))
+          << x << " / " << y;
+      ++cases;
+    }
+  }
+  EXPECT_EQ(cases, 60);
+}
+
 }  // namespace
 }  // namespace cwe

@@ -23,6 +23,12 @@ inline bool quotient_in_unit(double x, double y) {
   return x / y >= 0.0;  // -0 (or NaN: false)
 }
 
+// x / y where y is ±1 (an axis-aligned path's or ray's direction) without the division: x or
+// -x, which the division gives exactly (a zero's sign too).
+inline double quotient_by_unit(double x, double y) {
+  return y == 1.0 ? x : (y == -1.0 ? -x : x / y);
+}
+
 // std::clamp(x / y, 0.0, 1.0) for y > 0; a zero result is +0 (the division may give -0).
 inline double clamped_quotient(double x, double y) {
   if (x <= 0.0) return 0.0;

@@ -364,10 +364,10 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
           }
           if (sum.changed > 0) tallies[t].emplace_back(k, sum);
         }
-        // Every tile of a record is indexed, those its cuts left empty too. A record of
-        // several cuts gets their stretches cut by cut, and sorts them by ray.
+        // Unless deferred, every tile of a record is indexed, those its cuts left empty too. A
+        // record of several cuts gets their stretches cut by cut, and sorts them by ray.
+        if (indexing == Indexing::kDeferred) continue;
         for (const Owner& owner : owners) {
-          if (indexing == Indexing::kDeferred) break;
           if (RemovalRecord::Tile* tile = tile_of(owner.record, ti, tj)) {
             RemovalRecord::index_tile(*tile, tj * kTile, owner.last > owner.first);
           }
@@ -394,12 +394,13 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
     }
   }
   // A deferred record keeps what its index() needs.
-  for (const Owner& owner : owners) {
-    if (indexing == Indexing::kNow) continue;
-    owner.record->indexed_ = false;
-    owner.record->sort_ = owner.last > owner.first;
-    owner.record->origin_ = domain_.min;
-    owner.record->spacing_ = spacing_;
+  if (indexing == Indexing::kDeferred) {
+    for (const Owner& owner : owners) {
+      owner.record->indexed_ = false;
+      owner.record->sort_ = owner.last > owner.first;
+      owner.record->origin_ = domain_.min;
+      owner.record->spacing_ = spacing_;
+    }
   }
   peak_heap_bytes_ = std::max(peak_heap_bytes_, heap_bytes_);
   for (std::size_t k = 0; k < cuts.size(); ++k) {
