@@ -256,6 +256,26 @@ TEST(DexelMesh, EveryCubeCaseIsClosed) {
   }
 }
 
+// The vertices are numbered in the order the triangles first use them (stock.ply and stock.off
+// list them so): walking the triangles, each vertex not met before is the next number.
+TEST(DexelMesh, VerticesAreNumberedInTheOrderOfFirstUse) {
+  test::Random random(1977);
+  for (int trial = 0; trial < 20; ++trial) {
+    const TriDexel stock =
+        lattice_pattern(4, [&random](int, int, int) { return random.integer(0, 2) != 0; });
+    const TriangleMesh mesh = dexel_mesh(stock);
+    SCOPED_TRACE(testing::Message() << "trial " << trial);
+    int next = 0;
+    for (const auto& t : mesh.triangles) {
+      for (const int v : t) {
+        ASSERT_LE(v, next);
+        if (v == next) ++next;
+      }
+    }
+    EXPECT_EQ(next, static_cast<int>(mesh.vertices.size()));
+  }
+}
+
 TEST(DexelMesh, RandomLatticePatternsAreClosed) {
   test::Random random(2008);
   for (int trial = 0; trial < 60; ++trial) {

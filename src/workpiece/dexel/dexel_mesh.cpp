@@ -35,7 +35,31 @@ constexpr int kMaxTriangles = 10;  // loops of L crossings give L − 2 triangle
 struct CubeCase {
   int triangle_count = 0;
   std::array<std::array<int, 3>, kMaxTriangles> triangles{};  // cube edge numbers
+  // The edges the triangles use, each once, in the order of their first use; and each
+  // triangle's corners as places in that list (so that a cube looks each vertex up once, and
+  // makes new ones in the order the triangles first use them).
+  int edge_count = 0;
+  std::array<int, kEdges> edges{};
+  std::array<std::array<int, 3>, kMaxTriangles> corners{};
 };
+
+// The lattice offsets of cube edge e's lower end from the cube's lowest point, and its axis:
+// edge 4a + ob + 2·oc runs along a from offset ob along a + 1 and oc along a + 2.
+struct EdgeStart {
+  int axis;
+  std::array<int, 3> offset;
+};
+constexpr std::array<EdgeStart, kEdges> kEdgeStarts = [] {
+  std::array<EdgeStart, kEdges> starts{};
+  for (int e = 0; e < kEdges; ++e) {
+    const int a = e / 4;
+    std::array<int, 3> offset{0, 0, 0};
+    offset[static_cast<std::size_t>((a + 1) % 3)] = e & 1;
+    offset[static_cast<std::size_t>((a + 2) % 3)] = (e >> 1) & 1;
+    starts[static_cast<std::size_t>(e)] = {a, offset};
+  }
+  return starts;
+}();
 
 int corner_bit(int corner, int axis) { return (corner >> axis) & 1; }
 
@@ -133,6 +157,18 @@ CubeCase make_case(int inside) {
       add_triangle(vertex(apex), vertex(apex + k), vertex(apex + k + 1));
     }
   }
+  for (int t = 0; t < result.triangle_count; ++t) {
+    for (std::size_t v = 0; v < 3; ++v) {
+      const int edge = result.triangles[static_cast<std::size_t>(t)][v];
+      int place = 0;
+      while (place < result.edge_count && result.edges[static_cast<std::size_t>(place)] != edge) {
+        ++place;
+      }
+      if (place == result.edge_count)
+        result.edges[static_cast<std::size_t>(result.edge_count++)] = edge;
+      result.corners[static_cast<std::size_t>(t)][v] = place;
+    }
+  }
   return result;
 }
 
@@ -206,11 +242,16 @@ class LatticeMesher {
                              u0[x + 1] << 5 | u1[x] << 6 | u1[x + 1] << 7;
           if (inside != 0 && inside != kCases - 1) {
             const CubeCase& cube = cases[static_cast<std::size_t>(inside)];
+            std::array<int, kEdges> made{};
+            for (int e = 0; e < cube.edge_count; ++e) {
+              made[static_cast<std::size_t>(e)] =
+                  vertex(cube.edges[static_cast<std::size_t>(e)], i, j, k, slab);
+            }
             for (int t = 0; t < cube.triangle_count; ++t) {
-              const auto& edges = cube.triangles[static_cast<std::size_t>(t)];
-              std::array<int, 3> triangle{};
-              for (std::size_t v = 0; v < 3; ++v) triangle[v] = vertex(edges[v], i, j, k, slab);
-              mesh_.triangles.push_back(triangle);
+              const auto& corners = cube.corners[static_cast<std::size_t>(t)];
+              mesh_.triangles.push_back({made[static_cast<std::size_t>(corners[0])],
+                                         made[static_cast<std::size_t>(corners[1])],
+                                         made[static_cast<std::size_t>(corners[2])]});
             }
           }
           ++i;
@@ -466,11 +507,11 @@ class LatticeMesher {
   // made on first use. A crossing edge never runs through padding across its axis (both its
   // ends would be empty), so its ray exists.
   int vertex(int edge, int i, int j, int k, const std::array<Layer*, 2>& slab) {
-    const int a = edge / 4;
-    std::array<int, 3> p{i, j, k};  // the edge's lower end
-    p[static_cast<std::size_t>((a + 1) % 3)] += edge & 1;
-    p[static_cast<std::size_t>((a + 2) % 3)] += (edge >> 1) & 1;
-    Layer& layer = *slab[static_cast<std::size_t>(p[2] - k)];
+    const EdgeStart& start = kEdgeStarts[static_cast<std::size_t>(edge)];
+    const int a = start.axis;
+    const std::array<int, 3> p{i + start.offset[0], j + start.offset[1],
+                               k + start.offset[2]};  // the edge's lower end
+    Layer& layer = *slab[static_cast<std::size_t>(start.offset[2])];
     const std::size_t at = point(p[0], p[1]);
     EdgeVertices& edges = a == 0 ? layer.x_vertex : (a == 1 ? layer.y_vertex : z_vertex_);
     int& slot = edges.index[at];

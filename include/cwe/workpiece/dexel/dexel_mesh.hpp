@@ -23,6 +23,8 @@
 //    surface has no cracks; every crossing edge lies on exactly one loop per cube, so with one
 //    vertex per lattice edge the mesh is a closed 2-manifold (check_closure: closed).
 //  - Orientation: counter-clockwise seen from outside (outward normals, positive volume).
+//  - Order: cubes slab by slab along Z, row by row along Y, then along X; the vertices numbered
+//    in the order the triangles first use them.
 //
 // Accuracy: vertices are exact surface points along lattice edges (to the dexel's float
 // rounding), or within s/2 of one where the fallback applies. Between lattice edges the surface
