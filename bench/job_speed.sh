@@ -8,6 +8,10 @@
 # forces (al7075-t6-carbide), default maps, RUNS times (default 3) at RESOLUTION mm (default
 # 0.1) on THREADS threads (default 2), and prints each run's wall and CPU seconds, CL per wall
 # second and CL per CPU second, then the medians.
+# THREADS may list several counts, e.g. 1,2: each run then runs them one after the other (so
+# that a shared machine's changing load falls on all alike), the medians are given per count,
+# and each later count's speed-up over the first (wall time, the first over it) per run and as
+# a median.
 set -euo pipefail
 cwe=$(realpath "${1:-build/cwe}")
 resolution=${2:-0.1}
@@ -28,21 +32,35 @@ awk 'BEGIN { print "G21 G90 G17 F1200 S12000 M3"; print "G0 X10 Y10 Z45";
                print "G0 Z45";
              }
              print "M2" }' > "$dir/pocket.ngc"
-walls=() cpus=()
-for r in $(seq "$runs"); do
-  rm -rf "$dir/out"
-  /usr/bin/time -f "%e %U %S" -o "$dir/time" "$cwe" simulate --stock box:0,0,0,100,100,40 \
-    --tool flat:10,30 --path "$dir/pocket.ngc" --resolution "$resolution" --threads "$threads" \
-    --forces al7075-t6-carbide --out "$dir/out" --quiet > /dev/null
-  read -r wall user sys < "$dir/time"
-  cls=$(($(wc -l < "$dir/out/engagement.csv") - 1))
-  awk -v r="$r" -v w="$wall" -v u="$user" -v s="$sys" -v n="$cls" \
-    'BEGIN { printf "run %d: %d CLs, wall %.2f s, CPU %.2f s, %.0f CL/s, %.0f CL per CPU-second\n",
-                    r, n, w, u + s, n / w, n / (u + s) }'
-  walls+=("$wall") cpus+=("$(awk -v u="$user" -v s="$sys" 'BEGIN { print u + s }')")
-done
+IFS=, read -r -a counts <<< "$threads"
 median() { printf '%s\n' "$@" | sort -g | awk '{ v[NR] = $1 } END { print v[int((NR + 1) / 2)] }'; }
-w=$(median "${walls[@]}") c=$(median "${cpus[@]}")
-awk -v w="$w" -v c="$c" -v n="$cls" -v s="$resolution" -v t="$threads" \
-  'BEGIN { printf "median (s = %s mm, %d threads): wall %.2f s, CPU %.2f s, %.0f CL/s, %.0f CL per CPU-second\n",
-                  s, t, w, c, n / w, n / c }'
+declare -A walls cpus
+for r in $(seq "$runs"); do
+  for t in "${counts[@]}"; do
+    rm -rf "$dir/out"
+    /usr/bin/time -f "%e %U %S" -o "$dir/time" "$cwe" simulate --stock box:0,0,0,100,100,40 \
+      --tool flat:10,30 --path "$dir/pocket.ngc" --resolution "$resolution" --threads "$t" \
+      --forces al7075-t6-carbide --out "$dir/out" --quiet > /dev/null
+    read -r wall user sys < "$dir/time"
+    cls=$(($(wc -l < "$dir/out/engagement.csv") - 1))
+    awk -v r="$r" -v t="$t" -v w="$wall" -v u="$user" -v s="$sys" -v n="$cls" \
+      'BEGIN { printf "run %d, %d threads: %d CLs, wall %.2f s, CPU %.2f s, %.0f CL/s, %.0f CL per CPU-second\n",
+                      r, t, n, w, u + s, n / w, n / (u + s) }'
+    walls[$t]+="$wall " cpus[$t]+="$(awk -v u="$user" -v s="$sys" 'BEGIN { print u + s }') "
+  done
+done
+for t in "${counts[@]}"; do
+  read -r -a tw <<< "${walls[$t]}"
+  read -r -a tc <<< "${cpus[$t]}"
+  w=$(median "${tw[@]}") c=$(median "${tc[@]}")
+  awk -v w="$w" -v c="$c" -v n="$cls" -v s="$resolution" -v t="$t" \
+    'BEGIN { printf "median (s = %s mm, %d threads): wall %.2f s, CPU %.2f s, %.0f CL/s, %.0f CL per CPU-second\n",
+                    s, t, w, c, n / w, n / c }'
+done
+read -r -a first <<< "${walls[${counts[0]}]}"
+for t in "${counts[@]:1}"; do
+  read -r -a tw <<< "${walls[$t]}"
+  ratios=()
+  for k in "${!first[@]}"; do ratios+=("$(awk -v a="${first[$k]}" -v b="${tw[$k]}" 'BEGIN { printf "%.2f", a / b }')"); done
+  echo "speed-up of $t threads over ${counts[0]}: median $(median "${ratios[@]}") (runs: ${ratios[*]})"
+done
