@@ -44,8 +44,8 @@ for r in $(seq "$runs"); do
     read -r wall user sys < "$dir/time"
     cls=$(($(wc -l < "$dir/out/engagement.csv") - 1))
     awk -v r="$r" -v t="$t" -v w="$wall" -v u="$user" -v s="$sys" -v n="$cls" \
-      'BEGIN { printf "run %d, %d threads: %d CLs, wall %.2f s, CPU %.2f s, %.0f CL/s, %.0f CL per CPU-second\n",
-                      r, t, n, w, u + s, n / w, n / (u + s) }'
+      'BEGIN { printf "run %d, %d threads: %d CLs, wall %.2f s, CPU %.2f s, %.0f CL/s, " \
+                      "%.0f CL per CPU-second\n", r, t, n, w, u + s, n / w, n / (u + s) }'
     walls[$t]+="$wall " cpus[$t]+="$(awk -v u="$user" -v s="$sys" 'BEGIN { print u + s }') "
   done
 done
@@ -54,13 +54,16 @@ for t in "${counts[@]}"; do
   read -r -a tc <<< "${cpus[$t]}"
   w=$(median "${tw[@]}") c=$(median "${tc[@]}")
   awk -v w="$w" -v c="$c" -v n="$cls" -v s="$resolution" -v t="$t" \
-    'BEGIN { printf "median (s = %s mm, %d threads): wall %.2f s, CPU %.2f s, %.0f CL/s, %.0f CL per CPU-second\n",
-                    s, t, w, c, n / w, n / c }'
+    'BEGIN { printf "median (s = %s mm, %d threads): wall %.2f s, CPU %.2f s, %.0f CL/s, " \
+                    "%.0f CL per CPU-second\n", s, t, w, c, n / w, n / c }'
 done
 read -r -a first <<< "${walls[${counts[0]}]}"
 for t in "${counts[@]:1}"; do
   read -r -a tw <<< "${walls[$t]}"
   ratios=()
-  for k in "${!first[@]}"; do ratios+=("$(awk -v a="${first[$k]}" -v b="${tw[$k]}" 'BEGIN { printf "%.2f", a / b }')"); done
-  echo "speed-up of $t threads over ${counts[0]}: median $(median "${ratios[@]}") (runs: ${ratios[*]})"
+  for k in "${!first[@]}"; do
+    ratios+=("$(awk -v a="${first[$k]}" -v b="${tw[$k]}" 'BEGIN { printf "%.2f", a / b }')")
+  done
+  echo "speed-up of $t threads over ${counts[0]}: median $(median "${ratios[@]}")" \
+    "(runs: ${ratios[*]})"
 done
