@@ -164,8 +164,9 @@ CubeCase make_case(int inside) {
       while (place < result.edge_count && result.edges[static_cast<std::size_t>(place)] != edge) {
         ++place;
       }
-      if (place == result.edge_count)
+      if (place == result.edge_count) {
         result.edges[static_cast<std::size_t>(result.edge_count++)] = edge;
+      }
       result.corners[static_cast<std::size_t>(t)][v] = place;
     }
   }
