@@ -32,12 +32,11 @@ constexpr int kEdges = 12;
 constexpr int kCases = 1 << kCorners;  // a case: the set of corners inside
 constexpr int kMaxTriangles = 10;  // loops of L crossings give L − 2 triangles; ΣL ≤ 12
 
+// A case's triangles: the cube edges they use, each once, in the order of their first use, and
+// each triangle's corners as places in that list (so that a cube looks each vertex up once, and
+// makes new ones in the order the triangles first use them).
 struct CubeCase {
   int triangle_count = 0;
-  std::array<std::array<int, 3>, kMaxTriangles> triangles{};  // cube edge numbers
-  // The edges the triangles use, each once, in the order of their first use; and each
-  // triangle's corners as places in that list (so that a cube looks each vertex up once, and
-  // makes new ones in the order the triangles first use them).
   int edge_count = 0;
   std::array<int, kEdges> edges{};
   std::array<std::array<int, 3>, kMaxTriangles> corners{};
@@ -128,9 +127,22 @@ CubeCase make_case(int inside) {
     }
   }
   CubeCase result;
-  const auto add_triangle = [&result](int v0, int v1, int v2) {
+  // The triangle with corners on cube edges e0, e1, e2.
+  const auto add_triangle = [&result](int e0, int e1, int e2) {
     CWE_ASSERT(result.triangle_count < kMaxTriangles, "too many triangles in a cube");
-    result.triangles[static_cast<std::size_t>(result.triangle_count++)] = {v0, v1, v2};
+    auto& corners = result.corners[static_cast<std::size_t>(result.triangle_count++)];
+    const std::array<int, 3> edges{e0, e1, e2};
+    for (std::size_t v = 0; v < 3; ++v) {
+      int place = 0;
+      while (place < result.edge_count &&
+             result.edges[static_cast<std::size_t>(place)] != edges[v]) {
+        ++place;
+      }
+      if (place == result.edge_count) {
+        result.edges[static_cast<std::size_t>(result.edge_count++)] = edges[v];
+      }
+      corners[v] = place;
+    }
   };
   std::array<bool, kEdges> visited{};
   for (int start = 0; start < kEdges; ++start) {
@@ -155,19 +167,6 @@ CubeCase make_case(int inside) {
     CWE_ASSERT(apex >= 0, "a loop whose fan would share an inner edge with a neighbour");
     for (int k = 1; k + 1 < n; ++k) {
       add_triangle(vertex(apex), vertex(apex + k), vertex(apex + k + 1));
-    }
-  }
-  for (int t = 0; t < result.triangle_count; ++t) {
-    for (std::size_t v = 0; v < 3; ++v) {
-      const int edge = result.triangles[static_cast<std::size_t>(t)][v];
-      int place = 0;
-      while (place < result.edge_count && result.edges[static_cast<std::size_t>(place)] != edge) {
-        ++place;
-      }
-      if (place == result.edge_count) {
-        result.edges[static_cast<std::size_t>(result.edge_count++)] = edge;
-      }
-      result.corners[static_cast<std::size_t>(t)][v] = place;
     }
   }
   return result;

@@ -20,12 +20,6 @@ namespace {
 int cross_b(int axis) { return (axis + 1) % 3; }
 int cross_c(int axis) { return (axis + 2) % 3; }
 
-}  // namespace
-
-// Orders a tile's recorded stretches by ray (needed when several cuts appended theirs one after
-// the other) and notes where each row of rays starts.
-namespace {
-
 // The cells along x, y, z a stock box at `spacing` gets: the fewest whole cells no wider than the
 // spacing, one at least (a spacing above the box's size gives one ray per family through its
 // middle). Doubles: they are checked against the limits before any cast.
