@@ -3,7 +3,10 @@
 #include "cwe/core/memory_limit.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/mman.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <fstream>
 #include <limits>
@@ -112,6 +115,37 @@ TEST(MemoryLimit, BigArraysAdvisedGetHugePages) {
   // 16 MiB hold seven whole 2 MiB pages; the system may give fewer where its memory is
   // fragmented, but without the advice it gives none.
   EXPECT_GE(huge_kb, 2048);
+}
+
+TEST(PopulatePages, FaultsInTheRangesPagesAndLeavesTheirContents) {
+  const auto page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+  constexpr std::size_t kPages = 16;
+  void* mapped =
+      ::mmap(nullptr, kPages * page, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  ASSERT_NE(mapped, MAP_FAILED);
+  auto* bytes = static_cast<unsigned char*>(mapped);
+  const auto resident = [&] {
+    std::vector<unsigned char> in(kPages);
+    EXPECT_EQ(::mincore(mapped, kPages * page, in.data()), 0);
+    std::vector<int> pages;
+    for (std::size_t k = 0; k < kPages; ++k) {
+      if ((in[k] & 1) != 0) pages.push_back(static_cast<int>(k));
+    }
+    return pages;
+  };
+  bytes[page] = 7;  // page 1 written before
+  ASSERT_EQ(resident(), std::vector<int>{1});
+  // From inside page 1 to inside page 5: pages 1 to 5, the ends rounded out to whole pages.
+  if (!populate_pages(bytes + page + 100, 4 * page)) {
+    ::munmap(mapped, kPages * page);
+    GTEST_SKIP() << "this system cannot fault pages in without writing them";
+  }
+  EXPECT_EQ(resident(), (std::vector<int>{1, 2, 3, 4, 5}));
+  EXPECT_EQ(bytes[page], 7);
+  EXPECT_TRUE(
+      std::all_of(bytes + 2 * page, bytes + 6 * page, [](unsigned char b) { return b == 0; }));
+  EXPECT_TRUE(populate_pages(nullptr, 0));
+  ::munmap(mapped, kPages * page);
 }
 
 }  // namespace

@@ -35,6 +35,14 @@ std::string format_bytes(double bytes);
 // never fails (the part of the range in whole 2 MiB pages is advised).
 void advise_huge_pages(const void* data, std::size_t bytes);
 
+// Faults in the pages of [data, data + bytes) (whole pages: the range's ends are rounded out)
+// as a first write would, without writing them: their contents stay as they are. A thread with
+// nothing else to do can so take the page faults of an array that another thread is about to
+// fill: on the virtual machines cwe is measured on, a first write to a page costs a hundred
+// times a later one (docs/performance.md). Returns false where the system cannot (Linux before
+// 5.14, or a range it refuses), which changes nothing but the time taken.
+bool populate_pages(const void* data, std::size_t bytes);
+
 // Throws InputError at `where` when `bytes` (an estimate of what `what` needs, e.g. "the dexel
 // rays of a 120 × 80 × 40 mm stock at 0.002 mm") is above the limit. The message gives both
 // figures and what to change.

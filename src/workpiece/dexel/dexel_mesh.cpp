@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -9,6 +11,7 @@
 #include <functional>
 #include <limits>
 #include <span>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -16,6 +19,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 
 #include "cwe/core/assert.hpp"
 #include "cwe/core/error.hpp"
@@ -183,6 +188,73 @@ const std::array<CubeCase, kCases>& cube_cases() {
   return cases;
 }
 
+// The pages of a mesh's reserved arrays faulted in on a spare thread (populate_pages), up to a
+// few megabytes ahead of the thread that fills the arrays in order, which then finds its pages
+// there instead of taking each fault itself (in the main job's closing tail on the pocketing
+// bench, those faults were about two fifths of the marching's time: docs/performance.md).
+// Without a spare thread it does nothing: a task that only the filling thread picks up (at
+// stop()) returns at once. Once the arrays outgrow their capacity (reallocated), it faults in
+// pages the mesh no longer uses, which costs time only.
+class FaultAhead {
+ public:
+  explicit FaultAhead(const TriangleMesh& mesh)
+      : filler_(std::this_thread::get_id()),
+        triangles_(reinterpret_cast<const char*>(mesh.triangles.data())),
+        vertices_(reinterpret_cast<const char*>(mesh.vertices.data())),
+        triangle_bytes_(mesh.triangles.capacity() * sizeof(mesh.triangles[0])),
+        vertex_bytes_(mesh.vertices.capacity() * sizeof(mesh.vertices[0])) {
+    if (tbb::this_task_arena::max_concurrency() > 1 && triangle_bytes_ > 0) {
+      work_.run([this] { run(); });
+    }
+  }
+  FaultAhead(const FaultAhead&) = delete;
+  FaultAhead& operator=(const FaultAhead&) = delete;
+  ~FaultAhead() { stop(); }
+
+  // The triangles made so far (the vertices follow in proportion).
+  void reached(std::size_t triangles) {
+    made_.store(triangles * sizeof(std::array<int, 3>), std::memory_order_relaxed);
+  }
+  // Ends the faulting; returns once the spare thread has left it.
+  void stop() {
+    stopped_.store(true, std::memory_order_relaxed);
+    work_.wait();
+  }
+
+ private:
+  static constexpr std::size_t kStep = std::size_t{2} << 20;   // a huge page
+  static constexpr std::size_t kAhead = std::size_t{8} << 20;  // of the triangles filled
+
+  void run() {
+    if (std::this_thread::get_id() == filler_) return;
+    const double vertex_share =
+        static_cast<double>(vertex_bytes_) / static_cast<double>(triangle_bytes_);
+    const auto vertex_at = [&](std::size_t triangle_byte) {
+      return std::min(vertex_bytes_,
+                      static_cast<std::size_t>(vertex_share * static_cast<double>(triangle_byte)));
+    };
+    std::size_t done = 0;
+    while (done < triangle_bytes_ && !stopped_.load(std::memory_order_relaxed)) {
+      if (done >= made_.load(std::memory_order_relaxed) + kAhead) {
+        std::this_thread::sleep_for(std::chrono::microseconds(100));
+        continue;
+      }
+      const std::size_t next = std::min(triangle_bytes_, done + kStep);
+      if (!populate_pages(triangles_ + done, next - done)) return;
+      populate_pages(vertices_ + vertex_at(done), vertex_at(next) - vertex_at(done));
+      done = next;
+    }
+  }
+
+  const std::thread::id filler_;  // the thread that fills the arrays
+  const char* triangles_;
+  const char* vertices_;
+  std::size_t triangle_bytes_, vertex_bytes_;
+  std::atomic<std::size_t> made_{0};  // bytes of triangles filled
+  std::atomic<bool> stopped_{false};
+  tbb::task_group work_;
+};
+
 // Marching cubes over the lattice g(i, j, k) = min + (f_x(i) + ½, f_y(j) + ½, f_z(k) + ½)·s, slab
 // by slab along Z, where f_a(i) = offset_a + stride·i picks every stride-th ray position along axis
 // a, centred in the domain. Lattice indices run from -1 to n (one padding point beyond each side of
@@ -220,8 +292,10 @@ class LatticeMesher {
     const auto& cases = cube_cases();
     collect_z_events();
     reserve();
+    FaultAhead ahead(mesh_);
     Layer lower(layer_size_), upper(layer_size_);  // lower starts as the empty layer -1
     for (int k = -1; k < nz_; ++k) {               // the slab between layers k and k + 1
+      ahead.reached(mesh_.triangles.size());
       fill_layer(k + 1, upper);
       z_vertex_.reset();
       const std::array<Layer*, 2> slab{&lower, &upper};
@@ -259,6 +333,7 @@ class LatticeMesher {
       }
       std::swap(lower, upper);
     }
+    ahead.stop();
     return std::move(mesh_);
   }
 
