@@ -7,7 +7,9 @@
 # about 8,700 cutter locations at the default CL step of 0.5 mm). Runs `cwe simulate` with
 # forces (al7075-t6-carbide), default maps, RUNS times (default 3) at RESOLUTION mm (default
 # 0.1) on THREADS threads (default 2), and prints each run's wall and CPU seconds, CL per wall
-# second and CL per CPU second, then the medians.
+# second and CL per CPU second, and its wall time by stage as summary.json gives it (set-up,
+# simulation, closing: docs/simulate.md; the rest of the wall time is the process's start, the
+# outputs' publication and its exit), then the medians.
 # THREADS may list several counts, e.g. 1,2: each run then runs them one after the other (so
 # that a shared machine's changing load falls on all alike), the medians are given per count,
 # and each later count's speed-up over the first (wall time, the first over it) per run and as
@@ -34,7 +36,12 @@ awk 'BEGIN { print "G21 G90 G17 F1200 S12000 M3"; print "G0 X10 Y10 Z45";
              print "M2" }' > "$dir/pocket.ngc"
 IFS=, read -r -a counts <<< "$threads"
 median() { printf '%s\n' "$@" | sort -g | awk '{ v[NR] = $1 } END { print v[int((NR + 1) / 2)] }'; }
-declare -A walls cpus
+declare -A walls cpus set_ups simulations closings
+# The stages of the run's wall time (summary.json's seconds_by_stage).
+stages() {
+  awk -F': ' '/"set_up"/ { s = $2 } /"simulation"/ { m = $2 } /"closing"/ { c = $2 }
+              END { gsub(",", "", s); gsub(",", "", m); gsub(",", "", c); print s, m, c }' "$1"
+}
 for r in $(seq "$runs"); do
   for t in "${counts[@]}"; do
     rm -rf "$dir/out"
@@ -43,19 +50,28 @@ for r in $(seq "$runs"); do
       --forces al7075-t6-carbide --out "$dir/out" --quiet > /dev/null
     read -r wall user sys < "$dir/time"
     cls=$(($(wc -l < "$dir/out/engagement.csv") - 1))
+    read -r set_up simulation closing < <(stages "$dir/out/summary.json")
     awk -v r="$r" -v t="$t" -v w="$wall" -v u="$user" -v s="$sys" -v n="$cls" \
+      -v a="$set_up" -v b="$simulation" -v c="$closing" \
       'BEGIN { printf "run %d, %d threads: %d CLs, wall %.2f s, CPU %.2f s, %.0f CL/s, " \
-                      "%.0f CL per CPU-second\n", r, t, n, w, u + s, n / w, n / (u + s) }'
+                      "%.0f CL per CPU-second; set-up %.3f s, simulation %.3f s, closing " \
+                      "%.3f s\n", r, t, n, w, u + s, n / w, n / (u + s), a, b, c }'
     walls[$t]+="$wall " cpus[$t]+="$(awk -v u="$user" -v s="$sys" 'BEGIN { print u + s }') "
+    set_ups[$t]+="$set_up " simulations[$t]+="$simulation " closings[$t]+="$closing "
   done
 done
 for t in "${counts[@]}"; do
   read -r -a tw <<< "${walls[$t]}"
   read -r -a tc <<< "${cpus[$t]}"
   w=$(median "${tw[@]}") c=$(median "${tc[@]}")
-  awk -v w="$w" -v c="$c" -v n="$cls" -v s="$resolution" -v t="$t" \
+  read -r -a ta <<< "${set_ups[$t]}"
+  read -r -a tb <<< "${simulations[$t]}"
+  read -r -a td <<< "${closings[$t]}"
+  awk -v w="$w" -v c="$c" -v n="$cls" -v s="$resolution" -v t="$t" -v a="$(median "${ta[@]}")" \
+    -v b="$(median "${tb[@]}")" -v d="$(median "${td[@]}")" \
     'BEGIN { printf "median (s = %s mm, %d threads): wall %.2f s, CPU %.2f s, %.0f CL/s, " \
-                    "%.0f CL per CPU-second\n", s, t, w, c, n / w, n / c }'
+                    "%.0f CL per CPU-second; set-up %.3f s, simulation %.3f s, closing %.3f s\n",
+                    s, t, w, c, n / w, n / c, a, b, d }'
 done
 read -r -a first <<< "${walls[${counts[0]}]}"
 for t in "${counts[@]:1}"; do

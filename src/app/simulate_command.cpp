@@ -269,7 +269,12 @@ void print_report(std::ostream& out, const SimulateCommandOptions& options, cons
                "helices, 5-axis pieces within {:g} mm\n",
                job.facet, removal.deviation_bound);
   }
-  fmt::print(out, "  time        {:.2f} s on {} threads\n", seconds, threads);
+  const nlohmann::json& stages = summary["seconds_by_stage"];
+  fmt::print(out,
+             "  time        {:.2f} s on {} threads (set-up {:.2f} s, simulation {:.2f} s, "
+             "closing {:.2f} s)\n",
+             seconds, threads, stages["set_up"].get<double>(), stages["simulation"].get<double>(),
+             stages["closing"].get<double>());
   if (!removal.rapid_cuts.empty()) {
     const RapidCut& first = removal.rapid_cuts.front();
     fmt::print(out,
@@ -371,8 +376,10 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
     figures.emplace(folder, maps, curves, job.forces.has_value(), cl_count);
     sinks = {&*files, &*figures};
   }
+  const auto simulating = std::chrono::steady_clock::now();
   JobResult run = run_job(job, std::move(initial_stock), RunOptions{!options.stock_only}, sinks,
                           [&](std::size_t done, std::size_t total) { bar(done, total); });
+  const auto closing = std::chrono::steady_clock::now();
   const int stride = !run.stock            ? 1
                      : options.mesh_stride ? *options.mesh_stride
                                            : dexel_mesh_stride(*run.stock, kStockMeshTriangles);
@@ -408,13 +415,18 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
       });
   const std::size_t maps_written = figures ? figures->maps_written() : 0;
   const std::size_t curves_written = figures ? figures->curves_written() : 0;
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  const auto done = std::chrono::steady_clock::now();
+  const auto seconds_between = [](auto from, auto to) {
+    return std::chrono::duration<double>(to - from).count();
+  };
 
   JobSummary extras;
   extras.stock = options.stock;
   extras.report_units = unit.name;
-  extras.seconds = seconds;
+  extras.seconds = seconds_between(started, done);
+  extras.set_up_seconds = seconds_between(started, simulating);
+  extras.simulation_seconds = seconds_between(simulating, closing);
+  extras.closing_seconds = seconds_between(closing, done);
   extras.mesh_stride = stride;
   extras.mesh = &mesh;
   extras.ply = options.ply;

@@ -146,6 +146,9 @@ std::string job_summary(const PreparedJob& job, const JobResult& run, const JobS
     summary["triangles"] = run.mesh->triangles();
   }
   summary["seconds"] = extras.seconds;
+  summary["seconds_by_stage"] = {{"set_up", extras.set_up_seconds},
+                                 {"simulation", extras.simulation_seconds},
+                                 {"closing", extras.closing_seconds}};
   summary["tool"] = fmt::format("{}", fmt::join(tool_names, ", "));
   summary["path"] = job_paths(job);
   summary["stock"] = extras.stock;

@@ -334,6 +334,15 @@ TEST(CliSimulate, WritesStockAndSummary) {
   EXPECT_GE(summary["peak_memory_bytes"].get<std::size_t>(),
             16u * summary["rays"].get<std::size_t>());
   EXPECT_GT(summary["seconds"].get<double>(), 0.0);
+  // The wall time in its three stages, each under way for some time, adding up to it.
+  const nlohmann::json& stages = summary["seconds_by_stage"];
+  double staged = 0.0;
+  for (const char* stage : {"set_up", "simulation", "closing"}) {
+    EXPECT_GT(stages[stage].get<double>(), 0.0) << stage;
+    staged += stages[stage].get<double>();
+  }
+  EXPECT_NEAR(staged, summary["seconds"].get<double>(), 1e-9);
+  EXPECT_NE(r.out.find(" threads (set-up "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("rapid moves cut material"), std::string::npos) << r.out;
   const auto stl = dir / "out" / "stock.stl";
   ASSERT_TRUE(std::filesystem::exists(stl));

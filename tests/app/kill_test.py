@@ -23,7 +23,7 @@ import time
 from pathlib import Path
 
 # Fields of summary.json that differ between two runs of the same job.
-VOLATILE = {"seconds"}
+VOLATILE = {"seconds", "seconds_by_stage"}
 
 
 def command(cwe, source, resolution, out):

@@ -50,6 +50,10 @@ def test_slot_engagement_is_the_closed_form(slot):
         assert intervals[-1][1] == pytest.approx(180.0, abs=2.1)
     # The removed volume is the slot's: 10 wide, 3 deep, 50 long, plus nothing else.
     assert run.summary["removed_volume_mm3"] == pytest.approx(1500.0, rel=1e-6)
+    # The wall time in its stages: a run through the library contours nothing until asked.
+    stages = run.summary["seconds_by_stage"]
+    assert stages["set_up"] > 0.0 and stages["simulation"] > 0.0 and stages["closing"] == 0.0
+    assert run.summary["seconds"] == pytest.approx(stages["set_up"] + stages["simulation"])
     v, f = run.stock_mesh()
     assert v.shape[1] == 3 and f.shape[1] == 3 and f.max() < len(v)
     # Forces where it cuts.
