@@ -190,8 +190,8 @@ const std::array<CubeCase, kCases>& cube_cases() {
 
 // The pages of a mesh's reserved arrays faulted in on a spare thread (populate_pages), up to a
 // few megabytes ahead of the thread that fills the arrays in order, which then finds its pages
-// there instead of taking each fault itself (in the main job's closing tail on the pocketing
-// bench, those faults were about two fifths of the marching's time: docs/performance.md).
+// there instead of taking each fault itself (in the main job's closing stage on the pocketing
+// bench, those faults were nearly half of the marching's time: docs/performance.md).
 // Without a spare thread it does nothing: a task that only the filling thread picks up (at
 // stop()) returns at once. Once the arrays outgrow their capacity (reallocated), it faults in
 // pages the mesh no longer uses, which costs time only.
