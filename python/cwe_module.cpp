@@ -139,7 +139,6 @@ Run run(Job job, bool engagement, const py::object& progress) {
   // No closing stage: the stock is contoured when asked for (Run.stock_mesh).
   extras.set_up_seconds = std::chrono::duration<double>(simulating - started).count();
   extras.simulation_seconds = std::chrono::duration<double>(done - simulating).count();
-  extras.seconds = extras.set_up_seconds + extras.simulation_seconds;
   return Run{columns, result, job_summary(prepared, *result, extras),
              step_tessellation(prepared.simulation, false)};
 }

@@ -423,7 +423,6 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   JobSummary extras;
   extras.stock = options.stock;
   extras.report_units = unit.name;
-  extras.seconds = seconds_between(started, done);
   extras.set_up_seconds = seconds_between(started, simulating);
   extras.simulation_seconds = seconds_between(simulating, closing);
   extras.closing_seconds = seconds_between(closing, done);

@@ -145,7 +145,7 @@ std::string job_summary(const PreparedJob& job, const JobResult& run, const JobS
     summary["facet_mm"] = job.facet;
     summary["triangles"] = run.mesh->triangles();
   }
-  summary["seconds"] = extras.seconds;
+  summary["seconds"] = extras.set_up_seconds + extras.simulation_seconds + extras.closing_seconds;
   summary["seconds_by_stage"] = {{"set_up", extras.set_up_seconds},
                                  {"simulation", extras.simulation_seconds},
                                  {"closing", extras.closing_seconds}};

@@ -15,10 +15,10 @@ namespace cwe {
 struct JobSummary {
   std::string stock;               // as given
   std::string report_units = "mm"; // of the per-CL files
-  double seconds = 0.0;            // wall time of the job
-  // Its three stages, which add up to it: reading and preparing the job and making the stock;
-  // the run (removal, engagement, forces and the figures beside them); the closing stage
-  // (contouring and encoding stock.stl beside the last figures and files).
+  // Wall time of the job's three stages (summary.json's seconds is their sum): reading and
+  // preparing the job and making the stock; the run (removal, engagement, forces and the
+  // figures beside them); the closing stage (contouring and encoding stock.stl beside the last
+  // figures and files).
   double set_up_seconds = 0.0, simulation_seconds = 0.0, closing_seconds = 0.0;
   bool engagement = true;          // the run extracted the engagement
   int mesh_stride = 1;             // of stock.stl

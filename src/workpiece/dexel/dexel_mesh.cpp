@@ -196,12 +196,14 @@ const std::array<CubeCase, kCases>& cube_cases() {
 // stop()) returns at once. Once the arrays outgrow their capacity (reallocated), it faults in
 // pages the mesh no longer uses, which costs time only.
 class FaultAhead {
+  using Triangle = decltype(TriangleMesh::triangles)::value_type;
+
  public:
   explicit FaultAhead(const TriangleMesh& mesh)
       : filler_(std::this_thread::get_id()),
         triangles_(reinterpret_cast<const char*>(mesh.triangles.data())),
         vertices_(reinterpret_cast<const char*>(mesh.vertices.data())),
-        triangle_bytes_(mesh.triangles.capacity() * sizeof(mesh.triangles[0])),
+        triangle_bytes_(mesh.triangles.capacity() * sizeof(Triangle)),
         vertex_bytes_(mesh.vertices.capacity() * sizeof(mesh.vertices[0])) {
     if (tbb::this_task_arena::max_concurrency() > 1 && triangle_bytes_ > 0) {
       work_.run([this] { run(); });
@@ -213,7 +215,7 @@ class FaultAhead {
 
   // The triangles made so far (the vertices follow in proportion).
   void reached(std::size_t triangles) {
-    made_.store(triangles * sizeof(std::array<int, 3>), std::memory_order_relaxed);
+    made_.store(triangles * sizeof(Triangle), std::memory_order_relaxed);
   }
   // Ends the faulting; returns once the spare thread has left it.
   void stop() {
