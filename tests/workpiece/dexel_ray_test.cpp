@@ -187,7 +187,7 @@ double subtract_rule(std::vector<Interval>& pairs, double lo, double hi,
 // them, halfway between two floats, or within one float (which leaves touching pieces).
 TEST(DexelRay, SubtractFollowsTheRuleBitForBit) {
   test::Random random(52);
-  int inline_cuts = 0, heap_cuts = 0, splits = 0;
+  int inline_cuts = 0, heap_cuts = 0, splits = 0, trims = 0;
   for (int trial = 0; trial < 1000; ++trial) {
     DexelRay r(0.0f, 100.0f);
     std::vector<Interval> rule{{0.0, 100.0}};
@@ -226,6 +226,7 @@ TEST(DexelRay, SubtractFollowsTheRuleBitForBit) {
       if (hi < lo) std::swap(lo, hi);
       std::vector<Interval> taken, taken_rule;
       const bool was_inline = r.heap_bytes() == 0;
+      const std::vector<Interval> was = r.intervals();
       const double removed = r.subtract(lo, hi, &taken);
       const double removed_rule = subtract_rule(rule, lo, hi, taken_rule);
       ASSERT_EQ(r.intervals(), rule) << "trial " << trial << " cut " << k;
@@ -235,13 +236,24 @@ TEST(DexelRay, SubtractFollowsTheRuleBitForBit) {
       if (removed > 0.0) {
         ++(was_inline ? inline_cuts : heap_cuts);
         if (was_inline && r.heap_bytes() > 0) ++splits;
+        // A trim: one end of one interval moved, the others as they were (subtract's fast path).
+        const std::vector<Interval> now = r.intervals();
+        if (was_inline && now.size() == was.size()) {
+          int moved = 0;
+          for (std::size_t i = 0; i < now.size(); ++i) {
+            moved += (now[i].lo != was[i].lo) + (now[i].hi != was[i].hi);
+          }
+          if (moved == 1) ++trims;
+        }
       }
     }
   }
-  // The draws reach every path: inline cuts, heap cuts and inline rays split into three.
+  // The draws reach every path: inline cuts, heap cuts, inline rays split into three and
+  // intervals trimmed at one end.
   EXPECT_GT(inline_cuts, 1000) << inline_cuts;
   EXPECT_GT(heap_cuts, 500) << heap_cuts;
   EXPECT_GT(splits, 200) << splits;
+  EXPECT_GT(trims, 500) << trims;
 }
 
 }  // namespace

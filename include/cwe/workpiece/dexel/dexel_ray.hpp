@@ -156,6 +156,20 @@ double DexelRay::subtract(double lo, double hi, Taken&& taken) {
     return 0.0;
   }
   const auto cut_lo = static_cast<float>(lo), cut_hi = static_cast<float>(hi);
+  // Most cuts along a pass meet one slot and trim one end of it (each step widens the notch the
+  // pass left): one float changes, and the slots keep their order (the first is not empty).
+  if (met0 != met1 && a0 <= b0) {
+    const int k = met0 ? 0 : 2;
+    const float a = slot_[k], b = slot_[k + 1];
+    const bool keep_low = a < cut_lo, keep_high = cut_hi < b;
+    if (keep_low != keep_high) {
+      const float taken_lo = std::max(a, cut_lo), taken_hi = std::min(b, cut_hi);
+      if (taken_lo < taken_hi) taken(taken_lo, taken_hi);
+      slot_[keep_low ? k + 1 : k] = keep_low ? cut_lo : cut_hi;
+      return std::max(static_cast<double>(taken_hi) - static_cast<double>(taken_lo),
+                      std::numeric_limits<double>::min());
+    }
+  }
   double removed = 0.0;
   if (met0) {
     const float taken_lo = std::max(a0, cut_lo), taken_hi = std::min(b0, cut_hi);
