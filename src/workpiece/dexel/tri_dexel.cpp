@@ -178,20 +178,34 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
     double length = 0.0;      // material length removed
     std::ptrdiff_t heap = 0;  // change of heap bytes
   };
+  // Each family's pass: each cut's rays (index ranges) and its extent along them, in ray
+  // coordinates (a ray with no material inside it cannot change: touching at an end removes only a
+  // point), and the tiles the cuts reach, numbered after the previous family's.
+  struct Reach {
+    std::array<int, 2> is{0, -1}, js{0, -1};
+    double low = 0.0, high = 0.0;
+  };
+  struct Pass {
+    int a = 0, b = 0, c = 0;
+    std::vector<Reach> reach;
+    int ti0 = 0, tj0 = 0, nti = 0, ntj = 0;
+    std::size_t first = 0;  // the pass's first tile among all of them
+  };
+  std::array<Pass, 3> passes;
+  std::size_t tile_count = 0;
   for (int a = 0; a < 3; ++a) {
+    Pass& pass = passes[static_cast<std::size_t>(a)];
     const int b = cross_b(a), c = cross_c(a);
-    // Each cut's rays (index ranges) and its extent along them, in ray coordinates: a ray with no
-    // material inside it cannot change (touching at an end removes only a point).
-    struct Reach {
-      std::array<int, 2> is{0, -1}, js{0, -1};
-      double low = 0.0, high = 0.0;
-    };
-    std::vector<Reach> reach(cuts.size());
+    pass.a = a;
+    pass.b = b;
+    pass.c = c;
+    pass.first = tile_count;
+    pass.reach.resize(cuts.size());
     std::array<int, 2> all_is{std::numeric_limits<int>::max(), -1}, all_js = all_is;
     for (std::size_t k = 0; k < cuts.size(); ++k) {
       const Aabb& box = cuts[k].bounds;
       if (box.is_empty() || !box.intersects(domain_)) continue;
-      Reach& r = reach[k];
+      Reach& r = pass.reach[k];
       r.is = index_range(a, b, box.min[b], box.max[b]);
       r.js = index_range(a, c, box.min[c], box.max[c]);
       if (r.is[0] > r.is[1] || r.js[0] > r.js[1]) continue;
@@ -205,16 +219,17 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
     // a tile applies every cut that reaches it, in order, to its rays. Each ray belongs to one
     // tile and its result depends on no other ray, and the tallies are summed in tile order, so
     // the outcome is the same for any number of threads.
-    const int ti0 = all_is[0] / kTile, tj0 = all_js[0] / kTile;
-    const int nti = all_is[1] / kTile - ti0 + 1, ntj = all_js[1] / kTile - tj0 + 1;
-    std::vector<std::vector<std::pair<std::size_t, Tally>>> tallies(static_cast<std::size_t>(nti) *
-                                                                    static_cast<std::size_t>(ntj));
+    pass.ti0 = all_is[0] / kTile;
+    pass.tj0 = all_js[0] / kTile;
+    pass.nti = all_is[1] / kTile - pass.ti0 + 1;
+    pass.ntj = all_js[1] / kTile - pass.tj0 + 1;
+    tile_count += static_cast<std::size_t>(pass.nti) * static_cast<std::size_t>(pass.ntj);
     // Each record's tiles are those its cuts reach; the stretches a tile takes for a cut go
     // straight to the same tile of the cut's record.
     for (const Owner& owner : owners) {
       std::array<int, 2> is{std::numeric_limits<int>::max(), -1}, js = is;
       for (std::size_t k = owner.first; k <= owner.last; ++k) {
-        const Reach& r = reach[k];
+        const Reach& r = pass.reach[k];
         if (r.is[0] > r.is[1] || r.js[0] > r.js[1]) continue;
         is = {std::min(is[0], r.is[0]), std::max(is[1], r.is[1])};
         js = {std::min(js[0], r.js[0]), std::max(js[1], r.js[1])};
@@ -229,162 +244,176 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
           static_cast<std::size_t>(family.tiles_i) * static_cast<std::size_t>(family.tiles_j);
       if (family.tiles.size() < tiles) family.tiles.resize(tiles);
     }
-    // Tile (ti, tj) of a record's family, or null outside its tiles.
-    const auto tile_of = [a](RemovalRecord* record, int ti, int tj) -> RemovalRecord::Tile* {
-      RemovalRecord::Family& family = record->families_[static_cast<std::size_t>(a)];
-      const int li = ti - family.first_i, lj = tj - family.first_j;
-      if (li < 0 || lj < 0 || li >= family.tiles_i || lj >= family.tiles_j) return nullptr;
-      return &family.tiles[static_cast<std::size_t>(lj) * static_cast<std::size_t>(family.tiles_i) +
-                           static_cast<std::size_t>(li)];
-    };
+  }
+  // Tile (ti, tj) of a record's family a, or null outside its tiles.
+  const auto tile_of = [](RemovalRecord* record, int a, int ti, int tj) -> RemovalRecord::Tile* {
+    RemovalRecord::Family& family = record->families_[static_cast<std::size_t>(a)];
+    const int li = ti - family.first_i, lj = tj - family.first_j;
+    if (li < 0 || lj < 0 || li >= family.tiles_i || lj >= family.tiles_j) return nullptr;
+    return &family.tiles[static_cast<std::size_t>(lj) * static_cast<std::size_t>(family.tiles_i) +
+                         static_cast<std::size_t>(li)];
+  };
+  // Tile t of a pass (numbered from its first) applies the cuts that reach it and tallies what
+  // each took.
+  const auto apply_tile = [&](const Pass& pass, std::size_t t,
+                              std::vector<std::pair<std::size_t, Tally>>& tally) {
+    const int a = pass.a, b = pass.b, c = pass.c;
+    const std::vector<Reach>& reach = pass.reach;
     auto& family = rays_[static_cast<std::size_t>(a)];
     auto& free_spans = free_[static_cast<std::size_t>(a)];
     const int row_rays = grid_[static_cast<std::size_t>(a)][0];
-    const auto apply = [&](const tbb::blocked_range<std::size_t>& range) {
-      for (std::size_t t = range.begin(); t < range.end(); ++t) {
-        const int ti = ti0 + static_cast<int>(t % static_cast<std::size_t>(nti));
-        const int tj = tj0 + static_cast<int>(t / static_cast<std::size_t>(nti));
-        for (std::size_t k = 0; k < cuts.size(); ++k) {
-          const Reach& r = reach[k];
-          const int i0 = std::max(r.is[0], ti * kTile),
-                    i1 = std::min(r.is[1], ti * kTile + kTile - 1);
-          const int j0 = std::max(r.js[0], tj * kTile),
-                    j1 = std::min(r.js[1], tj * kTile + kTile - 1);
-          if (i0 > i1 || j0 > j1) continue;
-          Tally sum;
-          RemovalRecord::Tile* const taken =
-              records[k] != nullptr ? tile_of(records[k], ti, tj) : nullptr;
-          // Takes `chord` from ray (i, j).
-          const auto take = [&](DexelRay& material, int i, int j, const Interval& chord) {
-            if (chord.is_empty()) return;
-            const auto before = static_cast<std::ptrdiff_t>(material.heap_bytes());
-            // Each stretch taken is appended in place (subtract() hands them on from two places).
-            auto append = [&](float lo, float hi) __attribute__((always_inline)) {
-              taken->stretches.push_back({i, j, lo, hi});
-            };
-            const double removed = taken == nullptr
-                                       ? material.subtract(chord.lo, chord.hi, [](float, float) {})
-                                       : material.subtract(chord.lo, chord.hi, append);
-            if (removed == 0.0) return;
-            ++sum.changed;
-            sum.length += removed;
-            sum.heap += static_cast<std::ptrdiff_t>(material.heap_bytes()) - before;
-          };
-          const Cut& cut = cuts[k];
-          // The last row's chords, with its key and rays: a row of the same key and rays has them.
-          std::array<Interval, kTile> chords;
-          std::array<int, kTile> chords_i;
-          std::size_t chords_n = 0;
-          double chords_key = std::numeric_limits<double>::quiet_NaN();
-          for (int j = j0; j <= j1; ++j) {
-            DexelRay* row = &family[index(a, 0, j)];
-            // The row's rays as ray(a, i, j) makes them, without the index checks.
-            const double oc = domain_.min[c] + (j + 0.5) * spacing_[c];
-            const auto ray_at = [&](double ob) {
-              return Ray{ray_origin(a, ob, oc), Vec3::Unit(a)};
-            };
-            const Ray row_ray = ray_at(domain_.min[b]);  // for `rows`, which set each ray's b
-            // A tile row whose rays hold no material within the box is skipped unread.
-            FreeSpan& free = free_spans[free_row(a, j, ti)];
-            if (free.lo <= r.low && r.high <= free.hi) continue;
-            // The row's rays within the box and the cut's span across the row.
-            int from = i0, to = i1;
-            if (cut.row_span) {
-              const Interval span = cut.row_span(row_ray, b);
-              // The whole line (rows the cut has no span for) leaves the box's rays as they are.
-              const std::array<int, 2> spanned = span == Interval::full()
-                                                     ? std::array<int, 2>{from, to}
-                                                     : index_range(a, b, span.lo, span.hi);
-              from = std::max(from, spanned[0]);
-              to = std::min(to, spanned[1]);
-              if (from > to) continue;
-            }
-            // Up to the first ray with material within the box, the material's ends about it
-            // (a loop of its own, which keeps the bounds in registers).
-            float below = -std::numeric_limits<float>::infinity();
-            float above = std::numeric_limits<float>::infinity();
-            int first_hit = from;
-            while (first_hit <= to &&
-                   !row[first_hit].overlaps_or_bound(r.low, r.high, below, above)) {
-              ++first_hit;
-            }
-            bool missed = first_hit > to;
-            // The rays whose material the cut's box (and its reach) holds: with `rows`, gathered
-            // for one call; without, each ray's chord at once.
-            std::array<int, kTile> at_i;
-            std::array<double, kTile> at;
-            std::size_t n = 0;
-            for (int i = first_hit; i <= to; ++i) {
-              DexelRay& material = row[i];
-              if (i > first_hit && !material.overlaps(r.low, r.high)) continue;
-              const double ob = domain_.min[b] + (i + 0.5) * spacing_[b];
-              if (cut.reach) {
-                const Interval w = cut.reach(ray_at(ob));
-                if (!material.overlaps(std::max(r.low, w.lo), std::min(r.high, w.hi))) {
-                  continue;
-                }
-              }
-              if (cut.rows) {
-                at_i[n] = i;
-                at[n++] = ob;
-              } else {
-                take(material, i, j, cut.chord(ray_at(ob)));
-              }
-            }
-            if (missed) {
-              // The rest of the tile row: if none of it has material within the box either,
-              // the row's free span is noted for the cuts to come.
-              const int first = ti * kTile, last = std::min(first + kTile, row_rays) - 1;
-              for (int i = first; missed && i <= last; ++i) {
-                if (i == from) i = to + 1;
-                if (i > last) break;
-                missed = !row[i].overlaps_or_bound(r.low, r.high, below, above);
-              }
-              if (missed) free = {below, above};
+    const int ti = pass.ti0 + static_cast<int>(t % static_cast<std::size_t>(pass.nti));
+    const int tj = pass.tj0 + static_cast<int>(t / static_cast<std::size_t>(pass.nti));
+    for (std::size_t k = 0; k < cuts.size(); ++k) {
+      const Reach& r = reach[k];
+      const int i0 = std::max(r.is[0], ti * kTile), i1 = std::min(r.is[1], ti * kTile + kTile - 1);
+      const int j0 = std::max(r.js[0], tj * kTile), j1 = std::min(r.js[1], tj * kTile + kTile - 1);
+      if (i0 > i1 || j0 > j1) continue;
+      Tally sum;
+      RemovalRecord::Tile* const taken =
+          records[k] != nullptr ? tile_of(records[k], a, ti, tj) : nullptr;
+      // Takes `chord` from ray (i, j).
+      const auto take = [&](DexelRay& material, int i, int j, const Interval& chord) {
+        if (chord.is_empty()) return;
+        const auto before = static_cast<std::ptrdiff_t>(material.heap_bytes());
+        // Each stretch taken is appended in place (subtract() hands them on from two places).
+        auto append = [&](float lo, float hi) __attribute__((always_inline)) {
+          taken->stretches.push_back({i, j, lo, hi});
+        };
+        const double removed = taken == nullptr
+                                   ? material.subtract(chord.lo, chord.hi, [](float, float) {})
+                                   : material.subtract(chord.lo, chord.hi, append);
+        if (removed == 0.0) return;
+        ++sum.changed;
+        sum.length += removed;
+        sum.heap += static_cast<std::ptrdiff_t>(material.heap_bytes()) - before;
+      };
+      const Cut& cut = cuts[k];
+      // The last row's chords, with its key and rays: a row of the same key and rays has them.
+      std::array<Interval, kTile> chords;
+      std::array<int, kTile> chords_i;
+      std::size_t chords_n = 0;
+      double chords_key = std::numeric_limits<double>::quiet_NaN();
+      for (int j = j0; j <= j1; ++j) {
+        DexelRay* row = &family[index(a, 0, j)];
+        // The row's rays as ray(a, i, j) makes them, without the index checks.
+        const double oc = domain_.min[c] + (j + 0.5) * spacing_[c];
+        const auto ray_at = [&](double ob) { return Ray{ray_origin(a, ob, oc), Vec3::Unit(a)}; };
+        const Ray row_ray = ray_at(domain_.min[b]);  // for `rows`, which set each ray's b
+        // A tile row whose rays hold no material within the box is skipped unread.
+        FreeSpan& free = free_spans[free_row(a, j, ti)];
+        if (free.lo <= r.low && r.high <= free.hi) continue;
+        // The row's rays within the box and the cut's span across the row.
+        int from = i0, to = i1;
+        if (cut.row_span) {
+          const Interval span = cut.row_span(row_ray, b);
+          // The whole line (rows the cut has no span for) leaves the box's rays as they are.
+          const std::array<int, 2> spanned = span == Interval::full()
+                                                 ? std::array<int, 2>{from, to}
+                                                 : index_range(a, b, span.lo, span.hi);
+          from = std::max(from, spanned[0]);
+          to = std::min(to, spanned[1]);
+          if (from > to) continue;
+        }
+        // Up to the first ray with material within the box, the material's ends about it
+        // (a loop of its own, which keeps the bounds in registers).
+        float below = -std::numeric_limits<float>::infinity();
+        float above = std::numeric_limits<float>::infinity();
+        int first_hit = from;
+        while (first_hit <= to && !row[first_hit].overlaps_or_bound(r.low, r.high, below, above)) {
+          ++first_hit;
+        }
+        bool missed = first_hit > to;
+        // The rays whose material the cut's box (and its reach) holds: with `rows`, gathered
+        // for one call; without, each ray's chord at once.
+        std::array<int, kTile> at_i;
+        std::array<double, kTile> at;
+        std::size_t n = 0;
+        for (int i = first_hit; i <= to; ++i) {
+          DexelRay& material = row[i];
+          if (i > first_hit && !material.overlaps(r.low, r.high)) continue;
+          const double ob = domain_.min[b] + (i + 0.5) * spacing_[b];
+          if (cut.reach) {
+            const Interval w = cut.reach(ray_at(ob));
+            if (!material.overlaps(std::max(r.low, w.lo), std::min(r.high, w.hi))) {
               continue;
             }
-            if (n == 0) continue;
-            const double key =
-                cut.row_key ? cut.row_key(row_ray, b) : std::numeric_limits<double>::quiet_NaN();
-            if (!(key == chords_key && n == chords_n &&
-                  std::equal(at_i.begin(), at_i.begin() + static_cast<std::ptrdiff_t>(n),
-                             chords_i.begin()))) {
-              cut.rows(row_ray, b, {at.data(), n}, {chords.data(), n});
-              chords_key = key;
-              chords_n = n;
-              chords_i = at_i;
-            }
-            for (std::size_t m = 0; m < n; ++m) take(row[at_i[m]], at_i[m], j, chords[m]);
           }
-          if (sum.changed > 0) tallies[t].emplace_back(k, sum);
-        }
-        // Unless deferred, every tile of a record is indexed, those its cuts left empty too. A
-        // record of several cuts gets their stretches cut by cut, and sorts them by ray.
-        if (indexing == Indexing::kDeferred) continue;
-        for (const Owner& owner : owners) {
-          if (RemovalRecord::Tile* tile = tile_of(owner.record, ti, tj)) {
-            RemovalRecord::index_tile(*tile, tj * kTile, owner.last > owner.first);
+          if (cut.rows) {
+            at_i[n] = i;
+            at[n++] = ob;
+          } else {
+            take(material, i, j, cut.chord(ray_at(ob)));
           }
         }
+        if (missed) {
+          // The rest of the tile row: if none of it has material within the box either,
+          // the row's free span is noted for the cuts to come.
+          const int first = ti * kTile, last = std::min(first + kTile, row_rays) - 1;
+          for (int i = first; missed && i <= last; ++i) {
+            if (i == from) i = to + 1;
+            if (i > last) break;
+            missed = !row[i].overlaps_or_bound(r.low, r.high, below, above);
+          }
+          if (missed) free = {below, above};
+          continue;
+        }
+        if (n == 0) continue;
+        const double key =
+            cut.row_key ? cut.row_key(row_ray, b) : std::numeric_limits<double>::quiet_NaN();
+        if (!(key == chords_key && n == chords_n &&
+              std::equal(at_i.begin(), at_i.begin() + static_cast<std::ptrdiff_t>(n),
+                         chords_i.begin()))) {
+          cut.rows(row_ray, b, {at.data(), n}, {chords.data(), n});
+          chords_key = key;
+          chords_n = n;
+          chords_i = at_i;
+        }
+        for (std::size_t m = 0; m < n; ++m) take(row[at_i[m]], at_i[m], j, chords[m]);
       }
-    };
-    // A few tiles (a step between cutter locations) are not worth a hand-off between threads;
-    // a few tiles that each apply a group of steps are.
-    const tbb::blocked_range<std::size_t> all_tiles(0, tallies.size(), 1);
-    if (tallies.size() * cuts.size() <= kSerialTiles) {
-      apply(all_tiles);
-    } else {
-      tbb::parallel_for(all_tiles, apply);
+      if (sum.changed > 0) tally.emplace_back(k, sum);
     }
-    for (const auto& tile : tallies) {
-      for (const auto& [k, sum] : tile) {
+    // Unless deferred, every tile of a record is indexed, those its cuts left empty too. A
+    // record of several cuts gets their stretches cut by cut, and sorts them by ray.
+    if (indexing == Indexing::kDeferred) return;
+    for (const Owner& owner : owners) {
+      if (RemovalRecord::Tile* tile = tile_of(owner.record, a, ti, tj)) {
+        RemovalRecord::index_tile(*tile, tj * kTile, owner.last > owner.first);
+      }
+    }
+  };
+  // The three families' tiles in one parallel pass (one fork and join, and a family's few large
+  // tiles beside another's many small ones). A few tiles (a step between cutter locations) are
+  // not worth a hand-off between threads; a few tiles that each apply a group of steps are.
+  std::vector<std::vector<std::pair<std::size_t, Tally>>> tallies(tile_count);
+  const auto apply = [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t t = range.begin(); t < range.end(); ++t) {
+      const Pass& pass = t < passes[1].first   ? passes[0]
+                         : t < passes[2].first ? passes[1]
+                                               : passes[2];
+      apply_tile(pass, t - pass.first, tallies[t]);
+    }
+  };
+  const tbb::blocked_range<std::size_t> all_tiles(0, tile_count, 1);
+  if (tile_count * cuts.size() <= kSerialTiles) {
+    apply(all_tiles);
+  } else {
+    tbb::parallel_for(all_tiles, apply);
+  }
+  // Summed family by family in tile order, as the tiles were numbered.
+  for (const Pass& pass : passes) {
+    if (pass.nti == 0) continue;  // no cut reaches the family's rays
+    const std::size_t end =
+        pass.a < 2 ? passes[static_cast<std::size_t>(pass.a) + 1].first : tile_count;
+    for (std::size_t t = pass.first; t < end; ++t) {
+      for (const auto& [k, sum] : tallies[t]) {
         removals[k].rays += sum.changed;
-        lengths[k] += sum.length * spacing_[b] * spacing_[c];  // the family's volume
+        lengths[k] += sum.length * spacing_[pass.b] * spacing_[pass.c];  // the family's volume
         heap_bytes_ = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(heap_bytes_) + sum.heap);
       }
     }
     if (indexing == Indexing::kNow) {
-      for (const Owner& owner : owners) owner.record->bound_family(a, domain_.min, spacing_);
+      for (const Owner& owner : owners) owner.record->bound_family(pass.a, domain_.min, spacing_);
     }
   }
   // A deferred record keeps what its index() needs.

@@ -85,8 +85,8 @@ class TriDexel {
   // `bounds` are skipped without calling `chord`.
   using ChordFunction = std::function<Interval(const Ray&)>;
   static constexpr int kTile = 32;
-  // Removals whose tiles of a family times their cuts come to at most this run on the calling
-  // thread.
+  // Removals whose tiles (the three families' together) times their cuts come to at most this
+  // run on the calling thread.
   static constexpr std::size_t kSerialTiles = 8;
   struct Removal {
     std::size_t rays = 0;
@@ -95,10 +95,10 @@ class TriDexel {
   Removal remove(const Aabb& bounds, const ChordFunction& chord);
   // Several solids removed one after the other, as by one remove() each, with one parallel pass:
   // each tile applies, in order, every cut that reaches it, so its rays stay in cache across the
-  // cuts and there is one fork and join per family instead of one per cut. Returns each cut's
-  // removal (what it took that the earlier cuts had not). The memory peak is sampled at the end.
-  // When `record` is given it is cleared and receives every stretch of material taken, ray by
-  // ray (the same for any thread count).
+  // cuts, and there is one fork and join for the three families instead of one per cut. Returns
+  // each cut's removal (what it took that the earlier cuts had not). The memory peak is sampled at
+  // the end. When `record` is given it is cleared and receives every stretch of material taken, ray
+  // by ray (the same for any thread count).
   struct Cut {
     Aabb bounds;
     ChordFunction chord;
