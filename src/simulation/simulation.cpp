@@ -263,7 +263,9 @@ EngagementRun::EngagementRun(Workpiece& stock, const Cutter& cutter,
       sampler_(feed_only(options.sampling)),
       sink_(sink),
       removed_(std::move(removed)),
-      prepare_(std::move(prepare)) {
+      prepare_(std::move(prepare)),
+      batch_locations_(std::max<std::size_t>(1, options.batch_locations)),
+      batch_moves_(std::max<std::size_t>(1, options.batch_moves)) {
   // Groups of steps in flight: enough to keep every thread busy while one removes. Their
   // records are made as the groups first need them.
   const int tokens = std::max(4, 2 * tbb::this_task_arena::max_concurrency());
@@ -283,7 +285,7 @@ void EngagementRun::add(const Move& move, const std::vector<std::string>& source
     previous_x_ = state.tcs.x();
     cls_.push_back({cl, state});
   }
-  if (cls_.size() >= kBatchLocations || moves_.size() >= kBatchMoves) flush();
+  if (cls_.size() >= batch_locations_ || moves_.size() >= batch_moves_) flush();
 }
 
 void EngagementRun::flush() {

@@ -1,5 +1,6 @@
 #include "cwe/simulation/simulation.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
@@ -11,6 +12,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "cwe/engagement/dexel_workpiece.hpp"
@@ -621,6 +623,91 @@ TEST(EngagementRun, PreparedWorkReachesTheSinkWithItsLocation) {
     EXPECT_EQ(prepared, 120) << threads;
     for (std::size_t k = 0; k < seen.size(); ++k) EXPECT_EQ(seen[k], k) << threads;
     EXPECT_NEAR(engaged, 90, 1) << threads;
+  }
+}
+
+// The batches EngagementRun holds its locations and moves in change no result: a zig-zag of
+// two levels (passes over earlier ones, a rapid and ramps between them)
+// gives every location's map and every move's volume the same, bit for bit, in one batch, in
+// batches of a few locations or moves (groups cut short by a batch's end), one location at a
+// time, on one thread and on two.
+TEST(EngagementRun, BatchesChangeNoResult) {
+  std::vector<Move> moves{line({-8, 5, 25}, {-8, 5, 18.5})};
+  for (const double z : {18.5, 17.0}) {
+    for (int row = 0; row < 4; ++row) {
+      const double y = 5.0 + 6.0 * row;
+      const bool forward = row % 2 == 0;
+      moves.push_back(line({forward ? -8.0 : 48.0, y, z}, {forward ? 48.0 : -8.0, y, z}));
+      moves.push_back(line(moves.back().end, moves.back().end + Vec3(0, 6, 0)));
+    }
+    moves.push_back(line(moves.back().end, {-8, 5, z - 1.5}));
+  }
+  for (Move& m : moves) m.feed_rate = 600;
+  moves[0].mode = MotionMode::kRapid;
+  moves[0].feed_rate = 0.0;
+  const Cutter cutter = cutter_from_spec("flat:8,20");
+  SimulationOptions options;
+  options.resolution = 0.25;
+  struct Seen {
+    std::vector<std::size_t> index;
+    std::vector<EngagementMap> maps;
+    std::vector<double> volumes;
+  };
+  const auto simulate = [&](int threads, std::size_t locations, std::size_t batch_moves) {
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                                    static_cast<std::size_t>(threads));
+    TriDexel stock = TriDexel::from_box(kBlock, options.resolution);
+    DexelWorkpiece workpiece(stock);
+    Seen seen;
+    EngagementRunOptions run_options{options, {}, {}};
+    run_options.batch_locations = locations;
+    run_options.batch_moves = batch_moves;
+    EngagementRun run(
+        workpiece, cutter, run_options,
+        [&](const ClEngagement& e) {
+          seen.index.push_back(e.index);
+          seen.maps.push_back(e.map);
+        },
+        [&](std::size_t, double volume) { seen.volumes.push_back(volume); });
+    for (const Move& m : moves) run.add(m, {"test"});
+    run.finish();
+    return seen;
+  };
+  const Seen whole = simulate(1, 1 << 20, 1 << 20);
+  ASSERT_GT(whole.maps.size(), 400u);  // two levels of 4 rows of 56 mm at 0.5 mm
+  ASSERT_EQ(whole.volumes.size(), moves.size());
+  int engaged = 0;
+  for (const EngagementMap& map : whole.maps) engaged += map.engaged ? 1 : 0;
+  EXPECT_GT(engaged, 300);
+  const auto same_phi = [](const std::vector<Interval>& x, const std::vector<Interval>& y) {
+    if (x.size() != y.size()) return false;
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      if (x[k].lo != y[k].lo || x[k].hi != y[k].hi) return false;
+    }
+    return true;
+  };
+  for (const auto& [threads, locations, batch_moves] :
+       std::vector<std::tuple<int, std::size_t, std::size_t>>{
+           {2, 1 << 20, 1 << 20}, {1, 7, 1 << 20}, {2, 7, 1 << 20}, {2, 1, 1}, {1, 1 << 20, 3}}) {
+    const Seen batched = simulate(threads, locations, batch_moves);
+    const std::string label = fmt::format("{} threads, batches of {} locations, {} moves", threads,
+                                          locations, batch_moves);
+    ASSERT_EQ(batched.index, whole.index) << label;
+    EXPECT_EQ(batched.volumes, whole.volumes) << label;
+    for (std::size_t k = 0; k < whole.maps.size(); ++k) {
+      const EngagementMap &a = whole.maps[k], &b = batched.maps[k];
+      ASSERT_EQ(a.discs.size(), b.discs.size());
+      ASSERT_EQ(a.rings.size(), b.rings.size());
+      bool same = a.engaged == b.engaged && a.phi_entry == b.phi_entry &&
+                  a.phi_exit == b.phi_exit && a.axial_depth == b.axial_depth && a.area == b.area;
+      for (std::size_t d = 0; d < a.discs.size(); ++d) {
+        same = same && same_phi(a.discs[d].phi, b.discs[d].phi);
+      }
+      for (std::size_t r = 0; r < a.rings.size(); ++r) {
+        same = same && same_phi(a.rings[r].phi, b.rings[r].phi);
+      }
+      ASSERT_TRUE(same) << label << ", location " << k;
+    }
   }
 }
 

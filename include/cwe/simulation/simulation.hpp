@@ -165,11 +165,16 @@ struct EngagementRunOptions {
   SimulationOptions simulation;
   SamplingOptions sampling;      // rapids are never sampled (include_rapids is ignored)
   EngagementOptions engagement;  // a contact of 0 takes the sweep tolerance
+  // Cutter locations (or moves) EngagementRun holds before it runs them as one pipeline (at
+  // least 1). Every result is the same for any batch; each batch starts with one thread removing
+  // and ends with the others finishing, so larger batches keep the threads busier.
+  std::size_t batch_locations = 2048;
+  std::size_t batch_moves = 8192;
 };
 
 // The main job (simulate_engagement) one move at a time: add() the moves in order, then finish().
 //
-// Moves are held until about kBatchLocations cutter locations (or kBatchMoves moves) are
+// Moves are held until about options.batch_locations cutter locations (or batch_moves moves) are
 // waiting, then run as a pipeline: the steps are removed in order, a group at a time (as many as
 // the workpiece removes in one pass: StepEngagement::steps_per_removal, record_bytes within
 // kRecordBudget), each into a record of its own, while the engagement of the steps already
@@ -180,8 +185,6 @@ struct EngagementRunOptions {
 // result reaches `sink` with the location.
 class EngagementRun {
  public:
-  static constexpr std::size_t kBatchLocations = 256;
-  static constexpr std::size_t kBatchMoves = 1024;
   // Bytes the records of the groups in flight may hold together (an estimate from the sweeps).
   static constexpr std::size_t kRecordBudget = std::size_t{64} << 20;
   // `stock` and `cutter` must outlive the run.
@@ -221,6 +224,7 @@ class EngagementRun {
   std::vector<PendingCl> cls_;
   // The records of each group in flight (a group's steps, in order).
   std::vector<std::vector<std::unique_ptr<StepEngagement::Step>>> steps_;
+  std::size_t batch_locations_, batch_moves_;
   std::size_t added_ = 0;                                     // moves given so far
   std::size_t index_ = 0;  // of the next CL among all of the run's to be removed
   Vec3 previous_x_ = Vec3::Zero();
