@@ -679,13 +679,6 @@ TEST(EngagementRun, BatchesChangeNoResult) {
   int engaged = 0;
   for (const EngagementMap& map : whole.maps) engaged += map.engaged ? 1 : 0;
   EXPECT_GT(engaged, 300);
-  const auto same_phi = [](const std::vector<Interval>& x, const std::vector<Interval>& y) {
-    if (x.size() != y.size()) return false;
-    for (std::size_t k = 0; k < x.size(); ++k) {
-      if (x[k].lo != y[k].lo || x[k].hi != y[k].hi) return false;
-    }
-    return true;
-  };
   for (const auto& [threads, locations, batch_moves] :
        std::vector<std::tuple<int, std::size_t, std::size_t>>{
            {2, 1 << 20, 1 << 20}, {1, 7, 1 << 20}, {2, 7, 1 << 20}, {2, 1, 1}, {1, 1 << 20, 3}}) {
@@ -701,10 +694,10 @@ TEST(EngagementRun, BatchesChangeNoResult) {
       bool same = a.engaged == b.engaged && a.phi_entry == b.phi_entry &&
                   a.phi_exit == b.phi_exit && a.axial_depth == b.axial_depth && a.area == b.area;
       for (std::size_t d = 0; d < a.discs.size(); ++d) {
-        same = same && same_phi(a.discs[d].phi, b.discs[d].phi);
+        same = same && a.discs[d].phi == b.discs[d].phi;
       }
       for (std::size_t r = 0; r < a.rings.size(); ++r) {
-        same = same && same_phi(a.rings[r].phi, b.rings[r].phi);
+        same = same && a.rings[r].phi == b.rings[r].phi;
       }
       ASSERT_TRUE(same) << label << ", location " << k;
     }

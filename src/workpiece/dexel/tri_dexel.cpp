@@ -186,10 +186,13 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
     double low = 0.0, high = 0.0;
   };
   struct Pass {
-    int a = 0, b = 0, c = 0;
+    int a = 0;
     std::vector<Reach> reach;
     int ti0 = 0, tj0 = 0, nti = 0, ntj = 0;
     std::size_t first = 0;  // the pass's first tile among all of them
+    std::size_t tiles() const {
+      return static_cast<std::size_t>(nti) * static_cast<std::size_t>(ntj);
+    }
   };
   std::array<Pass, 3> passes;
   std::size_t tile_count = 0;
@@ -197,8 +200,6 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
     Pass& pass = passes[static_cast<std::size_t>(a)];
     const int b = cross_b(a), c = cross_c(a);
     pass.a = a;
-    pass.b = b;
-    pass.c = c;
     pass.first = tile_count;
     pass.reach.resize(cuts.size());
     std::array<int, 2> all_is{std::numeric_limits<int>::max(), -1}, all_js = all_is;
@@ -223,7 +224,7 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
     pass.tj0 = all_js[0] / kTile;
     pass.nti = all_is[1] / kTile - pass.ti0 + 1;
     pass.ntj = all_js[1] / kTile - pass.tj0 + 1;
-    tile_count += static_cast<std::size_t>(pass.nti) * static_cast<std::size_t>(pass.ntj);
+    tile_count += pass.tiles();
     // Each record's tiles are those its cuts reach; the stretches a tile takes for a cut go
     // straight to the same tile of the cut's record.
     for (const Owner& owner : owners) {
@@ -257,7 +258,7 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
   // each took.
   const auto apply_tile = [&](const Pass& pass, std::size_t t,
                               std::vector<std::pair<std::size_t, Tally>>& tally) {
-    const int a = pass.a, b = pass.b, c = pass.c;
+    const int a = pass.a, b = cross_b(a), c = cross_c(a);
     const std::vector<Reach>& reach = pass.reach;
     auto& family = rays_[static_cast<std::size_t>(a)];
     auto& free_spans = free_[static_cast<std::size_t>(a)];
@@ -402,13 +403,12 @@ std::vector<TriDexel::Removal> TriDexel::remove(const std::vector<Cut>& cuts,
   }
   // Summed family by family in tile order, as the tiles were numbered.
   for (const Pass& pass : passes) {
-    if (pass.nti == 0) continue;  // no cut reaches the family's rays
-    const std::size_t end =
-        pass.a < 2 ? passes[static_cast<std::size_t>(pass.a) + 1].first : tile_count;
-    for (std::size_t t = pass.first; t < end; ++t) {
+    if (pass.tiles() == 0) continue;  // no cut reaches the family's rays
+    for (std::size_t t = pass.first; t < pass.first + pass.tiles(); ++t) {
       for (const auto& [k, sum] : tallies[t]) {
         removals[k].rays += sum.changed;
-        lengths[k] += sum.length * spacing_[pass.b] * spacing_[pass.c];  // the family's volume
+        // The family's volume.
+        lengths[k] += sum.length * spacing_[cross_b(pass.a)] * spacing_[cross_c(pass.a)];
         heap_bytes_ = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(heap_bytes_) + sum.heap);
       }
     }
