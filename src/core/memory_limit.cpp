@@ -97,7 +97,7 @@ std::size_t parse_memory_limit(std::string_view text, const SourceLocation& wher
 }
 
 void advise_huge_pages(const void* data, std::size_t bytes) {
-  constexpr std::uintptr_t kHuge = std::uintptr_t{1} << 21;
+  constexpr std::uintptr_t kHuge = kHugePageBytes;
   const auto begin = reinterpret_cast<std::uintptr_t>(data);
   const std::uintptr_t first = (begin + kHuge - 1) & ~(kHuge - 1);
   const std::uintptr_t last = (begin + bytes) & ~(kHuge - 1);

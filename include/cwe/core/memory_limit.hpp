@@ -28,6 +28,10 @@ void set_memory_limit(std::optional<std::size_t> bytes);
 // Bytes as people read them: "512 B", "3.2 MB", "43.1 GB" (powers of 1000).
 std::string format_bytes(double bytes);
 
+// A transparent huge page: the unit advise_huge_pages() asks for, and a block of pages worth
+// faulting in at once (populate_pages).
+inline constexpr std::size_t kHugePageBytes = std::size_t{2} << 20;
+
 // Asks the system to back [data, data + bytes) with transparent huge pages (2 MiB) where it has
 // them, for the big arrays written whole at once (the stock's rays, the contoured stock's mesh):
 // their first writes otherwise fault their memory in 4 KiB at a time, 20,000 faults on the
@@ -38,9 +42,10 @@ void advise_huge_pages(const void* data, std::size_t bytes);
 // Faults in the pages of [data, data + bytes) (whole pages: the range's ends are rounded out)
 // as a first write would, without writing them: their contents stay as they are. A thread with
 // nothing else to do can so take the page faults of an array that another thread is about to
-// fill: on the virtual machines cwe is measured on, a first write to a page costs a hundred
-// times a later one (docs/performance.md). Returns false where the system cannot (Linux before
-// 5.14, or a range it refuses), which changes nothing but the time taken.
+// fill, and several threads can share those of one array: on the virtual machines cwe is
+// measured on, a first write to a page costs a hundred times a later one (docs/performance.md).
+// Returns false where the system cannot (Linux before 5.14, or a range it refuses), which changes
+// nothing but the time taken.
 bool populate_pages(const void* data, std::size_t bytes);
 
 // Throws InputError at `where` when `bytes` (an estimate of what `what` needs, e.g. "the dexel

@@ -224,7 +224,7 @@ class FaultAhead {
   }
 
  private:
-  static constexpr std::size_t kStep = std::size_t{2} << 20;   // a huge page
+  static constexpr std::size_t kStep = kHugePageBytes;
   static constexpr std::size_t kAhead = std::size_t{8} << 20;  // of the triangles filled
 
   void run() {

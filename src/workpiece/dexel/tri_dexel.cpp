@@ -1,6 +1,7 @@
 #include "cwe/workpiece/dexel/tri_dexel.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -81,18 +82,34 @@ TriDexel TriDexel::empty_grid(const Aabb& box, double spacing, bool filled) {
     d.grid_[static_cast<std::size_t>(a)] = {cells[static_cast<std::size_t>(cross_b(a))],
                                             cells[static_cast<std::size_t>(cross_c(a))]};
   }
-  // The three families at once: at the start of a job nothing else runs, and making millions of
-  // rays (and faulting in their pages) is most of it.
+  // At the start of a job nothing else runs, and making millions of rays is most of it; most of
+  // that is the first write to their pages. The families' room first, its pages faulted in on
+  // all threads a huge page at a time (one family, Z on a flat block, holds most of the rays:
+  // faulted in by the thread that made it, it kept that thread busy while the other idled); then
+  // the three families at once.
+  std::array<std::size_t, 3> bytes{};
+  std::array<std::size_t, 4> first_block{};  // each family's first block, and the end
+  for (std::size_t a = 0; a < 3; ++a) {
+    const auto& g = d.grid_[a];
+    bytes[a] = static_cast<std::size_t>(g[0]) * static_cast<std::size_t>(g[1]) * sizeof(DexelRay);
+    d.rays_[a].reserve(bytes[a] / sizeof(DexelRay));
+    advise_huge_pages(d.rays_[a].data(), bytes[a]);
+    first_block[a + 1] = first_block[a] + (bytes[a] + kHugePageBytes - 1) / kHugePageBytes;
+  }
+  tbb::parallel_for(std::size_t{0}, first_block[3], [&](std::size_t block) {
+    std::size_t a = 0;
+    while (block >= first_block[a + 1]) ++a;
+    const std::size_t from = (block - first_block[a]) * kHugePageBytes;
+    populate_pages(reinterpret_cast<const char*>(d.rays_[a].data()) + from,
+                   std::min(kHugePageBytes, bytes[a] - from));
+  });
   tbb::parallel_for(0, 3, [&](int a) {
     const auto& g = d.grid_[static_cast<std::size_t>(a)];
     // Filled: every ray of the block carries the stock between the box's faces along it, made
     // as it is allocated (one pass over the rays, not a default one and then a copy).
     const DexelRay ray = filled ? DexelRay(0.0f, static_cast<float>(box.size()[a])) : DexelRay();
     auto& rays = d.rays_[static_cast<std::size_t>(a)];
-    const std::size_t count = static_cast<std::size_t>(g[0]) * static_cast<std::size_t>(g[1]);
-    rays.reserve(count);
-    advise_huge_pages(rays.data(), count * sizeof(DexelRay));
-    rays.assign(count, ray);
+    rays.assign(bytes[static_cast<std::size_t>(a)] / sizeof(DexelRay), ray);
     d.free_[static_cast<std::size_t>(a)].assign(
         d.free_row(a, g[1], 0),
         {std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity()});
