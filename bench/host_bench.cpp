@@ -8,10 +8,16 @@
 //    waiting for the one before (the stock's rays and the records are read so, a little at a
 //    time). Below the L2 cache it measures the core alone; beyond it, the last-level cache and
 //    the memory the threads (and, on a virtual machine, other guests) share.
+//  - BM_HandOff: two threads passing one cache line back and forth, each waiting for the other's
+//    write before writing: the time a round trip takes is what data made on one core costs the
+//    other (a removed step's record read by the engagement search, a stock ray written after the
+//    other thread wrote it). Cores that share a cache pass it in tens of nanoseconds; cores on
+//    different dies, or on a virtual machine, take several times that.
 // Run: build/bench/host_bench (docs/performance.md, fourteenth pass, gives figures).
 
 #include <benchmark/benchmark.h>
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <numeric>
@@ -68,5 +74,30 @@ BENCHMARK(BM_DependentLoads)
     ->Threads(2)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
+
+// The line both threads pass: thread 0 writes the odd values, thread 1 the even ones, each
+// after reading the value before its own.
+alignas(64) std::atomic<std::uint64_t> turn{0};
+
+void BM_HandOff(benchmark::State& state) {
+  constexpr std::int64_t kRoundTrips = 1 << 14;
+  const auto me = static_cast<std::uint64_t>(state.thread_index());
+  if (me == 0) turn.store(0, std::memory_order_relaxed);  // before the threads start together
+  std::uint64_t value = me;                               // the value this thread waits for next
+  for (auto _ : state) {
+    for (std::int64_t k = 0; k < kRoundTrips; ++k, value += 2) {
+      while (turn.load(std::memory_order_acquire) != value) {
+      }
+      turn.store(value + 1, std::memory_order_release);
+    }
+  }
+  if (me == 0) {
+    state.SetItemsProcessed(state.iterations() * kRoundTrips);
+    state.counters["round_trip"] =
+        benchmark::Counter(static_cast<double>(state.iterations() * kRoundTrips),
+                           benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  }
+}
+BENCHMARK(BM_HandOff)->Threads(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 
 }  // namespace
