@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <numeric>
 #include <random>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -81,12 +82,16 @@ alignas(64) std::atomic<std::uint64_t> turn{0};
 
 void BM_HandOff(benchmark::State& state) {
   constexpr std::int64_t kRoundTrips = 1 << 14;
+  constexpr int kSpins = 1 << 12;
   const auto me = static_cast<std::uint64_t>(state.thread_index());
   if (me == 0) turn.store(0, std::memory_order_relaxed);  // before the threads start together
   std::uint64_t value = me;                               // the value this thread waits for next
   for (auto _ : state) {
     for (std::int64_t k = 0; k < kRoundTrips; ++k, value += 2) {
-      while (turn.load(std::memory_order_acquire) != value) {
+      // A few microseconds of spinning is far beyond a hand-off between running cores; past it
+      // the other thread is not running (one CPU, or its vCPU descheduled): give way to it.
+      for (int spins = 0; turn.load(std::memory_order_acquire) != value; ++spins) {
+        if (spins > kSpins) std::this_thread::yield();
       }
       turn.store(value + 1, std::memory_order_release);
     }
