@@ -87,21 +87,21 @@ TriDexel TriDexel::empty_grid(const Aabb& box, double spacing, bool filled) {
   // all threads a huge page at a time (one family, Z on a flat block, holds most of the rays:
   // faulted in by the thread that made it, it kept that thread busy while the other idled); then
   // the three families at once.
-  std::array<std::size_t, 3> bytes{};
+  std::array<std::size_t, 3> count{};        // rays of each family
   std::array<std::size_t, 4> first_block{};  // each family's first block, and the end
   for (std::size_t a = 0; a < 3; ++a) {
-    const auto& g = d.grid_[a];
-    bytes[a] = static_cast<std::size_t>(g[0]) * static_cast<std::size_t>(g[1]) * sizeof(DexelRay);
-    d.rays_[a].reserve(bytes[a] / sizeof(DexelRay));
-    advise_huge_pages(d.rays_[a].data(), bytes[a]);
-    first_block[a + 1] = first_block[a] + (bytes[a] + kHugePageBytes - 1) / kHugePageBytes;
+    count[a] = static_cast<std::size_t>(d.grid_[a][0]) * static_cast<std::size_t>(d.grid_[a][1]);
+    d.rays_[a].reserve(count[a]);
+    advise_huge_pages(d.rays_[a].data(), count[a] * sizeof(DexelRay));
+    first_block[a + 1] =
+        first_block[a] + (count[a] * sizeof(DexelRay) + kHugePageBytes - 1) / kHugePageBytes;
   }
   tbb::parallel_for(std::size_t{0}, first_block[3], [&](std::size_t block) {
     std::size_t a = 0;
     while (block >= first_block[a + 1]) ++a;
     const std::size_t from = (block - first_block[a]) * kHugePageBytes;
     populate_pages(reinterpret_cast<const char*>(d.rays_[a].data()) + from,
-                   std::min(kHugePageBytes, bytes[a] - from));
+                   std::min(kHugePageBytes, count[a] * sizeof(DexelRay) - from));
   });
   tbb::parallel_for(0, 3, [&](int a) {
     const auto& g = d.grid_[static_cast<std::size_t>(a)];
@@ -109,7 +109,7 @@ TriDexel TriDexel::empty_grid(const Aabb& box, double spacing, bool filled) {
     // as it is allocated (one pass over the rays, not a default one and then a copy).
     const DexelRay ray = filled ? DexelRay(0.0f, static_cast<float>(box.size()[a])) : DexelRay();
     auto& rays = d.rays_[static_cast<std::size_t>(a)];
-    rays.assign(bytes[static_cast<std::size_t>(a)] / sizeof(DexelRay), ray);
+    rays.assign(count[static_cast<std::size_t>(a)], ray);
     d.free_[static_cast<std::size_t>(a)].assign(
         d.free_row(a, g[1], 0),
         {std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity()});
