@@ -13,7 +13,10 @@
 # THREADS may list several counts, e.g. 1,2: each run then runs them one after the other (so
 # that a shared machine's changing load falls on all alike), the medians are given per count,
 # and each later count's speed-up over the first (wall time, the first over it) per run and as
-# a median.
+# a median. A count may name the CPUs it runs on (`taskset -c`), as COUNT@CPU or COUNT@FIRST-LAST:
+# 1@0,2@0,2@0-1 runs one thread on CPU 0, two threads sharing CPU 0 and two threads on CPUs 0
+# and 1 (what two cores cost beyond the program's own parallel work); 1@0,1@1 compares the
+# machine's two CPUs on the same one-thread job (a quiet machine gives about 1.00 in every run).
 set -euo pipefail
 cwe=$(realpath "${1:-build/cwe}")
 resolution=${2:-0.1}
@@ -35,6 +38,27 @@ awk 'BEGIN { print "G21 G90 G17 F1200 S12000 M3"; print "G0 X10 Y10 Z45";
              }
              print "M2" }' > "$dir/pocket.ngc"
 IFS=, read -r -a counts <<< "$threads"
+for t in "${counts[@]}"; do
+  [[ $t =~ ^[1-9][0-9]*(@[0-9]+(-[0-9]+)?)?$ ]] || {
+    echo "THREADS: '$t' is not a count, COUNT@CPU or COUNT@FIRST-LAST (e.g. 1,2 or 1@0,2@0-1)" >&2
+    exit 2
+  }
+  [[ $(printf '%s\n' "${counts[@]}" | grep -cx -- "$t") == 1 ]] || {
+    echo "THREADS: '$t' is listed twice" >&2
+    exit 2
+  }
+done
+if [[ $threads == *@* ]] && ! command -v taskset > /dev/null; then
+  echo "THREADS names CPUs: needs taskset (Debian package util-linux)" >&2
+  exit 1
+fi
+# A count as the report names it: "2 threads", "1 threads on CPU 0", "2 threads on CPUs 0-1".
+label() {
+  local cpus=${1#*@}
+  if [[ $1 != *@* ]]; then echo "$1 threads"
+  elif [[ $cpus == *-* ]]; then echo "${1%@*} threads on CPUs $cpus"
+  else echo "${1%@*} threads on CPU $cpus"; fi
+}
 median() { printf '%s\n' "$@" | sort -g | awk '{ v[NR] = $1 } END { print v[int((NR + 1) / 2)] }'; }
 declare -A walls cpus set_ups simulations closings
 # The stages of the run's wall time (summary.json's seconds_by_stage).
@@ -45,15 +69,18 @@ stages() {
 for r in $(seq "$runs"); do
   for t in "${counts[@]}"; do
     rm -rf "$dir/out"
-    /usr/bin/time -f "%e %U %S" -o "$dir/time" "$cwe" simulate --stock box:0,0,0,100,100,40 \
-      --tool flat:10,30 --path "$dir/pocket.ngc" --resolution "$resolution" --threads "$t" \
-      --forces al7075-t6-carbide --out "$dir/out" --quiet > /dev/null
+    pin=()
+    [[ $t == *@* ]] && pin=(taskset -c "${t#*@}")
+    /usr/bin/time -f "%e %U %S" -o "$dir/time" "${pin[@]}" "$cwe" simulate \
+      --stock box:0,0,0,100,100,40 --tool flat:10,30 --path "$dir/pocket.ngc" \
+      --resolution "$resolution" --threads "${t%@*}" --forces al7075-t6-carbide --out "$dir/out" \
+      --quiet > /dev/null
     read -r wall user sys < "$dir/time"
     cls=$(($(wc -l < "$dir/out/engagement.csv") - 1))
     read -r set_up simulation closing < <(stages "$dir/out/summary.json")
-    awk -v r="$r" -v t="$t" -v w="$wall" -v u="$user" -v s="$sys" -v n="$cls" \
+    awk -v r="$r" -v t="$(label "$t")" -v w="$wall" -v u="$user" -v s="$sys" -v n="$cls" \
       -v a="$set_up" -v b="$simulation" -v c="$closing" \
-      'BEGIN { printf "run %d, %d threads: %d CLs, wall %.2f s, CPU %.2f s, %.0f CL/s, " \
+      'BEGIN { printf "run %d, %s: %d CLs, wall %.2f s, CPU %.2f s, %.0f CL/s, " \
                       "%.0f CL per CPU-second; set-up %.3f s, simulation %.3f s, closing " \
                       "%.3f s\n", r, t, n, w, u + s, n / w, n / (u + s), a, b, c }'
     walls[$t]+="$wall " cpus[$t]+="$(awk -v u="$user" -v s="$sys" 'BEGIN { print u + s }') "
@@ -67,9 +94,10 @@ for t in "${counts[@]}"; do
   read -r -a ta <<< "${set_ups[$t]}"
   read -r -a tb <<< "${simulations[$t]}"
   read -r -a td <<< "${closings[$t]}"
-  awk -v w="$w" -v c="$c" -v n="$cls" -v s="$resolution" -v t="$t" -v a="$(median "${ta[@]}")" \
+  awk -v w="$w" -v c="$c" -v n="$cls" -v s="$resolution" -v t="$(label "$t")" \
+    -v a="$(median "${ta[@]}")" \
     -v b="$(median "${tb[@]}")" -v d="$(median "${td[@]}")" \
-    'BEGIN { printf "median (s = %s mm, %d threads): wall %.2f s, CPU %.2f s, %.0f CL/s, " \
+    'BEGIN { printf "median (s = %s mm, %s): wall %.2f s, CPU %.2f s, %.0f CL/s, " \
                     "%.0f CL per CPU-second; set-up %.3f s, simulation %.3f s, closing %.3f s\n",
                     s, t, w, c, n / w, n / c, a, b, d }'
 done
@@ -80,6 +108,6 @@ for t in "${counts[@]:1}"; do
   for k in "${!first[@]}"; do
     ratios+=("$(awk -v a="${first[$k]}" -v b="${tw[$k]}" 'BEGIN { printf "%.2f", a / b }')")
   done
-  echo "speed-up of $t threads over ${counts[0]}: median $(median "${ratios[@]}")" \
+  echo "speed-up of $(label "$t") over $(label "${counts[0]}"): median $(median "${ratios[@]}")" \
     "(runs: ${ratios[*]})"
 done
