@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <optional>
+#include <sstream>
 #include <string_view>
 #include <vector>
 
@@ -412,6 +413,8 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
           if (stl.writeback_pending() >= kWritebackBytes) stl.start_writeback();
         });
         stl.start_writeback();
+        stl.commit();
+        outputs.sync_ahead(stl.path());
       });
   const std::size_t maps_written = figures ? figures->maps_written() : 0;
   const std::size_t curves_written = figures ? figures->curves_written() : 0;
@@ -439,14 +442,21 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   // Everything is computed: commit the outputs, each whole; the summary last.
   if (files) files->commit();
   if (figures) figures->commit();
-  stl.commit();
   if (options.ply) write_file_atomically(folder / "stock.ply", ply_ascii(mesh, stock_title));
   if (options.off) write_file_atomically(folder / "stock.off", off_ascii(mesh, stock_title));
   if (run.brep) write_file_atomically(folder / "stock.step", step_bytes(*run.brep));
   write_file_atomically(folder / "summary.json", summary_text);
+  // The report, printed once the outputs are published. The workpiece and its mesh are then
+  // freed while stock.stl's sync waits for the disk, not one after the other at exit.
+  std::ostringstream report;
+  print_report(report, options, job, run, summary, unit);
+  run.stock.reset();
+  run.mesh.reset();
+  run.brep.reset();
+  mesh = {};
   outputs.publish();
 
-  print_report(out, options, job, run, summary, unit);
+  out << report.str();
   return 0;
 }
 

@@ -29,6 +29,15 @@ bool synced_together(const std::filesystem::path& path) {
   });
 }
 
+// fsync of the file or folder at `path`; InputError naming it when that fails.
+void sync(const std::filesystem::path& path, bool is_folder) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | (is_folder ? O_DIRECTORY : 0));
+  const bool synced = fd >= 0 && ::fsync(fd) == 0;
+  const std::string why = std::strerror(errno);
+  if (fd >= 0) ::close(fd);
+  if (!synced) throw InputError(SourceLocation{path.string()}, "cannot write the file: " + why);
+}
+
 }  // namespace
 
 void sync_together_under(const std::filesystem::path& folder) {
@@ -42,14 +51,9 @@ void syncs_apart(const std::filesystem::path& folder) {
   if (at != together.end()) together.erase(at);
 }
 
+void sync_file(const std::filesystem::path& path) { sync(path, false); }
+
 void sync_folder(const std::filesystem::path& folder) {
-  const auto sync = [](const std::filesystem::path& path, bool is_folder) {
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | (is_folder ? O_DIRECTORY : 0));
-    const bool synced = fd >= 0 && ::fsync(fd) == 0;
-    const std::string why = std::strerror(errno);
-    if (fd >= 0) ::close(fd);
-    if (!synced) throw InputError(SourceLocation{path.string()}, "cannot write the file: " + why);
-  };
   std::error_code ec;
   for (std::filesystem::recursive_directory_iterator it(folder, ec), end; !ec && it != end;
        it.increment(ec)) {

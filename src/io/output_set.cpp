@@ -123,10 +123,19 @@ OutputSet::OutputSet(const std::filesystem::path& folder, std::vector<std::strin
 }
 
 OutputSet::~OutputSet() {
+  ahead_.clear();  // waits for the syncs ahead (their errors matter only to publish())
   syncs_apart(staging_);
   if (published_) return;
   std::error_code ec;
   std::filesystem::remove_all(staging_, ec);
+}
+
+void OutputSet::sync_ahead(const std::filesystem::path& path) {
+  try {
+    ahead_.push_back(std::async(std::launch::async, [path] { sync_file(path); }));
+  } catch (const std::system_error&) {
+    sync_file(path);  // no thread to be had
+  }
 }
 
 void OutputSet::publish() {
@@ -134,6 +143,8 @@ void OutputSet::publish() {
   const auto fail = [&](const std::string& why) {
     throw InputError(SourceLocation{folder_.string()}, "cannot publish the outputs: " + why);
   };
+  for (std::future<void>& sync : ahead_) sync.get();
+  ahead_.clear();
   // Every staged file durable before the swap: their commits only started the write-back.
   sync_folder(staging_);
   if (!std::filesystem::exists(folder_, ec)) {

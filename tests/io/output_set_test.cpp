@@ -87,6 +87,47 @@ TEST(OutputSet, StagedFilesAreSyncedTogetherOnPublish) {
   }
 }
 
+// A large file synced ahead (its sync started while the rest is written) is published with the
+// rest; a sync ahead that fails fails the publication, naming the file, and leaves the old set.
+TEST(OutputSet, AFileSyncedAheadIsPublishedWithTheRest) {
+  const fs::path dir = test::fresh_scratch_dir("output-set-ahead");
+  const std::string big(3 << 20, 'x');
+  {
+    OutputSet set(dir / "out", kNames);
+    AtomicFileWriter file(set.staging() / "a.csv");
+    file.append(big);
+    file.commit();
+    set.sync_ahead(file.path());
+    write_file_atomically(set.staging() / "b.json", "b");
+    set.publish();
+  }
+  EXPECT_EQ(read(dir / "out" / "a.csv"), big);
+  EXPECT_EQ(read(dir / "out" / "b.json"), "b");
+  EXPECT_EQ(names(dir), (std::set<std::string>{"out"}));
+
+  {
+    OutputSet set(dir / "out", kNames);
+    write_file_atomically(set.staging() / "b.json", "new b");
+    set.sync_ahead(set.staging() / "a.csv");  // never written
+    try {
+      set.publish();
+      ADD_FAILURE() << "published with a file that could not be synced";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("a.csv"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(read(dir / "out" / "b.json"), "b");  // the old set
+  EXPECT_EQ(names(dir), (std::set<std::string>{"out"}));
+
+  {
+    OutputSet set(dir / "out", kNames);
+    write_file_atomically(set.staging() / "a.csv", "half");
+    set.sync_ahead(set.staging() / "a.csv");
+  }  // an error on the way: the sync is waited for and the staging folder removed
+  EXPECT_EQ(read(dir / "out" / "a.csv"), big);
+  EXPECT_EQ(names(dir), (std::set<std::string>{"out"}));
+}
+
 TEST(OutputSet, ANewFolderIsRenamedIntoPlace) {
   const fs::path dir = test::fresh_scratch_dir("output-set-new");
   {

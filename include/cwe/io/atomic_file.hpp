@@ -21,6 +21,8 @@ void syncs_apart(const std::filesystem::path& folder);
 // Makes every file and folder under `folder`, and `folder` itself, durable (fsync). Throws
 // InputError naming the first that cannot be synced.
 void sync_folder(const std::filesystem::path& folder);
+// Makes the file at `path` durable (fsync); throws InputError naming it when it cannot.
+void sync_file(const std::filesystem::path& path);
 
 // The same for content produced piece by piece (outputs too large to hold in memory): append()
 // writes to the temporary file, commit() flushes it and renames it over the target. A writer

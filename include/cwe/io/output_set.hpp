@@ -15,6 +15,7 @@
 // (anything else would be deleted with the old set, so it is refused).
 
 #include <filesystem>
+#include <future>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,13 @@ class OutputSet {
   const std::filesystem::path& staging() const { return staging_; }
   const std::filesystem::path& folder() const { return folder_; }
 
+  // Starts making the staged file `path` (committed) durable now, on a thread of its own that
+  // waits for the disk while the command goes on: for a large file finished well before the
+  // rest, whose sync would otherwise hold up publish() at the end. publish() waits for it and
+  // throws its error; a file synced ahead is synced there again, which costs nothing once it is
+  // clean. Where no thread can be started, the file is synced at once.
+  void sync_ahead(const std::filesystem::path& path);
+
   // Makes the staged outputs the folder's, atomically. Throws InputError when the swap fails
   // (the previous set is then untouched).
   void publish();
@@ -47,6 +55,7 @@ class OutputSet {
   std::filesystem::path staging_;
   SourceLocation option_;
   bool published_ = false;
+  std::vector<std::future<void>> ahead_;  // sync_ahead's syncs
 };
 
 }  // namespace cwe
