@@ -396,6 +396,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
       [&] {
         if (options.stock_only) return;
         files->finish();
+        files->commit();
         const std::string title =
             operations.size() == 1
                 ? fmt::format("Engagement along {} with {}",
@@ -403,6 +404,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
                               operations[0].cutter.name())
                 : fmt::format("Engagement along {} operations", operations.size());
         figures->finish(title);
+        figures->commit();
       },
       [&] {
         mesh = run.stock  ? dexel_mesh(*run.stock, stride)
@@ -439,21 +441,19 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   const std::string summary_text = job_summary(job, run, extras);
   const nlohmann::json summary = nlohmann::json::parse(summary_text);
 
-  // Everything is computed: commit the outputs, each whole; the summary last.
-  if (files) files->commit();
-  if (figures) figures->commit();
+  // Everything is computed: the last outputs, each whole; the summary last.
   if (options.ply) write_file_atomically(folder / "stock.ply", ply_ascii(mesh, stock_title));
   if (options.off) write_file_atomically(folder / "stock.off", off_ascii(mesh, stock_title));
   if (run.brep) write_file_atomically(folder / "stock.step", step_bytes(*run.brep));
-  write_file_atomically(folder / "summary.json", summary_text);
-  // The report, printed once the outputs are published. The workpiece and its mesh are then
-  // freed while stock.stl's sync waits for the disk, not one after the other at exit.
+  // The report, printed once the outputs are published. The workpiece and its mesh are freed
+  // now, while stock.stl's sync waits for the disk, not one after the other at exit.
   std::ostringstream report;
   print_report(report, options, job, run, summary, unit);
   run.stock.reset();
   run.mesh.reset();
   run.brep.reset();
   mesh = {};
+  write_file_atomically(folder / "summary.json", summary_text);
   outputs.publish();
 
   out << report.str();
