@@ -8,8 +8,9 @@
 # forces (al7075-t6-carbide), default maps, RUNS times (default 3) at RESOLUTION mm (default
 # 0.1) on THREADS threads (default 2), and prints each run's wall and CPU seconds, CL per wall
 # second and CL per CPU second, and its wall time by stage as summary.json gives it (set-up,
-# simulation, closing: docs/simulate.md; the rest of the wall time is the process's start, the
-# outputs' publication and its exit), then the medians.
+# simulation, closing: docs/simulate.md) and the rest of it (the process's start, the outputs'
+# publication and its exit), then the medians. Wall time is read from the clock around the
+# process, to the millisecond.
 # THREADS may list several counts, e.g. 1,2: each run then runs them one after the other (so
 # that a shared machine's changing load falls on all alike), the medians are given per count,
 # and each later count's speed-up over the first (wall time, the first over it) per run and as
@@ -60,7 +61,7 @@ label() {
   else echo "${1%@*} threads on CPU $cpus"; fi
 }
 median() { printf '%s\n' "$@" | sort -g | awk '{ v[NR] = $1 } END { print v[int((NR + 1) / 2)] }'; }
-declare -A walls cpus set_ups simulations closings
+declare -A walls cpus set_ups simulations closings rests
 # The stages of the run's wall time (summary.json's seconds_by_stage).
 stages() {
   awk -F': ' '/"set_up"/ { s = $2 } /"simulation"/ { m = $2 } /"closing"/ { c = $2 }
@@ -71,20 +72,25 @@ for r in $(seq "$runs"); do
     rm -rf "$dir/out"
     pin=()
     [[ $t == *@* ]] && pin=(taskset -c "${t#*@}")
-    /usr/bin/time -f "%e %U %S" -o "$dir/time" "${pin[@]}" "$cwe" simulate \
+    start=$(date +%s%N)
+    /usr/bin/time -f "%U %S" -o "$dir/time" "${pin[@]}" "$cwe" simulate \
       --stock box:0,0,0,100,100,40 --tool flat:10,30 --path "$dir/pocket.ngc" \
       --resolution "$resolution" --threads "${t%@*}" --forces al7075-t6-carbide --out "$dir/out" \
       --quiet > /dev/null
-    read -r wall user sys < "$dir/time"
+    wall=$(awk -v a="$start" -v b="$(date +%s%N)" 'BEGIN { printf "%.4f", (b - a) / 1e9 }')
+    read -r user sys < "$dir/time"
     cls=$(($(wc -l < "$dir/out/engagement.csv") - 1))
     read -r set_up simulation closing < <(stages "$dir/out/summary.json")
+    rest=$(awk -v w="$wall" -v a="$set_up" -v b="$simulation" -v c="$closing" \
+      'BEGIN { printf "%.4f", w - a - b - c }')
     awk -v r="$r" -v t="$(label "$t")" -v w="$wall" -v u="$user" -v s="$sys" -v n="$cls" \
-      -v a="$set_up" -v b="$simulation" -v c="$closing" \
-      'BEGIN { printf "run %d, %s: %d CLs, wall %.2f s, CPU %.2f s, %.0f CL/s, " \
+      -v a="$set_up" -v b="$simulation" -v c="$closing" -v e="$rest" \
+      'BEGIN { printf "run %d, %s: %d CLs, wall %.3f s, CPU %.2f s, %.0f CL/s, " \
                       "%.0f CL per CPU-second; set-up %.3f s, simulation %.3f s, closing " \
-                      "%.3f s\n", r, t, n, w, u + s, n / w, n / (u + s), a, b, c }'
+                      "%.3f s, rest %.3f s\n", r, t, n, w, u + s, n / w, n / (u + s), a, b, c, e }'
     walls[$t]+="$wall " cpus[$t]+="$(awk -v u="$user" -v s="$sys" 'BEGIN { print u + s }') "
     set_ups[$t]+="$set_up " simulations[$t]+="$simulation " closings[$t]+="$closing "
+    rests[$t]+="$rest "
   done
 done
 for t in "${counts[@]}"; do
@@ -94,12 +100,13 @@ for t in "${counts[@]}"; do
   read -r -a ta <<< "${set_ups[$t]}"
   read -r -a tb <<< "${simulations[$t]}"
   read -r -a td <<< "${closings[$t]}"
+  read -r -a te <<< "${rests[$t]}"
   awk -v w="$w" -v c="$c" -v n="$cls" -v s="$resolution" -v t="$(label "$t")" \
-    -v a="$(median "${ta[@]}")" \
-    -v b="$(median "${tb[@]}")" -v d="$(median "${td[@]}")" \
-    'BEGIN { printf "median (s = %s mm, %s): wall %.2f s, CPU %.2f s, %.0f CL/s, " \
-                    "%.0f CL per CPU-second; set-up %.3f s, simulation %.3f s, closing %.3f s\n",
-                    s, t, w, c, n / w, n / c, a, b, d }'
+    -v a="$(median "${ta[@]}")" -v b="$(median "${tb[@]}")" -v d="$(median "${td[@]}")" \
+    -v e="$(median "${te[@]}")" \
+    'BEGIN { printf "median (s = %s mm, %s): wall %.3f s, CPU %.2f s, %.0f CL/s, " \
+                    "%.0f CL per CPU-second; set-up %.3f s, simulation %.3f s, closing %.3f s, " \
+                    "rest %.3f s\n", s, t, w, c, n / w, n / c, a, b, d, e }'
 done
 read -r -a first <<< "${walls[${counts[0]}]}"
 for t in "${counts[@]:1}"; do
