@@ -414,8 +414,7 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
           stl.append(piece);
           if (stl.writeback_pending() >= kWritebackBytes) stl.start_writeback();
         });
-        stl.start_writeback();
-        stl.commit();
+        stl.commit();  // starts the rest's write-back
         outputs.sync_ahead(stl.path());
       });
   const std::size_t maps_written = figures ? figures->maps_written() : 0;

@@ -123,7 +123,7 @@ TEST(OutputSet, AFileSyncedAheadIsPublishedWithTheRest) {
     OutputSet set(dir / "out", kNames);
     write_file_atomically(set.staging() / "a.csv", "half");
     set.sync_ahead(set.staging() / "a.csv");
-  }  // an error on the way: the sync is waited for and the staging folder removed
+  }  // an error on the way, a sync still running: the staging folder goes, the old set stays
   EXPECT_EQ(read(dir / "out" / "a.csv"), big);
   EXPECT_EQ(names(dir), (std::set<std::string>{"out"}));
 }
