@@ -53,11 +53,16 @@ void syncs_apart(const std::filesystem::path& folder) {
 
 void sync_file(const std::filesystem::path& path) { sync(path, false); }
 
-void sync_folder(const std::filesystem::path& folder) {
+void sync_folder(const std::filesystem::path& folder,
+                 const std::vector<std::filesystem::path>& synced) {
   std::error_code ec;
   for (std::filesystem::recursive_directory_iterator it(folder, ec), end; !ec && it != end;
        it.increment(ec)) {
     const bool is_folder = it->is_directory(ec);
+    if (std::find(synced.begin(), synced.end(), it->path()) != synced.end()) {
+      if (is_folder) it.disable_recursion_pending();
+      continue;
+    }
     if (is_folder || it->is_regular_file(ec)) sync(it->path(), is_folder);
   }
   if (ec) {

@@ -197,10 +197,15 @@ void EngagementFiles::add(const ClResult& r) {
 
 void EngagementFiles::finish() { flush(true); }
 
-void EngagementFiles::commit() {
+std::vector<std::filesystem::path> EngagementFiles::commit() {
   csv_.commit();
   jsonl_.commit();
-  if (forces_) forces_->commit();
+  std::vector<std::filesystem::path> made{csv_.path(), jsonl_.path()};
+  if (forces_) {
+    forces_->commit();
+    made.push_back(forces_->path());
+  }
+  return made;
 }
 
 void EngagementFiles::flush(bool force) {
@@ -293,10 +298,15 @@ void Figures::finish(const std::string& title) {
   map_folder_.write("path.svg", engagement_path_svg(along_, title));
 }
 
-void Figures::commit() {
+std::vector<std::filesystem::path> Figures::commit() {
   drawing_->tasks.wait();
   map_folder_.commit();
-  if (curve_folder_) curve_folder_->commit();
+  std::vector<std::filesystem::path> made{map_folder_.path()};
+  if (curve_folder_) {
+    curve_folder_->commit();
+    made.push_back(curve_folder_->path());
+  }
+  return made;
 }
 
 }  // namespace cwe

@@ -130,11 +130,25 @@ OutputSet::~OutputSet() {
   std::filesystem::remove_all(staging_, ec);
 }
 
-void OutputSet::sync_ahead(const std::filesystem::path& path) {
+void OutputSet::sync_ahead(const std::vector<std::filesystem::path>& paths) {
+  const auto sync = [](const std::vector<std::filesystem::path>& each) {
+    for (const std::filesystem::path& path : each) {
+      if (std::filesystem::is_directory(path)) {
+        sync_folder(path);
+      } else {
+        sync_file(path);
+      }
+    }
+  };
   try {
-    ahead_.push_back(std::async(std::launch::async, [path] { sync_file(path); }));
+    std::future<void> started = std::async(std::launch::async, [sync, paths] { sync(paths); });
+    const std::lock_guard lock(ahead_mutex_);
+    ahead_.push_back(std::move(started));
+    synced_ahead_.insert(synced_ahead_.end(), paths.begin(), paths.end());
   } catch (const std::system_error&) {
-    sync_file(path);  // no thread to be had
+    sync(paths);  // no thread to be had
+    const std::lock_guard lock(ahead_mutex_);
+    synced_ahead_.insert(synced_ahead_.end(), paths.begin(), paths.end());
   }
 }
 
@@ -143,10 +157,13 @@ void OutputSet::publish() {
   const auto fail = [&](const std::string& why) {
     throw InputError(SourceLocation{folder_.string()}, "cannot publish the outputs: " + why);
   };
-  for (std::future<void>& sync : ahead_) sync.get();
-  ahead_.clear();
+  {
+    const std::lock_guard lock(ahead_mutex_);
+    for (std::future<void>& sync : ahead_) sync.get();
+    ahead_.clear();
+  }
   // Every staged file durable before the swap: their commits only started the write-back.
-  sync_folder(staging_);
+  sync_folder(staging_, synced_ahead_);
   if (!std::filesystem::exists(folder_, ec)) {
     if (::rename(staging_.c_str(), folder_.c_str()) != 0) fail(std::strerror(errno));
     published_ = true;

@@ -87,28 +87,33 @@ TEST(OutputSet, StagedFilesAreSyncedTogetherOnPublish) {
   }
 }
 
-// A large file synced ahead (its sync started while the rest is written) is published with the
-// rest; a sync ahead that fails fails the publication, naming the file, and leaves the old set.
-TEST(OutputSet, AFileSyncedAheadIsPublishedWithTheRest) {
+// Files and folders synced ahead (their syncs started while the rest is written) are published
+// with the rest; a sync ahead that fails fails the publication, naming the file, and leaves the
+// old set.
+TEST(OutputSet, FilesSyncedAheadArePublishedWithTheRest) {
   const fs::path dir = test::fresh_scratch_dir("output-set-ahead");
   const std::string big(3 << 20, 'x');
   {
     OutputSet set(dir / "out", kNames);
+    write_file_atomically(set.staging() / "maps" / "m1.png", "map 1");
+    write_file_atomically(set.staging() / "maps" / "m2.png", "map 2");
     AtomicFileWriter file(set.staging() / "a.csv");
     file.append(big);
     file.commit();
-    set.sync_ahead(file.path());
+    set.sync_ahead({set.staging() / "maps"});
+    set.sync_ahead({file.path()});
     write_file_atomically(set.staging() / "b.json", "b");
     set.publish();
   }
   EXPECT_EQ(read(dir / "out" / "a.csv"), big);
   EXPECT_EQ(read(dir / "out" / "b.json"), "b");
+  EXPECT_EQ(read(dir / "out" / "maps" / "m2.png"), "map 2");
   EXPECT_EQ(names(dir), (std::set<std::string>{"out"}));
 
   {
     OutputSet set(dir / "out", kNames);
     write_file_atomically(set.staging() / "b.json", "new b");
-    set.sync_ahead(set.staging() / "a.csv");  // never written
+    set.sync_ahead({set.staging() / "b.json", set.staging() / "a.csv"});  // a.csv never written
     try {
       set.publish();
       ADD_FAILURE() << "published with a file that could not be synced";
@@ -122,7 +127,7 @@ TEST(OutputSet, AFileSyncedAheadIsPublishedWithTheRest) {
   {
     OutputSet set(dir / "out", kNames);
     write_file_atomically(set.staging() / "a.csv", "half");
-    set.sync_ahead(set.staging() / "a.csv");
+    set.sync_ahead({set.staging() / "a.csv"});
   }  // an error on the way, a sync still running: the staging folder goes, the old set stays
   EXPECT_EQ(read(dir / "out" / "a.csv"), big);
   EXPECT_EQ(names(dir), (std::set<std::string>{"out"}));

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <string_view>
+#include <vector>
 
 namespace cwe {
 
@@ -18,9 +19,11 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
 // sync_folder(folder), not one by one; until syncs_apart(folder).
 void sync_together_under(const std::filesystem::path& folder);
 void syncs_apart(const std::filesystem::path& folder);
-// Makes every file and folder under `folder`, and `folder` itself, durable (fsync). Throws
-// InputError naming the first that cannot be synced.
-void sync_folder(const std::filesystem::path& folder);
+// Makes every file and folder under `folder`, and `folder` itself, durable (fsync), but those in
+// `synced` (already durable; a folder there with all it holds). Throws InputError naming the
+// first that cannot be synced.
+void sync_folder(const std::filesystem::path& folder,
+                 const std::vector<std::filesystem::path>& synced = {});
 // Makes the file at `path` durable (fsync); throws InputError naming it when it cannot.
 void sync_file(const std::filesystem::path& path);
 

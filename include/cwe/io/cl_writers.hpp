@@ -78,6 +78,7 @@ class OutputFolder {
   void write(const std::string& name, std::string_view bytes);
   // Replaces <out>/<name> with what was written; InputError when it cannot.
   void commit();
+  const std::filesystem::path& path() const { return target_; }  // <out>/<name>
 
  private:
   std::filesystem::path target_, temporary_;
@@ -91,7 +92,8 @@ class EngagementFiles : public ClSink {
   EngagementFiles(const std::filesystem::path& folder, bool forces, const ReportUnit& unit);
   void add(const ClResult& r) override;
   void finish();  // writes what is buffered
-  void commit();
+  // Puts the files in place; returns their paths.
+  std::vector<std::filesystem::path> commit();
 
  private:
   void flush(bool force);  // appends the buffers from about a megabyte on (or when `force`)
@@ -121,7 +123,8 @@ class Figures : public ClSink {
   bool wants_curve(std::size_t index, bool engaged) override;
   void add(const ClResult& r) override;
   void finish(const std::string& title);  // draws the path plot
-  void commit();
+  // Puts the folders in place once their figures are written; returns their paths.
+  std::vector<std::filesystem::path> commit();
   std::size_t maps_written() const { return maps_written_; }
   std::size_t curves_written() const { return curves_written_; }
 

@@ -16,6 +16,7 @@
 
 #include <filesystem>
 #include <future>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -39,12 +40,13 @@ class OutputSet {
   const std::filesystem::path& staging() const { return staging_; }
   const std::filesystem::path& folder() const { return folder_; }
 
-  // Starts making the staged file `path` (committed) durable now, on a thread of its own that
-  // waits for the disk while the command goes on: for a large file finished well before the
-  // rest, whose sync would otherwise hold up publish() at the end. publish() waits for it and
-  // throws its error; a file synced ahead is synced there again, which costs nothing once it is
-  // clean. Where no thread can be started, the file is synced at once.
-  void sync_ahead(const std::filesystem::path& path);
+  // Starts making the staged files or folders `paths` (committed; a folder with all it holds)
+  // durable now, one after the other on a thread of their own that waits for the disk while the
+  // command goes on: for outputs finished well before the rest, whose syncs would otherwise hold
+  // up publish() at the end. publish() waits for them, throws the first error, and syncs the
+  // rest of the folder. Where no thread can be started, they are synced at once. Threads may
+  // call it at once.
+  void sync_ahead(const std::vector<std::filesystem::path>& paths);
 
   // Makes the staged outputs the folder's, atomically. Throws InputError when the swap fails
   // (the previous set is then untouched).
@@ -55,7 +57,9 @@ class OutputSet {
   std::filesystem::path staging_;
   SourceLocation option_;
   bool published_ = false;
-  std::vector<std::future<void>> ahead_;  // sync_ahead's syncs
+  std::mutex ahead_mutex_;
+  std::vector<std::future<void>> ahead_;             // sync_ahead's syncs, under ahead_mutex_
+  std::vector<std::filesystem::path> synced_ahead_;  // what they sync, under ahead_mutex_
 };
 
 }  // namespace cwe
