@@ -390,10 +390,10 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
   // The stock's contouring beside the last figures and files (they never read the stock): on
   // one thread they were a serial fifth of a job's time after the parallel engagement. The disk
   // writes each output while the rest is made: the files and figures are synced ahead as soon as
-  // they are in place, while the stock is contoured; stock.stl is written as soon as its mesh is
-  // made, its write-back started every few megabytes and its sync as soon as it is whole. The
-  // publication waits for them (at its start, they took a few tens of milliseconds with both
-  // threads idle).
+  // they are in place, while the stock is contoured; stock.stl is encoded and written as its
+  // triangles are made, its write-back started every few megabytes and its sync as soon as it is
+  // whole. The publication waits for them (at its start, they took a few tens of milliseconds
+  // with both threads idle).
   tbb::parallel_invoke(
       [&] {
         if (options.stock_only) return;
@@ -410,13 +410,27 @@ int run_simulate_command(SimulateCommandOptions options, std::ostream& out,
         outputs.sync_ahead(made);
       },
       [&] {
-        mesh = run.stock  ? dexel_mesh(*run.stock, stride)
-               : run.mesh ? run.mesh->mesh()
-                          : tessellate(*run.brep, step_tessellation(job.simulation, false));
-        stl_binary(mesh, stock_title, [&stl](std::string_view piece) {
+        const auto write = [&stl](std::string_view piece) {
           stl.append(piece);
           if (stl.writeback_pending() >= kWritebackBytes) stl.start_writeback();
-        });
+        };
+        if (run.stock) {
+          // The triangles encoded and written as the stock is contoured, on the thread that the
+          // contouring leaves spare; the rest once it has finished, and the count last.
+          write(stl_binary_header(stock_title, 0));
+          FollowedMesh made = dexel_mesh(*run.stock, stride,
+                                         [&write](std::span<const std::array<int, 3>> triangles,
+                                                  std::span<const Vec3> vertices) {
+                                           stl_binary_facets(triangles, vertices, write);
+                                         });
+          mesh = std::move(made.mesh);
+          stl_binary_facets(std::span(mesh.triangles).subspan(made.followed), mesh.vertices, write);
+          stl.overwrite(0, stl_binary_header(stock_title, mesh.triangles.size()));
+        } else {
+          mesh = run.mesh ? run.mesh->mesh()
+                          : tessellate(*run.brep, step_tessellation(job.simulation, false));
+          stl_binary(mesh, stock_title, write);
+        }
         stl.commit();  // starts the rest's write-back
         outputs.sync_ahead({stl.path()});
       });

@@ -11,6 +11,7 @@
 #include <system_error>
 #include <vector>
 
+#include "cwe/core/assert.hpp"
 #include "cwe/core/error.hpp"
 
 namespace cwe {
@@ -103,6 +104,18 @@ void AtomicFileWriter::append(std::string_view text) {
   if (file_ == nullptr) fail("the file was already committed");
   if (std::fwrite(text.data(), 1, text.size(), file_) != text.size()) fail(std::strerror(errno));
   appended_ += text.size();
+}
+
+void AtomicFileWriter::overwrite(std::size_t offset, std::string_view bytes) {
+  if (file_ == nullptr) fail("the file was already committed");
+  CWE_ASSERT(offset <= appended_ && bytes.size() <= appended_ - offset,
+             "overwriting bytes not yet appended");
+  if (std::fflush(file_) != 0) fail(std::strerror(errno));
+  const ssize_t wrote =
+      ::pwrite(::fileno(file_), bytes.data(), bytes.size(), static_cast<off_t>(offset));
+  if (wrote != static_cast<ssize_t>(bytes.size())) {
+    fail(wrote < 0 ? std::strerror(errno) : "only part of it was written");
+  }
 }
 
 void AtomicFileWriter::start_writeback() {

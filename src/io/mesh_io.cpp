@@ -366,19 +366,23 @@ StlMesh read_stl(const std::string& path) {
   return parse_stl(read_binary_file(path, "STL file"), path);
 }
 
-void stl_binary(const TriangleMesh& mesh, std::string_view header,
-                const std::function<void(std::string_view)>& write) {
-  constexpr std::size_t kChunkTriangles = 4000;  // 200,000 bytes a piece
+std::string stl_binary_header(std::string_view header, std::size_t triangles) {
   std::string out(84, ' ');
   out.replace(0, std::min<std::size_t>(header.size(), 80), header.substr(0, 80));
-  const auto count = static_cast<std::uint32_t>(mesh.triangles.size());
+  const auto count = static_cast<std::uint32_t>(triangles);
   std::memcpy(out.data() + 80, &count, 4);
-  write(out);
+  return out;
+}
+
+void stl_binary_facets(std::span<const std::array<int, 3>> triangles,
+                       std::span<const Vec3> vertices,
+                       const std::function<void(std::string_view)>& write) {
+  constexpr std::size_t kChunkTriangles = 4000;  // 200,000 bytes a piece
   // Pieces encoded in parallel and written in order. A piece's buffer is sized once and filled
   // in place (appending four bytes at a time was most of the time taken for a stock of a million
   // triangles), and is one of `tokens` reused in turn: pieces finish in order, so piece p's
   // buffer is free again when piece p + tokens starts.
-  const std::size_t pieces = (mesh.triangles.size() + kChunkTriangles - 1) / kChunkTriangles;
+  const std::size_t pieces = (triangles.size() + kChunkTriangles - 1) / kChunkTriangles;
   const auto tokens = static_cast<std::size_t>(2 * tbb::this_task_arena::max_concurrency());
   std::vector<std::string> buffers(tokens);
   std::size_t next = 0;
@@ -396,15 +400,15 @@ void stl_binary(const TriangleMesh& mesh, std::string_view header,
               tbb::filter_mode::parallel,
               [&](std::size_t piece) {
                 const std::size_t first = piece * kChunkTriangles;
-                const std::size_t n = std::min(kChunkTriangles, mesh.triangles.size() - first);
+                const std::size_t n = std::min(kChunkTriangles, triangles.size() - first);
                 std::string& bytes = buffers[piece % tokens];
                 bytes.assign(50 * n, '\0');
                 char* at = bytes.data();
                 for (std::size_t k = first; k < first + n; ++k) {
-                  const auto& t = mesh.triangles[k];
-                  const Vec3& a = mesh.vertices[static_cast<std::size_t>(t[0])];
-                  const Vec3& b = mesh.vertices[static_cast<std::size_t>(t[1])];
-                  const Vec3& c = mesh.vertices[static_cast<std::size_t>(t[2])];
+                  const auto& t = triangles[k];
+                  const Vec3& a = vertices[static_cast<std::size_t>(t[0])];
+                  const Vec3& b = vertices[static_cast<std::size_t>(t[1])];
+                  const Vec3& c = vertices[static_cast<std::size_t>(t[2])];
                   Vec3 normal = (b - a).cross(c - a);
                   if (normal.norm() > 0.0) normal.normalize();
                   for (const Vec3* v : {static_cast<const Vec3*>(&normal), &a, &b, &c}) {
@@ -421,6 +425,12 @@ void stl_binary(const TriangleMesh& mesh, std::string_view header,
           tbb::make_filter<std::size_t, void>(
               tbb::filter_mode::serial_in_order,
               [&](std::size_t piece) { write(buffers[piece % tokens]); }));
+}
+
+void stl_binary(const TriangleMesh& mesh, std::string_view header,
+                const std::function<void(std::string_view)>& write) {
+  write(stl_binary_header(header, mesh.triangles.size()));
+  stl_binary_facets(mesh.triangles, mesh.vertices, write);
 }
 
 std::string stl_binary(const TriangleMesh& mesh, std::string_view header) {

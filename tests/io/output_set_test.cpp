@@ -72,12 +72,14 @@ TEST(OutputSet, StagedFilesAreSyncedTogetherOnPublish) {
     EXPECT_EQ(map.writeback_pending(), 0u);
     map.append("/>");
     EXPECT_EQ(map.writeback_pending(), 2u);
+    map.overwrite(1, "SVG");  // bytes already appended, handed to the system or still buffered
+    map.overwrite(4, "|");
     map.commit();
     EXPECT_THROW(map.start_writeback(), InputError);  // committed: nothing more to write
     set.publish();
   }
   EXPECT_EQ(read(dir / "out" / "a.csv"), "a");
-  EXPECT_EQ(read(dir / "out" / "maps" / "m1.svg"), "<svg/>");
+  EXPECT_EQ(read(dir / "out" / "maps" / "m1.svg"), "<SVG|>");
   EXPECT_NO_THROW(sync_folder(dir / "out"));
   try {
     sync_folder(dir / "gone");

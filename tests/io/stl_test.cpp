@@ -1,8 +1,11 @@
 // STL reading: both encodings, welding, and errors that say where and what was expected.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <span>
 #include <string>
+#include <string_view>
 
 #include "cwe/core/error.hpp"
 #include "cwe/io/mesh_io.hpp"
@@ -65,6 +68,28 @@ TEST(Stl, BinaryRoundTripsEvenWithASolidHeader) {
       }
     }
   }
+}
+
+// Written while the mesh is made (stock.stl while the stock is contoured): a header with no
+// count, the facets in runs of any length, then the header again with the count, give the bytes
+// of the whole mesh written at once.
+TEST(Stl, BinaryInRunsIsTheWholeMeshsBytes) {
+  TriangleMesh m;
+  for (int k = 0; k < 3000; ++k) m.vertices.emplace_back(0.1 * k, std::sin(k), 1.0 / (k + 1));
+  for (int k = 0; k < 9001; ++k) m.triangles.push_back({k % 3000, (7 * k + 1) % 3000, k / 3});
+  const std::string whole = stl_binary(m, "runs");
+  std::string bytes = stl_binary_header("runs", 0);
+  const auto write = [&bytes](std::string_view piece) { bytes.append(piece); };
+  std::size_t at = 0;
+  for (const std::size_t run : {1, 3999, 4001, 0, 1000}) {
+    stl_binary_facets(std::span(m.triangles).subspan(at, run), m.vertices, write);
+    at += run;
+  }
+  stl_binary_facets(std::span(m.triangles).subspan(at), m.vertices, write);
+  ASSERT_EQ(bytes.size(), whole.size());
+  EXPECT_NE(bytes, whole);  // the count
+  bytes.replace(0, 84, stl_binary_header("runs", m.triangles.size()));
+  EXPECT_EQ(bytes, whole);
 }
 
 TEST(Stl, DegenerateFacetsAreDroppedAndCounted) {

@@ -1,11 +1,16 @@
 #include "cwe/workpiece/dexel/dexel_mesh.hpp"
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <functional>
 #include <map>
+#include <span>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -285,6 +290,87 @@ TEST(DexelMesh, RandomLatticePatternsAreClosed) {
     SCOPED_TRACE(testing::Message() << "trial " << trial);
     if (!mesh.empty()) expect_closed_manifold(mesh);
   }
+}
+
+// A slotted block of about 400,000 triangles: tens of milliseconds of marching, in which a
+// spare thread has time to follow.
+TriDexel slotted_block() {
+  TriDexel stock = TriDexel::from_box(Aabb{{0, 0, 0}, {40, 30, 10}}, 0.1);
+  const Cutter flat = cutter_from_spec("flat:8,20");
+  remove_sweep(stock, LinearSweep(flat, Vec3(5, 15, 6), Vec3(35, 15.03, 6), Vec3::UnitZ()));
+  return stock;
+}
+
+// The mesh made while a follower is handed its triangles is the mesh made without one; the
+// follower is handed the first triangles in order, each run with the vertices its triangles
+// name, as they end up in the mesh. With one thread nothing is spare and nothing is handed over.
+TEST(DexelMesh, AFollowerIsHandedTheFirstTrianglesInOrder) {
+  const TriDexel stock = slotted_block();
+  const TriangleMesh whole = dexel_mesh(stock);
+  ASSERT_GT(whole.triangles.size(), 200'000u);
+
+  tbb::task_arena one(1);
+  one.execute([&] {
+    const FollowedMesh made =
+        dexel_mesh(stock, 1, [](std::span<const std::array<int, 3>>, std::span<const Vec3>) {
+          ADD_FAILURE() << "followed on one thread";
+        });
+    EXPECT_EQ(made.followed, 0u);
+    EXPECT_EQ(made.mesh.triangles, whole.triangles);
+  });
+
+  // Two threads: the spare one follows once it has started, which on a loaded machine may be
+  // late; a few tries make sure it follows at all.
+  tbb::task_arena two(2);
+  std::size_t followed = 0;
+  for (int attempt = 0; attempt < 5 && followed == 0; ++attempt) {
+    std::vector<std::array<int, 3>> seen;
+    std::vector<Vec3> corners;
+    const FollowedMesh made = two.execute([&] {
+      return dexel_mesh(
+          stock, 1,
+          [&](std::span<const std::array<int, 3>> triangles, std::span<const Vec3> vertices) {
+            for (const auto& t : triangles) {
+              seen.push_back(t);
+              for (const int v : t) {
+                EXPECT_LT(static_cast<std::size_t>(v), vertices.size());
+                corners.push_back(vertices[static_cast<std::size_t>(v)]);
+              }
+            }
+          });
+    });
+    EXPECT_EQ(made.mesh.triangles, whole.triangles);
+    EXPECT_EQ(made.mesh.vertices, whole.vertices);
+    ASSERT_EQ(seen.size(), made.followed);
+    ASSERT_LE(made.followed, whole.triangles.size());
+    EXPECT_TRUE(std::equal(seen.begin(), seen.end(), whole.triangles.begin()));
+    for (std::size_t k = 0; k < corners.size(); ++k) {
+      const int v = whole.triangles[k / 3][k % 3];
+      ASSERT_EQ(corners[k], whole.vertices[static_cast<std::size_t>(v)]) << "corner " << k;
+    }
+    followed = made.followed;
+  }
+  EXPECT_GT(followed, 0u) << "the spare thread never followed";
+}
+
+// An error in the follower ends the meshing and reaches the caller.
+TEST(DexelMesh, AFollowersErrorReachesTheCaller) {
+  const TriDexel stock = slotted_block();
+  tbb::task_arena two(2);
+  bool thrown = false;
+  for (int attempt = 0; attempt < 5 && !thrown; ++attempt) {
+    try {
+      two.execute([&] {
+        return dexel_mesh(stock, 1, [](std::span<const std::array<int, 3>>, std::span<const Vec3>) {
+          throw InputError("stock.stl: cannot write the file: no space left");
+        });
+      });
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("no space left"), std::string::npos) << e.what();
+      thrown = true;
+    }
+  }
+  EXPECT_TRUE(thrown) << "the spare thread never followed";
 }
 
 TEST(DexelMesh, EmptyWorkpieceGivesAnEmptyMesh) {

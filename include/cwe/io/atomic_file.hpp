@@ -45,6 +45,8 @@ class AtomicFileWriter {
   ~AtomicFileWriter();
 
   void append(std::string_view text);
+  // Overwrites bytes already appended, from `offset` on (a count known only at the end).
+  void overwrite(std::size_t offset, std::string_view bytes);
   // Hands what was appended to the system and starts the write-back (a hint) of what was appended
   // since the last call, so that a large file's durability costs less wait when commit() or
   // sync_folder() comes. Called every few megabytes while a large file is written, it keeps the

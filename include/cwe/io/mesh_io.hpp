@@ -2,7 +2,10 @@
 // Mesh and polyline files as byte strings (write them with write_file_atomically), and STL
 // reading (docs/stock.md states the reader's rules).
 
+#include <array>
+#include <cstddef>
 #include <functional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -19,6 +22,13 @@ std::string stl_binary(const TriangleMesh& mesh, std::string_view header);
 // on all threads while `write` takes them one at a time, in order.
 void stl_binary(const TriangleMesh& mesh, std::string_view header,
                 const std::function<void(std::string_view)>& write);
+// The same in two parts, for a mesh written while it is made: the first 84 bytes (the header and
+// the triangle count), then the facets of runs of triangles in order (each triangle's corners
+// indexed in `vertices`), handed to `write` as above.
+std::string stl_binary_header(std::string_view header, std::size_t triangles);
+void stl_binary_facets(std::span<const std::array<int, 3>> triangles,
+                       std::span<const Vec3> vertices,
+                       const std::function<void(std::string_view)>& write);
 
 // A triangle mesh read from an STL file.
 struct StlMesh {

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <exception>
 #include <functional>
 #include <limits>
 #include <span>
@@ -188,44 +189,58 @@ const std::array<CubeCase, kCases>& cube_cases() {
   return cases;
 }
 
-// The pages of a mesh's reserved arrays faulted in on a spare thread (populate_pages), up to a
-// few megabytes ahead of the thread that fills the arrays in order, which then finds its pages
-// there instead of taking each fault itself (in the main job's closing stage on the pocketing
-// bench, those faults were nearly half of the marching's time: docs/performance.md).
+// The marching's spare thread (a task that another thread of the arena picks up). It faults in
+// the pages of the mesh's reserved arrays (populate_pages) up to a few megabytes ahead of the
+// thread that fills them in order, which then finds its pages there instead of taking each fault
+// itself (in the main job's closing stage on the pocketing bench, those faults were nearly half
+// of the marching's time: docs/performance.md). Behind that thread it hands the triangles made
+// to a follower, if any, a run at a time (stock.stl encoded and written while the stock is
+// contoured). It reads only triangles made and published (reached()) and the vertices they name,
+// which the filling thread no longer writes; before the arrays would outgrow their capacity
+// (reallocated), that thread stops it.
 // Without a spare thread it does nothing: a task that only the filling thread picks up (at
-// stop()) returns at once. Once the arrays outgrow their capacity (reallocated), it faults in
-// pages the mesh no longer uses, which costs time only.
-class FaultAhead {
-  using Triangle = decltype(TriangleMesh::triangles)::value_type;
+// stop()) returns at once.
+class SpareThread {
+  using Triangle = std::array<int, 3>;
 
  public:
-  explicit FaultAhead(const TriangleMesh& mesh)
+  SpareThread(const TriangleMesh& mesh, const MeshFollower* follow)
       : filler_(std::this_thread::get_id()),
-        triangles_(reinterpret_cast<const char*>(mesh.triangles.data())),
-        vertices_(reinterpret_cast<const char*>(mesh.vertices.data())),
+        follow_(follow),
+        triangles_(mesh.triangles.data()),
+        vertices_(mesh.vertices.data()),
         triangle_bytes_(mesh.triangles.capacity() * sizeof(Triangle)),
-        vertex_bytes_(mesh.vertices.capacity() * sizeof(mesh.vertices[0])) {
+        vertex_bytes_(mesh.vertices.capacity() * sizeof(Vec3)) {
     if (tbb::this_task_arena::max_concurrency() > 1 && triangle_bytes_ > 0) {
       work_.run([this] { run(); });
     }
   }
-  FaultAhead(const FaultAhead&) = delete;
-  FaultAhead& operator=(const FaultAhead&) = delete;
-  ~FaultAhead() { stop(); }
-
-  // The triangles made so far (the vertices follow in proportion).
-  void reached(std::size_t triangles) {
-    made_.store(triangles * sizeof(Triangle), std::memory_order_relaxed);
+  SpareThread(const SpareThread&) = delete;
+  SpareThread& operator=(const SpareThread&) = delete;
+  ~SpareThread() {
+    stopped_.store(true, std::memory_order_relaxed);
+    work_.wait();  // run() throws nothing: a follower's error waits in error_
   }
-  // Ends the faulting; returns once the spare thread has left it.
+
+  // The triangles and vertices made so far, all written.
+  void reached(std::size_t triangles, std::size_t vertices) {
+    vertices_made_.store(vertices, std::memory_order_relaxed);
+    triangles_made_.store(triangles, std::memory_order_release);
+  }
+  // Ends the spare thread's work; returns once it has left the arrays, throwing the follower's
+  // error if it threw one.
   void stop() {
     stopped_.store(true, std::memory_order_relaxed);
     work_.wait();
+    if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
   }
+  // The triangles handed to the follower (read after stop()).
+  std::size_t followed() const { return followed_; }
 
  private:
   static constexpr std::size_t kStep = kHugePageBytes;
   static constexpr std::size_t kAhead = std::size_t{8} << 20;  // of the triangles filled
+  static constexpr std::size_t kRun = 16'384;                  // triangles handed at a time
 
   void run() {
     if (std::this_thread::get_id() == filler_) return;
@@ -235,25 +250,45 @@ class FaultAhead {
       return std::min(vertex_bytes_,
                       static_cast<std::size_t>(vertex_share * static_cast<double>(triangle_byte)));
     };
-    std::size_t done = 0;
-    while (done < triangle_bytes_ && !stopped_.load(std::memory_order_relaxed)) {
-      if (done >= made_.load(std::memory_order_relaxed) + kAhead) {
+    const auto* triangle_bytes = reinterpret_cast<const char*>(triangles_);
+    const auto* vertex_bytes = reinterpret_cast<const char*>(vertices_);
+    std::size_t faulted = 0;  // bytes of the triangles' array
+    bool faulting = true;
+    while (!stopped_.load(std::memory_order_relaxed)) {
+      const std::size_t made = triangles_made_.load(std::memory_order_acquire);
+      if (faulting && faulted < triangle_bytes_ && faulted < made * sizeof(Triangle) + kAhead) {
+        const std::size_t next = std::min(triangle_bytes_, faulted + kStep);
+        faulting = populate_pages(triangle_bytes + faulted, next - faulted);
+        populate_pages(vertex_bytes + vertex_at(faulted), vertex_at(next) - vertex_at(faulted));
+        faulted = next;
+      } else if (follow_ != nullptr && followed_ < made) {
+        const std::size_t end = std::min(made, followed_ + kRun);
+        try {
+          (*follow_)(
+              std::span<const Triangle>(triangles_ + followed_, end - followed_),
+              std::span<const Vec3>(vertices_, vertices_made_.load(std::memory_order_relaxed)));
+        } catch (...) {
+          error_ = std::current_exception();
+          return;
+        }
+        followed_ = end;
+      } else if (follow_ == nullptr && (!faulting || faulted >= triangle_bytes_)) {
+        return;
+      } else {
         std::this_thread::sleep_for(std::chrono::microseconds(100));
-        continue;
       }
-      const std::size_t next = std::min(triangle_bytes_, done + kStep);
-      if (!populate_pages(triangles_ + done, next - done)) return;
-      populate_pages(vertices_ + vertex_at(done), vertex_at(next) - vertex_at(done));
-      done = next;
     }
   }
 
   const std::thread::id filler_;  // the thread that fills the arrays
-  const char* triangles_;
-  const char* vertices_;
+  const MeshFollower* follow_;
+  const Triangle* triangles_;
+  const Vec3* vertices_;
   std::size_t triangle_bytes_, vertex_bytes_;
-  std::atomic<std::size_t> made_{0};  // bytes of triangles filled
+  std::atomic<std::size_t> triangles_made_{0}, vertices_made_{0};
   std::atomic<bool> stopped_{false};
+  std::size_t followed_ = 0;
+  std::exception_ptr error_;
   tbb::task_group work_;
 };
 
@@ -290,14 +325,15 @@ class LatticeMesher {
                "the three ray families span different lattices");
   }
 
-  TriangleMesh run() {
+  FollowedMesh run(const MeshFollower* follow) {
     const auto& cases = cube_cases();
     collect_z_events();
     reserve();
-    FaultAhead ahead(mesh_);
+    SpareThread spare(mesh_, follow);
+    spare_ = &spare;
     Layer lower(layer_size_), upper(layer_size_);  // lower starts as the empty layer -1
     for (int k = -1; k < nz_; ++k) {               // the slab between layers k and k + 1
-      ahead.reached(mesh_.triangles.size());
+      spare.reached(mesh_.triangles.size(), mesh_.vertices.size());
       fill_layer(k + 1, upper);
       z_vertex_.reset();
       const std::array<Layer*, 2> slab{&lower, &upper};
@@ -325,6 +361,7 @@ class LatticeMesher {
             }
             for (int t = 0; t < cube.triangle_count; ++t) {
               const auto& corners = cube.corners[static_cast<std::size_t>(t)];
+              if (mesh_.triangles.size() == mesh_.triangles.capacity()) spare.stop();
               mesh_.triangles.push_back({made[static_cast<std::size_t>(corners[0])],
                                          made[static_cast<std::size_t>(corners[1])],
                                          made[static_cast<std::size_t>(corners[2])]});
@@ -335,8 +372,9 @@ class LatticeMesher {
       }
       std::swap(lower, upper);
     }
-    ahead.stop();
-    return std::move(mesh_);
+    spare.stop();
+    spare_ = nullptr;
+    return {std::move(mesh_), spare.followed()};
   }
 
  private:
@@ -613,6 +651,7 @@ class LatticeMesher {
     }
     slot = static_cast<int>(mesh_.vertices.size());
     edges.touched.push_back(at);
+    if (mesh_.vertices.size() == mesh_.vertices.capacity()) spare_->stop();
     mesh_.vertices.push_back(position);
     return slot;
   }
@@ -632,15 +671,20 @@ class LatticeMesher {
   std::vector<std::size_t> z_events_;       // the points whose Z ray flips
   EdgeVertices z_vertex_;                   // on the edges from layer k to k + 1
   TriangleMesh mesh_;
+  SpareThread* spare_ = nullptr;  // while run() makes mesh_
 };
 
 }  // namespace
 
 TriangleMesh dexel_mesh(const TriDexel& stock, int stride) {
+  return dexel_mesh(stock, stride, nullptr).mesh;
+}
+
+FollowedMesh dexel_mesh(const TriDexel& stock, int stride, const MeshFollower& follow) {
   if (stride < 1) {
     throw InputError(fmt::format("dexel mesh stride {}: expected a whole number ≥ 1", stride));
   }
-  return LatticeMesher(stock, stride).run();
+  return LatticeMesher(stock, stride).run(follow ? &follow : nullptr);
 }
 
 int dexel_mesh_stride(const TriDexel& stock, std::size_t triangle_budget) {

@@ -42,6 +42,11 @@
 // (reserved at once, from the lattice rays' interval ends, rather than grown by doubling).
 // Cost: linear in the lattice points, (nx + 2)(ny + 2)(nz + 2).
 
+#include <array>
+#include <cstddef>
+#include <functional>
+#include <span>
+
 #include "cwe/geometry/triangle_mesh.hpp"
 #include "cwe/workpiece/dexel/tri_dexel.hpp"
 
@@ -53,6 +58,25 @@ namespace cwe {
 // point holds material. Throws InputError for a stride below 1, or when the mesh would need more
 // than 2^31 vertices (a spacing far too fine for the stock).
 TriangleMesh dexel_mesh(const TriDexel& stock, int stride = 1);
+
+// A run of a mesh's triangles as they are made, with the vertices made so far (which hold every
+// vertex the run's triangles name). Both are views of the mesh being made: valid during the call.
+using MeshFollower = std::function<void(std::span<const std::array<int, 3>> triangles,
+                                        std::span<const Vec3> vertices)>;
+
+// The mesh and how many of its first triangles were handed to the follower.
+struct FollowedMesh {
+  TriangleMesh mesh;
+  std::size_t followed = 0;
+};
+
+// dexel_mesh, handing the triangles to `follow` in order, a run at a time, on a spare thread while
+// the rest is being made (so that stock.stl is encoded and written while the stock is contoured).
+// `follow` runs on one thread at a time and never after this returns. It may be given all the
+// triangles, some of the first or none (no spare thread, or the mesh outgrew the room reserved
+// for it): the caller takes the rest from the mesh, after `followed`. An exception `follow`
+// throws ends the meshing and is thrown here.
+FollowedMesh dexel_mesh(const TriDexel& stock, int stride, const MeshFollower& follow);
 
 // The smallest stride for which dexel_mesh gives about `triangle_budget` triangles or fewer,
 // estimated from the rays' material boundaries (a scan of the rays, no meshing): about
