@@ -18,6 +18,10 @@
 # 1@0,2@0,2@0-1 runs one thread on CPU 0, two threads sharing CPU 0 and two threads on CPUs 0
 # and 1 (what two cores cost beyond the program's own parallel work); 1@0,1@1 compares the
 # machine's two CPUs on the same one-thread job (a quiet machine gives about 1.00 in every run).
+# Before and after the runs it prints how long a cache line takes to go between two CPUs and back
+# (BM_HandOff of bench/host_bench, beside the cwe it runs), when the build has it: about 100 ns
+# where two cores share a cache, 400-480 ns on this machine's vCPUs at most times, and two threads
+# scale with it (docs/performance.md, nineteenth pass).
 set -euo pipefail
 cwe=$(realpath "${1:-build/cwe}")
 resolution=${2:-0.1}
@@ -61,6 +65,16 @@ label() {
   else echo "${1%@*} threads on CPU $cpus"; fi
 }
 median() { printf '%s\n' "$@" | sort -g | awk '{ v[NR] = $1 } END { print v[int((NR + 1) / 2)] }'; }
+host_bench=$(dirname "$cwe")/bench/host_bench
+round_trip() {
+  [ -x "$host_bench" ] || return 0
+  "$host_bench" --benchmark_filter=HandOff --benchmark_repetitions=3 2> /dev/null |
+    awk -v when="$1" '/_median/ { for (i = 1; i <= NF; ++i) if ($i ~ /^round_trip=/) {
+                         sub("round_trip=", "", $i);
+                         print "a cache line between two CPUs and back " when ": " $i \
+                               " (bench/host_bench BM_HandOff, median of 3)" } }'
+}
+round_trip "before the runs"
 declare -A walls cpus set_ups simulations closings rests
 # The stages of the run's wall time (summary.json's seconds_by_stage).
 stages() {
@@ -118,3 +132,4 @@ for t in "${counts[@]:1}"; do
   echo "speed-up of $(label "$t") over $(label "${counts[0]}"): median $(median "${ratios[@]}")" \
     "(runs: ${ratios[*]})"
 done
+round_trip "after the runs"
