@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
+#include <iterator>
 #include <map>
 #include <set>
 #include <sstream>
@@ -516,6 +517,37 @@ TriangleMesh read_stock_off(const std::filesystem::path& path) {
   }
   EXPECT_TRUE(off.good()) << path;
   return read;
+}
+
+// With a thread to spare, stock.stl is encoded and written while the stock is contoured (the
+// triangles made so far, behind the contouring; the count last). The file is the one a single
+// thread writes after the contouring, byte for byte, and reads back closed with the count the
+// summary gives. --stock-only: nothing else keeps the spare thread from the contouring.
+TEST(CliSimulate, StockStlIsTheSameOnOneThreadAndTwo) {
+  const auto dir = scratch_dir("simulate-stl-threads");
+  std::filesystem::create_directories(dir);
+  const auto program = dir / "pocket.ngc";
+  std::ofstream(program) << "G21 G90\nG0 X8 Y8 Z1\nG1 Z-4 F300\nG1 X32\nG1 Y22\nG1 X8\n"
+                            "G1 Y8\nG0 Z5\nM2\n";
+  std::map<int, std::string> bytes;
+  for (const int threads : {1, 2}) {
+    const auto out = dir / fmt::format("out{}", threads);
+    const Result r = run_cwe({"simulate", "--stock", "box:0,0,-10,40,30,0", "--tool", "flat:6,20",
+                              "--path", program.string(), "--out", out.string(), "--resolution",
+                              "0.2", "--stock-only", "--threads", std::to_string(threads)});
+    ASSERT_EQ(r.status, 0) << r.err;
+    std::ifstream in(out / "summary.json");
+    const nlohmann::json summary = nlohmann::json::parse(in);
+    const StlMesh stl = read_stl((out / "stock.stl").string());
+    EXPECT_EQ(stl.mesh.triangles.size(), summary["stock_mesh"]["triangles"].get<std::size_t>());
+    EXPECT_GT(stl.mesh.triangles.size(), 100'000u);  // tens of milliseconds of contouring
+    EXPECT_TRUE(check_closure(stl.mesh).closed());
+    std::ifstream file(out / "stock.stl", std::ios::binary);
+    bytes[threads].assign(std::istreambuf_iterator<char>(file), {});
+  }
+  EXPECT_EQ(bytes[1].size(), bytes[2].size());
+  EXPECT_TRUE(bytes[1] == bytes[2]) << "stock.stl differs between one thread and two";
+  std::filesystem::remove_all(dir);
 }
 
 // The mesh workpiece (--workpiece mesh): a slot through the block removes the faceted sweep's
