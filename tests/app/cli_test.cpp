@@ -525,10 +525,9 @@ TriangleMesh read_stock_off(const std::filesystem::path& path) {
 // summary gives. --stock-only: nothing else keeps the spare thread from the contouring.
 TEST(CliSimulate, StockStlIsTheSameOnOneThreadAndTwo) {
   const auto dir = scratch_dir("simulate-stl-threads");
-  std::filesystem::create_directories(dir);
-  const auto program = dir / "pocket.ngc";
-  std::ofstream(program) << "G21 G90\nG0 X8 Y8 Z1\nG1 Z-4 F300\nG1 X32\nG1 Y22\nG1 X8\n"
-                            "G1 Y8\nG0 Z5\nM2\n";
+  const auto program = write_program("stl_threads.ngc",
+                                     "G21 G90\nG0 X8 Y8 Z1\nG1 Z-4 F300\nG1 X32\nG1 Y22\nG1 X8\n"
+                                     "G1 Y8\nG0 Z5\nM2\n");
   std::map<int, std::string> bytes;
   for (const int threads : {1, 2}) {
     const auto out = dir / fmt::format("out{}", threads);
