@@ -9,8 +9,10 @@
 # 0.1) on THREADS threads (default 2), and prints each run's wall and CPU seconds, CL per wall
 # second and CL per CPU second, and its wall time by stage as summary.json gives it (set-up,
 # simulation, closing: docs/simulate.md) and the rest of it (the process's start, the outputs'
-# publication and its exit), then the medians. Wall time is read from the clock around the
-# process, to the millisecond.
+# publication and its exit), then the medians. Wall and CPU time are those of the cwe process
+# alone, read in the shell around it ($EPOCHREALTIME, to the microsecond; `times`, to the
+# millisecond): timed through date, /usr/bin/time and taskset, each run also counted 12-19 ms of
+# those programs' own starts.
 # THREADS may list several counts, e.g. 1,2: each run then runs them one after the other (so
 # that a shared machine's changing load falls on all alike), the medians are given per count,
 # and each later count's speed-up over the first (wall time, the first over it) per run and as
@@ -23,11 +25,11 @@
 # where two cores share a cache, 400-480 ns on this machine's vCPUs at most times, and two threads
 # scale with it (docs/performance.md, nineteenth pass).
 set -euo pipefail
+export LC_ALL=C  # decimal points in what times, awk and sort read and write
 cwe=$(realpath "${1:-build/cwe}")
 resolution=${2:-0.1}
 runs=${3:-3}
 threads=${4:-2}
-[ -x /usr/bin/time ] || { echo "needs /usr/bin/time (Debian package time)" >&2; exit 1; }
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 awk 'BEGIN { print "G21 G90 G17 F1200 S12000 M3"; print "G0 X10 Y10 Z45";
@@ -65,6 +67,13 @@ label() {
   else echo "${1%@*} threads on CPU $cpus"; fi
 }
 median() { printf '%s\n' "$@" | sort -g | awk '{ v[NR] = $1 } END { print v[int((NR + 1) / 2)] }'; }
+# The user and system seconds a shell's children took between two outputs of `times` (whose
+# second line gives them, as 1m2.345s).
+children_cpu() {
+  awk 'FNR == 2 { for (i = 1; i <= 2; ++i) { split($i, p, "m"); sub("s", "", p[2]);
+                                           t[i] = p[1] * 60 + p[2] - t[i] } }
+       END { printf "%.3f %.3f\n", t[1], t[2] }' "$1" "$2"
+}
 host_bench=$(dirname "$cwe")/bench/host_bench
 round_trip() {
   [ -x "$host_bench" ] || return 0
@@ -84,15 +93,22 @@ stages() {
 for r in $(seq "$runs"); do
   for t in "${counts[@]}"; do
     rm -rf "$dir/out"
-    pin=()
-    [[ $t == *@* ]] && pin=(taskset -c "${t#*@}")
-    start=$(date +%s%N)
-    /usr/bin/time -f "%U %S" -o "$dir/time" "${pin[@]}" "$cwe" simulate \
-      --stock box:0,0,0,100,100,40 --tool flat:10,30 --path "$dir/pocket.ngc" \
-      --resolution "$resolution" --threads "${t%@*}" --forces al7075-t6-carbide --out "$dir/out" \
-      --quiet > /dev/null
-    wall=$(awk -v a="$start" -v b="$(date +%s%N)" 'BEGIN { printf "%.4f", (b - a) / 1e9 }')
-    read -r user sys < "$dir/time"
+    # In a subshell pinned first (its child inherits the CPUs): the wall time from just before
+    # cwe starts to just after it ends, and the CPU its children took meanwhile.
+    (
+      if [[ $t == *@* ]]; then taskset -c -p "${t#*@}" "$BASHPID" > /dev/null; fi
+      times > "$dir/times.before"
+      start=$EPOCHREALTIME
+      "$cwe" simulate --stock box:0,0,0,100,100,40 --tool flat:10,30 --path "$dir/pocket.ngc" \
+        --resolution "$resolution" --threads "${t%@*}" --forces al7075-t6-carbide \
+        --out "$dir/out" --quiet > /dev/null
+      end=$EPOCHREALTIME
+      times > "$dir/times.after"
+      echo "$start $end" > "$dir/time"
+    )
+    read -r start end < "$dir/time"
+    wall=$(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.4f", b - a }')
+    read -r user sys < <(children_cpu "$dir/times.before" "$dir/times.after")
     cls=$(($(wc -l < "$dir/out/engagement.csv") - 1))
     read -r set_up simulation closing < <(stages "$dir/out/summary.json")
     rest=$(awk -v w="$wall" -v a="$set_up" -v b="$simulation" -v c="$closing" \
