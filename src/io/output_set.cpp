@@ -140,16 +140,15 @@ void OutputSet::sync_ahead(const std::vector<std::filesystem::path>& paths) {
       }
     }
   };
+  std::future<void> started;
   try {
-    std::future<void> started = std::async(std::launch::async, [sync, paths] { sync(paths); });
-    const std::lock_guard lock(ahead_mutex_);
-    ahead_.push_back(std::move(started));
-    synced_ahead_.insert(synced_ahead_.end(), paths.begin(), paths.end());
+    started = std::async(std::launch::async, [sync, paths] { sync(paths); });
   } catch (const std::system_error&) {
     sync(paths);  // no thread to be had
-    const std::lock_guard lock(ahead_mutex_);
-    synced_ahead_.insert(synced_ahead_.end(), paths.begin(), paths.end());
   }
+  const std::lock_guard lock(ahead_mutex_);
+  if (started.valid()) ahead_.push_back(std::move(started));
+  synced_ahead_.insert(synced_ahead_.end(), paths.begin(), paths.end());
 }
 
 void OutputSet::publish() {
