@@ -508,14 +508,18 @@ class LatticeMesher {
   // Room for the whole mesh at once: grown by doubling, it was copied and its pages faulted in
   // again. Each crossing of a lattice ray with the surface (an interval end) crosses a lattice
   // cell, which gives about two triangles, and a closed mesh has about half as many vertices as
-  // triangles; the cells along edges and corners of the surface give more (2.1 triangles per
-  // crossing on a pocketed block), so a quarter is added. Where rays of two or three families
-  // cross the surface this asks for more than is used, which costs address space only: pages
-  // never written are never mapped.
+  // triangles; the cells along edges and corners of the surface give more: 2.1 triangles per
+  // crossing on a pocketed block, 2.5–2.65 on a ball's finishing passes, the 5-axis example and
+  // FreeCAD's programs (docs/performance.md, twentieth pass). So 3.5 are reserved. Where rays of
+  // two or three families cross the surface this asks for more than is used, which costs address
+  // space only: pages never written are never mapped (the spare thread faults them in only a few
+  // megabytes ahead of the marching).
   void reserve() {
-    // Counted layer by layer on all threads (whole numbers: the same sum in any order).
-    const std::size_t ends = tbb::parallel_reduce(
-        tbb::blocked_range<int>(0, nz_), z_events_.size(),
+    // The X and Y rays' ends, counted layer by layer on all threads (whole numbers: the same sum
+    // in any order), then the Z rays' (their flips); as the reduction's starting value, these were
+    // counted again for every block of layers it made, a different sum on each number of threads.
+    const std::size_t layer_ends = tbb::parallel_reduce(
+        tbb::blocked_range<int>(0, nz_), std::size_t{0},
         [this](const tbb::blocked_range<int>& layers, std::size_t sum) {
           for (int k = layers.begin(); k < layers.end(); ++k) {
             const std::span<const DexelRay> x_rays = stock_.row(0, fine(2, k));
@@ -528,8 +532,9 @@ class LatticeMesher {
           return sum;
         },
         std::plus<>());
-    mesh_.triangles.reserve(ends / 2 * 5);
-    mesh_.vertices.reserve(ends / 4 * 5);
+    const std::size_t ends = layer_ends + z_events_.size();
+    mesh_.triangles.reserve(ends / 2 * 7);
+    mesh_.vertices.reserve(ends / 4 * 7);
     advise_huge_pages(mesh_.triangles.data(),
                       mesh_.triangles.capacity() * sizeof(mesh_.triangles[0]));
     advise_huge_pages(mesh_.vertices.data(), mesh_.vertices.capacity() * sizeof(Vec3));
