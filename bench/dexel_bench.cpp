@@ -11,8 +11,11 @@
 //    chord construction);
 //  - BullRaster: the same with a 10 mm bull-nose end mill of corner radius 2 (the swept grazing
 //    curves of the torus, followed by Brent's method per ray).
+//  - StockBox: the block made at s = 0.1 (1,800,000 rays), as a job's set-up makes its stock;
+//    items are rays.
 //  - PocketMesh: the block after PocketJob at s = 0.1 contoured as `cwe simulate` contours
 //    stock.stl (dexel_mesh at stride 3, about 930,000 triangles); items are triangles.
+//  - PocketStl: that mesh's binary STL facets encoded (not written); items are triangles.
 // Counters: moves per second, bytes per ray (current) and peak bytes per ray, rays.
 #include <benchmark/benchmark.h>
 
@@ -21,6 +24,7 @@
 #include <vector>
 
 #include "cwe/envelope/linear_sweep.hpp"
+#include "cwe/io/mesh_io.hpp"
 #include "cwe/simulation/simulation.hpp"
 #include "cwe/tool/tool_spec.hpp"
 #include "cwe/workpiece/dexel/dexel_mesh.hpp"
@@ -125,6 +129,16 @@ BENCHMARK(BM_BallRaster)->Arg(100)->Arg(50)->Unit(benchmark::kMillisecond)->UseR
 void BM_BullRaster(benchmark::State& state) { run_job(state, "bull:10,2,20", raster_job()); }
 BENCHMARK(BM_BullRaster)->Arg(100)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+void BM_StockBox(benchmark::State& state) {
+  std::size_t rays = 0;
+  for (auto _ : state) {
+    const cwe::TriDexel stock = cwe::TriDexel::from_box(kBlock, 0.1);
+    rays = stock.ray_count();
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * rays));
+}
+BENCHMARK(BM_StockBox)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 void BM_PocketMesh(benchmark::State& state) {
   cwe::TriDexel stock = cwe::TriDexel::from_box(kBlock, 0.1);
   cwe::remove_toolpath(stock, cwe::cutter_from_spec("flat:10,30"), pocket_job(), {});
@@ -136,5 +150,20 @@ void BM_PocketMesh(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * triangles));
 }
 BENCHMARK(BM_PocketMesh)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_PocketStl(benchmark::State& state) {
+  cwe::TriDexel stock = cwe::TriDexel::from_box(kBlock, 0.1);
+  cwe::remove_toolpath(stock, cwe::cutter_from_spec("flat:10,30"), pocket_job(), {});
+  const cwe::TriangleMesh mesh = cwe::dexel_mesh(stock, 3);
+  std::size_t bytes = 0;
+  for (auto _ : state) {
+    bytes = 0;
+    cwe::stl_binary_facets(mesh.triangles, mesh.vertices,
+                           [&bytes](std::string_view piece) { bytes += piece.size(); });
+    benchmark::DoNotOptimize(bytes);
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * mesh.triangles.size()));
+}
+BENCHMARK(BM_PocketStl)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
